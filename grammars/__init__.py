@@ -1,0 +1,1 @@
+"""Grammar files (`*.lark`), shipped inside the wheel as `symsynth.grammars`."""

@@ -1,0 +1,120 @@
+"""The BDD backend and the few BDD routines the automata need.
+
+The backend is chosen here, once: CUDD through `dd.cudd` (the `dd` wheel
+ships it), or the pure-Python `dd.autoref` when CUDD is missing.  Everything
+else imports `BDD` and `Function` from this module.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+try:
+    from dd import cudd as _backend
+    BACKEND = "cudd"
+except ImportError:  # pragma: no cover - only without the CUDD extension
+    from dd import autoref as _backend
+    BACKEND = "autoref"
+
+BDD = _backend.BDD
+Function = Any  # the backend's node type (`dd.cudd.Function` or `dd.autoref.Function`)
+Cube = tuple[tuple[str, bool], ...]  # a conjunction of literals, as (variable, polarity)
+
+
+def new_manager(*, reordering: bool = False) -> BDD:
+    """A fresh manager.  Reordering is off unless asked for: several routines
+    rely on declared order (atoms above the variables that follow them)."""
+    bdd = BDD()
+    bdd.configure(reordering=reordering)
+    return bdd
+
+
+def branches(bdd: BDD, u: Function) -> tuple[Function, Function]:
+    """The (low, high) cofactors of `u` with respect to its top variable.
+
+    `dd.cudd` exposes complemented edges: the children of a negated node
+    must be negated too.
+    """
+    low, high = u.low, u.high
+    if getattr(u, "negated", False):
+        return ~low, ~high
+    return low, high
+
+
+def is_constant(bdd: BDD, u: Function) -> bool:
+    return u == bdd.true or u == bdd.false
+
+
+def cube(bdd: BDD, literals: Mapping[str, bool]) -> Function:
+    """The conjunction of the literals `var = value`."""
+    result = bdd.true
+    for var, value in literals.items():
+        result &= bdd.var(var) if value else ~bdd.var(var)
+    return result
+
+
+def isop(bdd: BDD, f: Function) -> list[Cube]:
+    """An irredundant sum of products of `f` (Minato–Morreale).
+
+    Returns cubes whose disjunction is exactly `f`; no cube and no literal
+    can be dropped.  Used to print guards readably.
+    """
+    memo: dict[tuple[Function, Function], tuple[Function, list[Cube]]] = {}
+
+    def rec(lower: Function, upper: Function) -> tuple[Function, list[Cube]]:
+        # returns (cover, cubes) with lower <= cover <= upper
+        if lower == bdd.false:
+            return bdd.false, []
+        if upper == bdd.true:
+            return bdd.true, [()]
+        key = (lower, upper)
+        if key in memo:
+            return memo[key]
+        top = min((u for u in (lower, upper) if not is_constant(bdd, u)), key=lambda u: u.level)
+        var = top.var
+        x = bdd.var(var)
+        l0, l1 = bdd.let({var: False}, lower), bdd.let({var: True}, lower)
+        u0, u1 = bdd.let({var: False}, upper), bdd.let({var: True}, upper)
+        c0, cubes0 = rec(l0 & ~u1, u0)  # minterms that need x = 0
+        c1, cubes1 = rec(l1 & ~u0, u1)  # minterms that need x = 1
+        rest_lower = (l0 & ~c0) | (l1 & ~c1)
+        cs, cubes_s = rec(rest_lower, u0 & u1)  # the rest, independent of x
+        cover = (~x & c0) | (x & c1) | cs
+        cubes = ([((var, False),) + c for c in cubes0]
+                 + [((var, True),) + c for c in cubes1] + cubes_s)
+        memo[key] = (cover, cubes)
+        return cover, cubes
+
+    return rec(f, f)[1]
+
+
+def format_cubes(cubes: Iterable[Cube], names: Mapping[str, str] | None = None) -> str:
+    """Print a sum of products with `!`, `&`, `|`, `true`, `false`."""
+    names = names or {}
+    terms = []
+    for c in cubes:
+        lits = [("" if value else "!") + names.get(var, var) for var, value in c]
+        terms.append(" & ".join(lits) if lits else "true")
+    if not terms:
+        return "false"
+    if "true" in terms:
+        return "true"
+    if len(terms) == 1:
+        return terms[0]
+    return " | ".join(f"({t})" if " & " in t else t for t in terms)
+
+
+def lexmin(bdd: BDD, f: Function, variables: Iterable[str]) -> tuple[bool, ...]:
+    """The least satisfying assignment of `f` over `variables` (false < true,
+    first variable most significant).  A canonical name for a non-empty set
+    that does not depend on the variable order."""
+    values = []
+    for var in variables:
+        low = f & ~bdd.var(var)
+        if low != bdd.false:
+            f, value = low, False
+        else:
+            f, value = f & bdd.var(var), True
+        values.append(value)
+    return tuple(values)

@@ -1,0 +1,227 @@
+"""Explicit DFA of a (small) LTLf formula by formula progression over BDDs.
+
+A state is a positive Boolean combination of *obligations* on the rest of
+the trace, `X f` (strong: a next position exists and satisfies `f`) and
+`WX f` (weak), kept as a BDD over one variable per obligation — so equal
+combinations are the same state.  Reading a letter replaces every
+obligation `X f` / `WX f` by `unfold(f)`, a BDD over the atoms (this letter)
+and new obligations (the next one):
+
+    unfold(F f)   = unfold(f) | X F f          unfold(f U g) = unfold(g) | unfold(f) & X(f U g)
+    unfold(G f)   = unfold(f) & WX G f         unfold(f R g) = unfold(g) & (unfold(f) | WX(f R g))
+    unfold(last)  = WX false                   unfold(f W g) = unfold(g) | unfold(f) & WX(f W g)
+
+The atom variables come first in the order, so below the atom levels of the
+successor BDD sit the successor states themselves (the multi-terminal trick
+of Spot's MTDFA).  A state accepts (the trace may end here) iff it is true
+with every `X` obligation false and every `WX` obligation true.  The start
+state is `X phi`, which is never accepting: traces are non-empty.
+
+Every obligation is `X`/`WX` of a subformula, so the construction ends.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import singledispatchmethod
+
+from symsynth.automata.bdd import BDD, Function, branches, new_manager
+from symsynth.logic import ast
+
+
+@dataclass
+class GuardedDFA:
+    """A complete explicit DFA whose edges carry BDD guards over the atoms.
+
+    `edges[s]` maps each successor of `s` to the guard (letters) leading there;
+    the guards of one state are disjoint and cover every letter.
+    """
+
+    bdd: BDD
+    initial: int
+    accepting: list[bool]
+    edges: list[dict[int, Function]]
+
+    @property
+    def num_states(self) -> int:
+        return len(self.accepting)
+
+
+class Progression:
+    """Builds `GuardedDFA`s for formulas over a fixed list of atoms."""
+
+    def __init__(self, atom_keys: list[str]):
+        self.bdd = new_manager(reordering=False)
+        self.atom_keys = list(atom_keys)
+        for key in self.atom_keys:  # atoms above every obligation
+            self.bdd.declare(key)
+        self._obligation_var: dict[tuple[bool, ast.Formula], str] = {}
+        self._obligation: dict[str, tuple[bool, ast.Formula]] = {}
+        self._unfolded: dict[ast.Formula, Function] = {}
+
+    # -- obligations -------------------------------------------------------
+    def obligation(self, strong: bool, formula: ast.Formula) -> Function:
+        """The BDD of `X formula` (strong) or `WX formula` (weak)."""
+        if formula == ast.TRUE and not strong:
+            return self.bdd.true  # WX true
+        if formula == ast.FALSE and strong:
+            return self.bdd.false  # X false
+        key = (strong, formula)
+        name = self._obligation_var.get(key)
+        if name is None:
+            name = f"_o{len(self._obligation)}"
+            self.bdd.declare(name)
+            self._obligation_var[key] = name
+            self._obligation[name] = key
+        return self.bdd.var(name)
+
+    def unfold(self, formula: ast.Formula) -> Function:
+        """What `formula` demands of the current letter and the next position."""
+        result = self._unfolded.get(formula)
+        if result is None:
+            result = self._unfold(formula)
+            self._unfolded[formula] = result
+        return result
+
+    @singledispatchmethod
+    def _unfold(self, node: ast.Formula) -> Function:
+        raise TypeError(f"not an NNF node: {node!r}")
+
+    @_unfold.register
+    def _(self, node: ast.Const):
+        return self.bdd.true if node.value else self.bdd.false
+
+    @_unfold.register
+    def _(self, node: ast.Atom):
+        return self.bdd.var(node.key)
+
+    @_unfold.register
+    def _(self, node: ast.Not):
+        return ~self.bdd.var(node.arg.key)  # NNF: only atoms are negated
+
+    @_unfold.register
+    def _(self, node: ast.Last):
+        return self.obligation(False, ast.FALSE)
+
+    @_unfold.register
+    def _(self, node: ast.Next):
+        return self.obligation(True, node.arg)
+
+    @_unfold.register
+    def _(self, node: ast.WeakNext):
+        return self.obligation(False, node.arg)
+
+    @_unfold.register
+    def _(self, node: ast.Eventually):
+        return self.unfold(node.arg) | self.obligation(True, node)
+
+    @_unfold.register
+    def _(self, node: ast.Always):
+        return self.unfold(node.arg) & self.obligation(False, node)
+
+    @_unfold.register
+    def _(self, node: ast.Until):
+        return self.unfold(node.right) | (self.unfold(node.left) & self.obligation(True, node))
+
+    @_unfold.register
+    def _(self, node: ast.Release):
+        return self.unfold(node.right) & (self.unfold(node.left) | self.obligation(False, node))
+
+    @_unfold.register
+    def _(self, node: ast.WeakUntil):
+        return self.unfold(node.right) | (self.unfold(node.left) & self.obligation(False, node))
+
+    @_unfold.register
+    def _(self, node: ast.And):
+        return self.unfold(node.left) & self.unfold(node.right)
+
+    @_unfold.register
+    def _(self, node: ast.Or):
+        return self.unfold(node.left) | self.unfold(node.right)
+
+    # -- states ------------------------------------------------------------
+    def _accepts(self, state: Function) -> bool:
+        # the trace ends here: X f is false, WX f is true
+        ending = {name: not self._obligation[name][0] for name in self.bdd.support(state)}
+        return (self.bdd.let(ending, state) if ending else state) == self.bdd.true
+
+    def _successors(self, state: Function) -> dict[Function, Function]:
+        """successor state -> guard, by splitting on the atom levels."""
+        step = {name: self.unfold(self._obligation[name][1]) for name in self.bdd.support(state)}
+        after = self.bdd.let(step, state) if step else state
+        num_atoms = len(self.atom_keys)
+        found: dict[Function, Function] = {}
+        stack = [(after, self.bdd.true)]
+        while stack:
+            node, guard = stack.pop()
+            if node in (self.bdd.true, self.bdd.false) or node.level >= num_atoms:
+                found[node] = found.get(node, self.bdd.false) | guard
+                continue
+            x = self.bdd.var(node.var)
+            low, high = branches(self.bdd, node)
+            stack.append((high, guard & x))
+            stack.append((low, guard & ~x))
+        return found
+
+    def dfa(self, formula: ast.Formula) -> GuardedDFA:
+        """The complete DFA of an NNF formula; states are numbered in BFS order."""
+        start = self.obligation(True, formula)
+        index = {start: 0}
+        order = [start]
+        accepting: list[bool] = []
+        edges: list[dict[int, Function]] = []
+        for state in order:  # `order` grows while we walk it: BFS
+            accepting.append(self._accepts(state))
+            out: dict[int, Function] = {}
+            for succ, guard in self._successors(state).items():
+                if succ not in index:
+                    index[succ] = len(order)
+                    order.append(succ)
+                out[index[succ]] = guard
+            edges.append(out)
+        return GuardedDFA(self.bdd, 0, accepting, edges)
+
+
+def minimize(dfa: GuardedDFA) -> GuardedDFA:
+    """Moore partition refinement; the result is the minimal complete DFA.
+
+    Two states stay together while they agree on acceptance and, for every
+    class, on the set of letters leading into it.  Guards are canonical
+    BDDs, so a state's signature is a hashable value.  Only reachable
+    states are given (the construction yields no others).
+    """
+    bdd = dfa.bdd
+    block = [int(acc) for acc in dfa.accepting]
+    count = len(set(block))
+    while True:
+        signatures: dict[tuple, int] = {}
+        new_block = []
+        for state, out in enumerate(dfa.edges):
+            into: dict[int, Function] = {}
+            for succ, guard in out.items():
+                into[block[succ]] = into.get(block[succ], bdd.false) | guard
+            sig = (block[state], frozenset(into.items()))
+            new_block.append(signatures.setdefault(sig, len(signatures)))
+        block = new_block
+        if len(signatures) == count:
+            break
+        count = len(signatures)
+    # renumber blocks in BFS order from the initial state
+    rename: dict[int, int] = {block[dfa.initial]: 0}
+    order = [dfa.initial]
+    representative = {}
+    for state in order:
+        representative.setdefault(block[state], state)
+        for succ in dfa.edges[state]:
+            if block[succ] not in rename:
+                rename[block[succ]] = len(rename)
+                order.append(succ)
+    accepting = [False] * len(rename)
+    edges: list[dict[int, Function]] = [{} for _ in rename]
+    for old_block, new in rename.items():
+        state = representative[old_block]
+        accepting[new] = dfa.accepting[state]
+        for succ, guard in dfa.edges[state].items():
+            target = rename[block[succ]]
+            edges[new][target] = edges[new].get(target, bdd.false) | guard
+    return GuardedDFA(bdd, 0, accepting, edges)

@@ -1,0 +1,50 @@
+"""The `symsynth` command: `main(argv) -> int`.
+
+Each subcommand lives in its own module with `register(subparsers)` that
+adds its parser and sets `run`.  Only `SymsynthError` is caught here: it
+becomes one message on stderr and exit code 2.  Anything else is a bug
+and keeps its traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+from symsynth import __version__
+from symsynth.cli import dfa
+from symsynth.errors import SymsynthError
+
+COMMANDS = (dfa,)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="symsynth",
+        description="Symbolic reactive synthesis for robot manipulation: LTLf tasks, "
+                    "minimal symbolic DFAs, cost-bounded games.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="Run 'symsynth COMMAND --help' for the options of a command.",
+    )
+    parser.add_argument("--version", action="version", version=f"symsynth {__version__}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for command in COMMANDS:
+        command.register(subparsers)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.run(args)
+    except SymsynthError as error:
+        print(f"symsynth {args.command}: {error}", file=sys.stderr)
+        return error.exit_code
+    except BrokenPipeError:  # e.g. `symsynth dfa --json ... | head`
+        sys.stdout = None
+        return 0
+    except KeyboardInterrupt:
+        print("symsynth: interrupted", file=sys.stderr)
+        return 130

@@ -1,0 +1,5 @@
+import sys
+
+from symsynth.cli import main
+
+sys.exit(main())

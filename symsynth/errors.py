@@ -1,0 +1,34 @@
+"""The project's own exceptions.
+
+Everything a user can get wrong (a formula, a file, an option) raises a
+`SymsynthError`; the command line turns it into one message on stderr and
+exit code 2.  Anything else is a bug and keeps its traceback.
+"""
+
+from __future__ import annotations
+
+
+class SymsynthError(Exception):
+    """Base of all errors caused by the user's input."""
+
+    exit_code = 2
+
+
+class LTLfSyntaxError(SymsynthError):
+    """A formula that does not parse.
+
+    The message names the source, line and column, shows the offending line
+    with a caret under the mistake, and says what was expected there.
+    """
+
+    def __init__(self, source: str, line: int, column: int, context: str, expected: str):
+        self.source = source
+        self.line = line
+        self.column = column
+        self.context = context
+        self.expected = expected
+        super().__init__(f"{source}:{line}:{column}: syntax error: {expected}\n{context}")
+
+
+class InputError(SymsynthError):
+    """Bad input that is not a formula: a file that cannot be read, a bad option."""

@@ -1,0 +1,191 @@
+"""Parse LTLf text into the AST of `symsynth.logic.ast`.
+
+The grammar is `grammars/ltlf.lark`, shipped as package data.  A lark
+Transformer builds the frozen AST; lark's exceptions are turned into one
+`LTLfSyntaxError` that names the source, line and column.
+"""
+
+from __future__ import annotations
+
+import functools
+import re
+from pathlib import Path
+from importlib import resources
+from typing import Literal
+
+import lark
+
+from symsynth.errors import LTLfSyntaxError
+from symsynth.logic import ast
+
+NextSemantics = Literal["strong", "weak"]
+
+# What a person calls each terminal, for "expected ..." messages.
+_TERMINAL_NAMES = {
+    "LPAR": "'('", "RPAR": "')'", "COMMA": "','",
+    "EQUIV": "'<->'", "IMPLIES": "'->'", "OR": "'|'", "AND": "'&'",
+    "UNTIL": "'U'", "RELEASE": "'R'", "RELEASE_V": "'V'", "WEAK_UNTIL": "'W'",
+    "NOT": "'!'", "NEXT": "'X'", "STRONG_NEXT": "'X[!]'", "WEAK_NEXT": "'WX'",
+    "WEAK_NEXT_N": "'N'", "EVENTUALLY": "'F'", "DIAMOND": "'<>'", "ALWAYS": "'G'",
+    "BOX": "'[]'",
+    "TRUE": "'true'", "FALSE": "'false'", "LAST": "'last'",
+    "NAME": "an identifier", "NUMBER": "a number", "$END": "end of input",
+}
+_FORMULA_START = {"NOT"}  # only a place for a formula accepts "!"
+_BINARY = {"EQUIV", "IMPLIES", "OR", "AND", "UNTIL", "RELEASE", "RELEASE_V", "WEAK_UNTIL"}
+
+
+@functools.cache
+def _grammar_text() -> str:
+    """`ltlf.lark` from the installed package data, or from the source tree's
+    `grammars/` when symsynth is imported from a checkout without installing."""
+    try:
+        folder = resources.files("symsynth.grammars")
+    except ModuleNotFoundError:
+        folder = Path(__file__).resolve().parents[2] / "grammars"
+    return folder.joinpath("ltlf.lark").read_text(encoding="utf-8")
+
+
+@functools.cache
+def _parser() -> lark.Lark:
+    return lark.Lark(_grammar_text(), parser="lalr", lexer="contextual",
+                     propagate_positions=False, maybe_placeholders=False)
+
+
+class _ToAst(lark.Transformer):
+    """Parse tree -> AST.  `X` means strong or weak next by convention."""
+
+    def __init__(self, next_semantics: NextSemantics):
+        super().__init__()
+        self._next = ast.Next if next_semantics == "strong" else ast.WeakNext
+
+    def true(self, _):
+        return ast.TRUE
+
+    def false(self, _):
+        return ast.FALSE
+
+    def last(self, _):
+        return ast.Last()
+
+    def atom(self, children):
+        return ast.Atom(str(children[0]))
+
+    def predicate(self, children):
+        name, *args = children
+        return ast.Atom(str(name), tuple(str(a) for a in args))
+
+    def not_(self, c):
+        return ast.Not(c[1])
+
+    def next_(self, c):
+        return self._next(c[1])
+
+    def strong_next(self, c):
+        return ast.Next(c[1])
+
+    def weak_next(self, c):
+        return ast.WeakNext(c[1])
+
+    def eventually(self, c):
+        return ast.Eventually(c[1])
+
+    def always(self, c):
+        return ast.Always(c[1])
+
+    def until(self, c):
+        return ast.Until(c[0], c[2])
+
+    def release(self, c):
+        return ast.Release(c[0], c[2])
+
+    def weak_until(self, c):
+        return ast.WeakUntil(c[0], c[2])
+
+    def and_(self, c):
+        return ast.And(c[0], c[2])
+
+    def or_(self, c):
+        return ast.Or(c[0], c[2])
+
+    def implies(self, c):
+        return ast.Implies(c[0], c[2])
+
+    def equiv(self, c):
+        return ast.Equiv(c[0], c[2])
+
+
+def parse_ltlf(text: str, *, source: str = "<formula>",
+               next_semantics: NextSemantics = "strong") -> ast.Formula:
+    """Parse `text` as an LTLf formula.
+
+    `next_semantics="weak"` reads a plain `X` as weak next, as Lydia, Spot and
+    SYNTCOMP's TLSF do; `X[!]` is strong next either way.  Raises
+    `LTLfSyntaxError` naming `source`, line and column on a mistake.
+    """
+    if next_semantics not in ("strong", "weak"):
+        raise ValueError(f"next_semantics must be 'strong' or 'weak', not {next_semantics!r}")
+    try:
+        tree = _parser().parse(text)
+    except lark.UnexpectedInput as error:
+        raise _syntax_error(text, source, error) from None
+    return _ToAst(next_semantics).transform(tree)
+
+
+def _syntax_error(text: str, source: str, error: lark.UnexpectedInput) -> LTLfSyntaxError:
+    if not text.strip():
+        return LTLfSyntaxError(source, 1, 1, "", "empty formula: expected a formula")
+    pos = getattr(error, "pos_in_stream", None)
+    token = getattr(error, "token", None)
+    if isinstance(error, lark.UnexpectedToken) and token is not None and token.type == "$END":
+        pos = len(text.rstrip())
+    if pos is None:
+        pos = len(text)
+    line = text.count("\n", 0, pos) + 1
+    line_start = text.rfind("\n", 0, pos) + 1
+    column = pos - line_start + 1
+    line_end = text.find("\n", pos)
+    line_text = text[line_start: None if line_end < 0 else line_end]
+    context = f"    {line_text}\n    {' ' * (column - 1)}^"
+    return LTLfSyntaxError(source, line, column, context, _explain(text, pos, error))
+
+
+def _explain(text: str, pos: int, error: lark.UnexpectedInput) -> str:
+    message = _explain_token(text, pos, error)
+    glued = re.search(r"([A-Za-z_][A-Za-z0-9_]*)\s*$", text[:pos])
+    if glued and len(glued[1]) > 1 and set(glued[1]) <= set("XFGNUWRV"):
+        spaced = " ".join(glued[1])
+        message += f" ('{glued[1]}' is one identifier; write '{spaced}' for the operators)"
+    return message
+
+
+def _explain_token(text: str, pos: int, error: lark.UnexpectedInput) -> str:
+    if isinstance(error, lark.UnexpectedCharacters):
+        char = text[pos]
+        if char == "[" and text[:pos].rstrip().endswith("X"):
+            return "'X[' must be followed by '!]' (strong next is written 'X[!]')"
+        allowed = _expected_text(set(error.allowed or ()))
+        return f"unexpected character {char!r}" + (f"; expected {allowed}" if allowed else "")
+    token = getattr(error, "token", None)
+    expected = set(getattr(error, "expected", ()) or ())
+    found = "end of input" if token is None or token.type == "$END" else repr(str(token))
+    if token is not None and token.type == "$END" and expected & _FORMULA_START:
+        return "unexpected end of input; expected a formula after the operator"
+    if token is not None and token.type == "RPAR" and expected & _FORMULA_START:
+        return f"unexpected {found}; expected a formula"
+    if token is not None and token.type in _BINARY and expected & _FORMULA_START:
+        return f"unexpected {found}: a binary operator needs a formula on its left"
+    return f"unexpected {found}; expected {_expected_text(expected)}"
+
+
+def _expected_text(expected: set[str]) -> str:
+    if expected & _FORMULA_START:
+        return "a formula (an atom, 'true', 'false', 'last', '(' or a unary operator)"
+    if expected & _BINARY:
+        closing = sorted(_TERMINAL_NAMES.get(t, t) for t in expected - _BINARY - {"LPAR"})
+        tail = f" or {', '.join(closing)}" if closing else ""
+        return f"a binary operator ('&', '|', '->', '<->', 'U', 'R', 'W'){tail}"
+    if {"NAME", "NUMBER"} <= expected:
+        return "an argument (an identifier or a number)"
+    names = sorted(_TERMINAL_NAMES.get(t, t) for t in expected)
+    return ", ".join(names) if names else "something else"
