@@ -1,0 +1,192 @@
+"""Load and validate a scene file (YAML, spec §7).
+
+Validation is a JSON Schema for the shape, then checks of meaning (names
+that must exist, one object per location, the task's atoms).  Every problem
+is collected and reported at once as `file:line: key.path: what was
+expected`; nothing here raises a traceback for bad input.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import yaml
+
+from symsynth.errors import InputError, LTLfSyntaxError
+from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data, load_costmap
+from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, ObjectSpec, Scene
+from symsynth.scene.yamlpos import KeyPath, line_of, load_with_lines
+
+NAME = {"type": "string", "pattern": "^[A-Za-z0-9_]+$"}
+NONNEG = {"type": "number", "minimum": 0}
+
+SCHEMA: dict[str, Any] = {
+    "type": "object",
+    "required": ["name", "objects", "locations"],
+    "additionalProperties": False,
+    "properties": {
+        "name": {"type": "string"},
+        "objects": {
+            "type": "object",
+            "propertyNames": NAME,
+            "additionalProperties": {
+                "type": "object",
+                "additionalProperties": False,
+                "properties": {
+                    "tags": {"type": "array", "items": NAME},
+                    "at": {"type": "string"},
+                },
+            },
+        },
+        "locations": {"type": "array", "items": NAME, "uniqueItems": True},
+        "else_samples": {"type": "array", "items": NAME, "uniqueItems": True},
+        "grasps": {"type": "array", "items": NAME, "uniqueItems": True, "minItems": 1},
+        "primitives": {"type": "object", "additionalProperties": False,
+                       "properties": {"grab": NONNEG, "drop": NONNEG}},
+        "human": {"type": "object", "additionalProperties": False,
+                  "properties": {"k": {"type": "integer", "minimum": 0}}},
+        "task": {"type": "string"},
+        "costmap": {"type": ["string", "object"]},
+    },
+}
+
+
+class SceneError(InputError):
+    """A scene file with problems; the message lists all of them."""
+
+
+def load_scene(path: str | Path) -> Scene:
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as error:
+        raise SceneError(f"cannot read scene {path}: {error.strerror}") from None
+    try:
+        data, lines = load_with_lines(text)
+    except yaml.YAMLError as error:
+        mark = getattr(error, "problem_mark", None)
+        where = f"{path}:{mark.line + 1}" if mark else str(path)
+        raise SceneError(f"{where}: not valid YAML: {getattr(error, 'problem', error)}") from None
+    return scene_from_data(data, source=path, lines=lines)
+
+
+def scene_from_data(data: Any, source: Path | None = None,
+                    lines: dict[KeyPath, int] | None = None) -> Scene:
+    """Validate parsed YAML/JSON data and build the `Scene`."""
+    report = _Report(str(source) if source else "<scene>", lines or {})
+    if not isinstance(data, dict):
+        report.add((), "expected a mapping with name, objects, locations, ...")
+        report.raise_if_any()
+    for error in sorted(jsonschema.Draft202012Validator(SCHEMA).iter_errors(data),
+                        key=lambda e: list(map(str, e.absolute_path))):
+        report.add(tuple(error.absolute_path), _schema_message(error))
+    report.raise_if_any()
+
+    locations = tuple(data["locations"])
+    else_samples = tuple(data.get("else_samples", ()))
+    grasps = tuple(data.get("grasps", ("top",)))
+    for i, name in enumerate(locations):
+        if name in (ELSE, HAND, HOME):
+            report.add(("locations", i), f"{name!r} is reserved and cannot name a location")
+    for i, name in enumerate(else_samples):
+        if name in locations:
+            report.add(("else_samples", i), f"{name!r} is already a location of interest")
+    objects = []
+    standing: dict[str, str] = {}
+    for name, spec in data["objects"].items():
+        at = spec.get("at", ELSE)
+        if at != ELSE and at not in locations:
+            report.add(("objects", name, "at"),
+                       f"unknown location {at!r}; expected one of {', '.join(locations + (ELSE,))}")
+        elif at != ELSE and at in standing:
+            report.add(("objects", name, "at"), f"location {at!r} already holds {standing[at]!r}")
+        elif at != ELSE:
+            standing[at] = name
+        objects.append(ObjectSpec(name, frozenset(spec.get("tags", ())) | {name}, at))
+    primitives = data.get("primitives", {})
+    scene = Scene(
+        name=data["name"], objects=tuple(objects), locations=locations,
+        else_samples=else_samples, grasps=grasps,
+        grab_cost=float(primitives.get("grab", 5)), drop_cost=float(primitives.get("drop", 5)),
+        k=int(data.get("human", {}).get("k", 0)), task=data.get("task"), source=source,
+    )
+    if scene.task is not None:
+        _check_task(scene, report)
+    costmap = _costmap(data.get("costmap"), source, report)
+    if costmap is not None:
+        _check_costmap(scene, costmap, report)
+    report.raise_if_any()
+    return Scene(**{**scene.__dict__, "costmap": costmap})
+
+
+def _check_task(scene: Scene, report: _Report) -> None:
+    from symsynth.game.propositions import interpret_all
+    from symsynth.logic.parser import parse_ltlf
+
+    try:
+        formula = parse_ltlf(scene.task, source=f"{report.source} (task)")
+        interpret_all(formula, scene)
+    except LTLfSyntaxError as error:
+        report.add(("task",), f"syntax error at column {error.column}: {error.expected}\n{error.context}")
+    except InputError as error:
+        report.add(("task",), str(error))
+
+
+def _costmap(value: Any, source: Path | None, report: _Report) -> Costmap | None:
+    if value is None:
+        return None
+    try:
+        if isinstance(value, dict):
+            return costmap_from_data(value, f"{report.source} (costmap)")
+        base = source.parent if source else Path.cwd()
+        return load_costmap(base / value)
+    except CostmapError as error:
+        report.add(("costmap",), str(error))
+        return None
+
+
+def _check_costmap(scene: Scene, costmap: Costmap, report: _Report) -> None:
+    modes, anchors = set(scene.modes), set(scene.anchors)
+    places = set(scene.locations) | set(scene.else_samples)
+    for (mode, start, goal), rules in costmap.motions.items():
+        what = f"motion {mode} {start} -> {goal}"
+        if mode not in modes:
+            report.add(("costmap",), f"{what}: unknown mode {mode!r}; expected {EMPTY!r} or OBJECT/GRASP "
+                       f"with objects {', '.join(scene.object_names)} and grasps {', '.join(scene.grasps)}")
+        for anchor in (start, goal):
+            if anchor not in anchors:
+                report.add(("costmap",), f"{what}: unknown anchor {anchor!r}; expected {HOME!r} or "
+                           f"PLACE/GRASP with places {', '.join(sorted(places))}")
+        for rule in rules:
+            unknown = sorted(rule.free - places)
+            if unknown:
+                report.add(("costmap",), f"{what}: rule names unknown locations {', '.join(unknown)}")
+
+
+def _schema_message(error: jsonschema.ValidationError) -> str:
+    if error.validator == "required":
+        return error.message.replace("is a required property", "is required")
+    if error.validator == "additionalProperties":
+        return f"{error.message}; allowed keys: {', '.join(sorted(error.schema.get('properties', {})))}"
+    if error.validator == "type":
+        return f"expected {error.validator_value}, found {error.instance!r}"
+    return error.message
+
+
+class _Report:
+    def __init__(self, source: str, lines: dict[KeyPath, int]):
+        self.source, self.lines, self.problems = source, lines, []
+
+    def add(self, path: KeyPath, message: str) -> None:
+        line = line_of(self.lines, path)
+        where = f"{self.source}:{line}" if line else self.source
+        key = ".".join(map(str, path)) or "(top)"
+        self.problems.append(f"{where}: {key}: {message}")
+
+    def raise_if_any(self) -> None:
+        if self.problems:
+            count = len(self.problems)
+            raise SceneError(f"{count} problem{'s' if count > 1 else ''} in the scene:\n"
+                             + "\n".join(self.problems))

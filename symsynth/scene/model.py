@@ -1,0 +1,64 @@
+"""The scene as the game sees it (spec §1): plain, frozen values.
+
+`Scene` is the abstract form of spec §7; the physical form (robot, poses,
+shapes) extends it with geometry that only the planners read.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from symsynth.scene.costmap import Costmap
+
+ELSE = "Else"
+HAND = "Hand"
+HOME = "home"
+EMPTY = "empty"
+
+
+@dataclass(frozen=True)
+class ObjectSpec:
+    """A movable object; its own name is always one of its tags."""
+
+    name: str
+    tags: frozenset[str]
+    at: str  # a location of interest or ELSE
+
+
+@dataclass(frozen=True)
+class Scene:
+    name: str
+    objects: tuple[ObjectSpec, ...]
+    locations: tuple[str, ...]
+    else_samples: tuple[str, ...]
+    grasps: tuple[str, ...]
+    grab_cost: float = 5.0
+    drop_cost: float = 5.0
+    k: int = 0
+    task: str | None = None
+    costmap: Costmap | None = None
+    source: Path | None = field(default=None, compare=False)
+
+    @property
+    def object_names(self) -> tuple[str, ...]:
+        return tuple(o.name for o in self.objects)
+
+    @property
+    def tags(self) -> frozenset[str]:
+        return frozenset(t for o in self.objects for t in o.tags)
+
+    def tagged(self, tag: str) -> tuple[str, ...]:
+        """Names of the objects that carry `tag`."""
+        return tuple(o.name for o in self.objects if tag in o.tags)
+
+    @property
+    def modes(self) -> tuple[str, ...]:
+        """`empty` and `o/g` for every object and grasp (spec §5)."""
+        return (EMPTY,) + tuple(f"{o.name}/{g}" for o in self.objects for g in self.grasps)
+
+    @property
+    def anchors(self) -> tuple[str, ...]:
+        """`home` and `x/g` for x in L ∪ E and g in G (spec §5)."""
+        places = self.locations + self.else_samples
+        return (HOME,) + tuple(f"{x}/{g}" for x in places for g in self.grasps)
