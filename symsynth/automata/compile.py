@@ -25,13 +25,14 @@ from symsynth.logic.parser import NextSemantics, parse_ltlf
 
 def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = "strong",
                  source: str = "<formula>", bdd: BDD | None = None,
-                 prefix: str = "q") -> SymbolicDFA:
+                 prefix: str = "#q") -> SymbolicDFA:
     """The minimal complete DFA of an LTLf formula over non-empty traces.
 
     `formula` is text (parsed with `next_semantics`, errors naming `source`)
     or an AST.  The DFA's variables are declared in `bdd` (a new manager
     when omitted): one per atom, named by `Atom.key`, and state bits
-    `{prefix}{c}_{j}` with primed copies.
+    `{prefix}{c}_{j}` with primed copies.  The prefix must not be an atom
+    name; the default `#q` cannot be one (`#` is not in the grammar).
     """
     if isinstance(formula, str):
         formula = parse_ltlf(formula, source=source, next_semantics=next_semantics)

@@ -69,7 +69,7 @@ class Progression:
         key = (strong, formula)
         name = self._obligation_var.get(key)
         if name is None:
-            name = f"_o{len(self._obligation)}"
+            name = f"#o{len(self._obligation)}"  # "#" keeps it apart from atom names
             self.bdd.declare(name)
             self._obligation_var[key] = name
             self._obligation[name] = key

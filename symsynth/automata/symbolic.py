@@ -229,13 +229,15 @@ def _dag_size(bdd: BDD, roots: Sequence[Function]) -> int:
 
 
 def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
-            prefix: str = "q") -> SymbolicDFA:
+            prefix: str = "#q") -> SymbolicDFA:
     """The synchronous product of complete DFAs, accepting when all accept.
 
     Component `c` gets bits `{prefix}{c}_0, ...` (lowest first), each with its
-    primed copy next to it; atoms a component reads are declared just
-    before its bits, so a conjunction of independent parts gets an order
-    in which every part's BDDs stay small.
+    primed copy next to it; the atoms a component reads (and no earlier one
+    did) are declared just after its bits.  State bits above the atoms keep
+    a transition function a small case split on the state, and a
+    conjunction of independent parts gets an order in which every part's
+    BDDs stay small.
     """
     delta: dict[str, Function] = {}
     initial: dict[str, bool] = {}
@@ -244,11 +246,11 @@ def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
     for c, comp in enumerate(components):
         width = (comp.num_states - 1).bit_length()
         names = [f"{prefix}{c}_{j}" for j in range(width)]
+        for name in names:
+            bdd.declare(name, prime(name))
         for atom in _atoms_read(comp, atoms):
             if atom not in bdd.vars:
                 bdd.declare(atom)
-        for name in names:
-            bdd.declare(name, prime(name))
         bits.extend(names)
         codes = [bdd.cube({n: bool(s >> j & 1) for j, n in enumerate(names)}) if names else bdd.true
                  for s in range(comp.num_states)]

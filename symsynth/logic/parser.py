@@ -48,7 +48,7 @@ def _grammar_text() -> str:
 
 @functools.cache
 def _parser() -> lark.Lark:
-    return lark.Lark(_grammar_text(), parser="lalr", lexer="contextual",
+    return lark.Lark(_grammar_text(), parser="lalr", lexer="basic",
                      propagate_positions=False, maybe_placeholders=False)
 
 
