@@ -133,7 +133,7 @@ def parse_ltlf(text: str, *, source: str = "<formula>",
 
 
 def _syntax_error(text: str, source: str, error: lark.UnexpectedInput) -> LTLfSyntaxError:
-    if not text.strip():
+    if not re.sub(r"#[^\n]*", "", text).strip():
         return LTLfSyntaxError(source, 1, 1, "", "empty formula: expected a formula")
     pos = getattr(error, "pos_in_stream", None)
     token = getattr(error, "token", None)

@@ -1,0 +1,194 @@
+"""The game of spec/game-semantics.md §2–§5 as explicit, executable code.
+
+One abstract state at a time: which moves the robot and the human have from
+it, what they cost, and which atoms hold in it.  Both solvers are checked
+against this module; it is written to be read next to the spec.
+
+Names of actions (the spec's, with the object added to `grab` and `drop`
+for readability):
+
+- robot: `transit(o,g)`, `grab(o)`, `transfer(l)`, `drop(o,l)`;
+- human: `move(o,t)` (a pass is not a move and is not listed here).
+
+Costs are the spec's, in costmap units; `quantize` turns one into the
+integer units the solvers add up.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from symsynth.errors import InputError
+from symsynth.game.propositions import Proposition
+from symsynth.scene.costmap import Costmap
+from symsynth.scene.model import ELSE, EMPTY, HAND, Scene
+
+EndEffector = str | tuple[str, str]  # ELSE, a location, or (object, grasp)
+
+#: Quantization tolerance: `c / r` within this much above an integer counts as
+#: that integer, so float noise (0.3 / 0.1 = 3.0000000000000004) costs no unit.
+EPSILON = 1e-9
+
+
+@dataclass(frozen=True)
+class State:
+    """An abstract state `v = (at, grip, ee)` (spec §2).
+
+    `at[i]` is where `scene.objects[i]` is: a location, `ELSE` or `HAND`;
+    `grip` is the grasp holding the object in the hand, None when empty;
+    `ee` is `ELSE`, a location (holding) or `(object, grasp)` (empty hand).
+    """
+
+    at: tuple[str, ...]
+    grip: str | None
+    ee: EndEffector
+
+    def held(self) -> int | None:
+        """Index of the object in the hand, None when the hand is empty."""
+        return self.at.index(HAND) if HAND in self.at else None
+
+
+def initial_state(scene: Scene) -> State:
+    """Objects where the scene puts them, hand empty, robot at home."""
+    return State(tuple(o.at for o in scene.objects), None, ELSE)
+
+
+def quantize(cost: float, resolution: float) -> int:
+    """`cost` rounded up to whole units of `resolution`: ceil(c / r - EPSILON)."""
+    return math.ceil(cost / resolution - EPSILON)
+
+
+# -- robot (spec §4, §5) --------------------------------------------------------
+
+def robot_moves(scene: Scene, v: State) -> list[tuple[str, State, float]]:
+    """Every available robot action from `v` as (action, next state, cost).
+
+    Actions of infinite cost are not available and are left out.
+    """
+    moves: list[tuple[str, State, float]] = []
+    names = scene.object_names
+    held = v.held()
+    if held is None:
+        for i, o in enumerate(names):
+            if v.at[i] == HAND:
+                continue
+            for g in scene.grasps:
+                if v.ee == (o, g):
+                    continue
+                cost = _motion(scene, v, EMPTY, starts(scene, v), anchors(scene, v.at[i], g), i)
+                moves.append((f"transit({o},{g})", State(v.at, None, (o, g)), cost))
+        if isinstance(v.ee, tuple):
+            o, g = v.ee
+            i = names.index(o)
+            at = _replace(v.at, i, HAND)
+            moves.append((f"grab({o})", State(at, g, v.at[i]), scene.grab_cost))
+    else:
+        o, g = names[held], v.grip
+        for l in scene.locations:
+            if l in v.at or v.ee == l:
+                continue
+            cost = _motion(scene, v, f"{o}/{g}", starts(scene, v), anchors(scene, l, g), held)
+            moves.append((f"transfer({l})", State(v.at, g, l), cost))
+        if v.ee in scene.locations and v.ee not in v.at:
+            at = _replace(v.at, held, v.ee)
+            moves.append((f"drop({o},{v.ee})", State(at, None, (o, g)), scene.drop_cost))
+    return [m for m in moves if m[2] != math.inf]
+
+
+def anchors(scene: Scene, place: str, grasp: str) -> tuple[str, ...]:
+    """`anchors(l, g) = {l/g}`; `anchors(Else, g) = {e/g : e in E}`."""
+    if place == ELSE:
+        return tuple(f"{e}/{grasp}" for e in scene.else_samples)
+    return (f"{place}/{grasp}",)
+
+
+def starts(scene: Scene, v: State) -> tuple[str, ...]:
+    """The robot configurations `v` may stand for (spec §5)."""
+    if v.grip is not None:  # holding
+        return anchors(scene, v.ee, v.grip)
+    if isinstance(v.ee, tuple):
+        o, g = v.ee
+        return anchors(scene, v.at[scene.object_names.index(o)], g)
+    return scene.anchors  # home and every x/g: wherever the robot has been
+
+
+def _motion(scene: Scene, v: State, mode: str, S: tuple[str, ...], T: tuple[str, ...],
+            serves: int) -> float:
+    """max over s in S, t in T of cost(mode, s, t, v, o); inf when S or T is empty."""
+    if not S or not T:
+        return math.inf
+    free = _free_for(scene, v, serves)
+    costmap = _costmap(scene)
+    return max(_cost(costmap, mode, s, t, free) for s in S for t in T)
+
+
+def _cost(costmap: Costmap, mode: str, s: str, t: str, free: frozenset[str]) -> float:
+    """The least cost of a satisfied rule; 0 if s = t; inf if none is satisfied."""
+    if s == t:
+        return 0.0
+    return min((r.cost for r in costmap.rules(mode, s, t) if r.free <= free), default=math.inf)
+
+
+def _free_for(scene: Scene, v: State, serves: int) -> frozenset[str]:
+    """The places of L ∪ E that count as free for a motion serving object `serves`:
+    a location holding no other object; every Else sample when no other object
+    is at Else."""
+    others = [a for i, a in enumerate(v.at) if i != serves]
+    free = {l for l in scene.locations if l not in others}
+    if ELSE not in others:
+        free.update(scene.else_samples)
+    return frozenset(free)
+
+
+def _costmap(scene: Scene) -> Costmap:
+    if scene.costmap is None:
+        raise InputError(f"scene {scene.name!r} has no costmap: give one (costmap: FILE) "
+                         "or compute it with a planner")
+    return scene.costmap
+
+
+# -- human (spec §4) ------------------------------------------------------------
+
+def human_moves(scene: Scene, v: State) -> list[tuple[str, State]]:
+    """Every human move from `v` as (action, next state); passing is not one."""
+    moves = []
+    aligned = v.ee if v.grip is not None else None  # a held object's place
+    for i, o in enumerate(scene.object_names):
+        if v.at[i] == HAND:
+            continue
+        for t in scene.locations + (ELSE,):
+            if t != ELSE and (t in v.at or t == aligned):
+                continue  # also excludes t = at[o]
+            ee = ELSE if isinstance(v.ee, tuple) and v.ee[0] == o else v.ee
+            moves.append((f"move({o},{t})", State(_replace(v.at, i, t), v.grip, ee)))
+    return moves
+
+
+# -- propositions (spec §3) -----------------------------------------------------
+
+def letter(scene: Scene, props: Mapping[str, Proposition], v: State) -> frozenset[str]:
+    """The keys of the atoms that hold in `v`."""
+    true = set()
+    for key, p in props.items():
+        if p.kind == "at":
+            holds = p.location in _places(scene, v, p.tag)
+        elif p.kind == "holding":
+            holds = HAND in _places(scene, v, p.tag)
+        elif p.kind == "occupied":
+            holds = p.location in v.at
+        else:  # free
+            holds = p.location not in v.at
+        if holds:
+            true.add(key)
+    return frozenset(true)
+
+
+def _places(scene: Scene, v: State, tag: str) -> set[str]:
+    """Where the objects tagged `tag` are."""
+    return {a for spec, a in zip(scene.objects, v.at) if tag in spec.tags}
+
+
+def _replace(at: tuple[str, ...], i: int, value: str) -> tuple[str, ...]:
+    return at[:i] + (value,) + at[i + 1:]

@@ -1,0 +1,242 @@
+"""The explicit solver: the game of spec §6 position by position.
+
+A position is `(v, q, h, robot)`: abstract state, DFA state after the trace
+so far, human moves left, and whose turn it is (the human's first).  Every
+move that makes the DFA accept leads to one target position WIN.
+
+The value is the least fixpoint of
+
+    val(WIN) = 0
+    val(robot position p) = min over actions p -a-> p' of cost(a) + val(p')
+    val(human position p) = max over pass and moves p -> p' of val(p')
+
+computed with Dijkstra's algorithm for min-cost reachability games with
+non-negative weights (Khachiyan et al., 2008): positions settle in order of
+value; a robot position settles with its best settled successor, a human
+position once all its successors have settled, with the last (largest)
+value.  Positions that never settle have infinite value: the human can keep
+the robot from winning, if need be by passing forever.  A robot position's
+strategy edge leads to a position settled before it, so following the
+strategy always reaches WIN, zero-cost actions included.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+import time
+from collections import deque
+from collections.abc import Hashable
+from typing import NamedTuple
+
+from symsynth.automata import SymbolicDFA, compile_ltlf
+from symsynth.errors import InputError
+from symsynth.game.abstraction import (State, human_moves, initial_state, letter, quantize,
+                                       robot_moves)
+from symsynth.game.propositions import interpret_all
+from symsynth.game.solution import Solution, Step, verdict
+from symsynth.logic import ast, parse_ltlf
+from symsynth.scene.model import Scene
+
+PASS = "pass"
+WIN = 0  # index of the target position
+
+
+class Node(NamedTuple):
+    v: State
+    q: Hashable
+    h: int
+    robot: bool
+
+
+class Edge(NamedTuple):
+    action: str
+    target: int  # position index; WIN when the DFA accepts
+    units: int  # 0 for the human
+    state: State  # the abstract state after the move
+
+
+def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
+                   k: int | None = None, budget: float | None = None,
+                   resolution: float = 1.0) -> Solution:
+    """E_p, a strategy and plays for `formula` (default: the scene's task)
+    against a human with `k` moves (default: the scene's k)."""
+    k = scene.k if k is None else k
+    if k < 0:
+        raise InputError(f"k must be >= 0, found {k}")
+    if not resolution > 0 or math.isinf(resolution):
+        raise InputError(f"resolution must be a positive number, found {resolution}")
+    clock = time.perf_counter()
+    game = _Game(scene, _formula(scene, formula), resolution)
+    seconds = {"dfa": time.perf_counter() - clock}
+
+    clock = time.perf_counter()
+    v0 = initial_state(scene)
+    q0 = game.read(game.dfa.initial, v0)
+    if game.dfa.is_accepting(q0):  # ρ(v0) alone is accepted
+        return Solution(0.0, 0, resolution, budget, verdict(0, resolution, budget), k, 0,
+                        seconds | {"explore": 0.0, "solve": 0.0}, {}, (), None, scene.object_names)
+    nodes, edges = game.explore(Node(v0, q0, k, False))
+    seconds["explore"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    value, choice = _dijkstra(nodes, edges)
+    strategy = {(n.v, n.q, n.h): edges[i][choice[i]].action
+                for i, n in enumerate(nodes) if n is not None and n.robot and i in choice}
+    units = value.get(1)  # the initial position has index 1
+    realizable = verdict(units, resolution, budget)
+    principal = _principal_play(nodes, edges, value, choice, resolution) if units is not None else ()
+    if units is None:
+        counter = _counter_play(nodes, edges, value, resolution)
+    else:
+        counter = None if realizable is not False else principal
+    seconds["solve"] = time.perf_counter() - clock
+    return Solution(None if units is None else units * resolution, units, resolution, budget,
+                    realizable, k, len(nodes) - 1, seconds, strategy, principal, counter,
+                    scene.object_names)
+
+
+def _formula(scene: Scene, formula: str | ast.Formula | None) -> ast.Formula:
+    if formula is None:
+        if scene.task is None:
+            raise InputError(f"scene {scene.name!r} has no task: give one (task: FORMULA)")
+        formula = scene.task
+    if isinstance(formula, str):
+        return parse_ltlf(formula, source=f"{scene.name} (task)")
+    return formula
+
+
+class _Game:
+    """The game graph's successor function, with the DFA and the moves cached
+    (moves depend on `v` only, DFA steps on (q, letter) only)."""
+
+    def __init__(self, scene: Scene, formula: ast.Formula, resolution: float):
+        self.scene = scene
+        self.props = interpret_all(formula, scene)
+        self.dfa: SymbolicDFA = compile_ltlf(formula)
+        self.resolution = resolution
+        self._steps: dict[tuple[Hashable, frozenset[str]], Hashable] = {}
+        self._letters: dict[State, frozenset[str]] = {}
+        self._robot: dict[State, list[tuple[str, State, int]]] = {}
+        self._human: dict[State, list[tuple[str, State]]] = {}
+
+    def read(self, q: Hashable, v: State) -> Hashable:
+        """The DFA state after reading ρ(v) from q."""
+        if v not in self._letters:
+            self._letters[v] = letter(self.scene, self.props, v)
+        key = (q, self._letters[v])
+        if key not in self._steps:
+            self._steps[key] = self.dfa.step(q, key[1])
+        return self._steps[key]
+
+    def moves(self, node: Node) -> list[tuple[str, Node | None, int, State]]:
+        """(action, successor or None for a win, units, state after)."""
+        v, q, h = node.v, node.q, node.h
+        if node.robot:
+            if v not in self._robot:
+                self._robot[v] = [(a, w, quantize(c, self.resolution))
+                                  for a, w, c in robot_moves(self.scene, v)]
+            return [(a, self._after(w, q, h, robot=False), units, w) for a, w, units in self._robot[v]]
+        out: list[tuple[str, Node | None, int, State]] = [(PASS, Node(v, q, h, True), 0, v)]
+        if h > 0:
+            if v not in self._human:
+                self._human[v] = human_moves(self.scene, v)
+            out += [(a, self._after(w, q, h - 1, robot=True), 0, w) for a, w in self._human[v]]
+        return out
+
+    def _after(self, w: State, q: Hashable, h: int, robot: bool) -> Node | None:
+        q2 = self.read(q, w)
+        return None if self.dfa.is_accepting(q2) else Node(w, q2, h, robot)
+
+    def explore(self, start: Node) -> tuple[list[Node | None], list[list[Edge]]]:
+        """The positions reachable from `start` (index 1; index 0 is WIN) and their edges."""
+        nodes: list[Node | None] = [None, start]
+        index = {start: 1}
+        edges: list[list[Edge]] = [[], []]
+        queue = deque([1])
+        while queue:
+            i = queue.popleft()
+            for action, succ, units, w in self.moves(nodes[i]):
+                if succ is None:
+                    j = WIN
+                elif succ in index:
+                    j = index[succ]
+                else:
+                    j = index[succ] = len(nodes)
+                    nodes.append(succ)
+                    edges.append([])
+                    queue.append(j)
+                edges[i].append(Edge(action, j, units, w))
+        return nodes, edges
+
+
+def _dijkstra(nodes: list[Node | None], edges: list[list[Edge]]) -> tuple[dict[int, int], dict[int, int]]:
+    """Settled values (units) and, for robot positions, the chosen edge index."""
+    preds: list[list[tuple[int, int]]] = [[] for _ in nodes]
+    for i, out in enumerate(edges):
+        for e, edge in enumerate(out):
+            preds[edge.target].append((i, e))
+    waiting = [len(out) for out in edges]  # human positions: unsettled successors
+    best: dict[int, tuple[int, int]] = {}  # robot positions: (value, edge) so far
+    value: dict[int, int] = {}
+    choice: dict[int, int] = {}
+    heap = [(0, WIN)]
+    while heap:
+        d, j = heapq.heappop(heap)
+        if j in value:
+            continue
+        value[j] = d
+        if j != WIN and nodes[j].robot:
+            choice[j] = best[j][1]
+        for i, e in preds[j]:
+            if i in value:
+                continue
+            if nodes[i].robot:
+                candidate = d + edges[i][e].units
+                if i not in best or candidate < best[i][0]:
+                    best[i] = (candidate, e)
+                    heapq.heappush(heap, (candidate, i))
+            else:
+                waiting[i] -= 1
+                if waiting[i] == 0:  # d is the largest value of its successors
+                    heapq.heappush(heap, (d, i))
+    return value, choice
+
+
+def _principal_play(nodes, edges, value, choice, resolution) -> tuple[Step, ...]:
+    """The strategy against the human's worst replies (argmax; a pass on ties,
+    then the first move), from the initial position to the win."""
+    play = []
+    i = 1
+    while i != WIN:
+        if nodes[i].robot:
+            edge = edges[i][choice[i]]
+            play.append(Step("robot", edge.action, edge.units * resolution, edge.state))
+        else:  # edges[i][0] is the pass; max() keeps the first of equal values
+            edge = max(edges[i], key=lambda x: value[x.target])
+            if edge.action != PASS:
+                play.append(Step("human", edge.action, 0.0, edge.state))
+        i = edge.target
+    return tuple(play)
+
+
+def _counter_play(nodes, edges, value, resolution) -> tuple[Step, ...]:
+    """A play from the initial position where the robot never wins: the human
+    keeps to positions of infinite value (passing when that does), the robot
+    takes its cheapest action.  It ends where the robot has no available
+    action, or just before a position would repeat (the robot goes in circles)."""
+    play = []
+    i, seen = 1, set()
+    while i not in seen:
+        seen.add(i)
+        if nodes[i].robot:
+            if not edges[i]:
+                break
+            edge = min(edges[i], key=lambda x: x.units)
+        else:
+            edge = next(x for x in edges[i] if x.target not in value)
+        if edge.action != PASS:
+            who = "robot" if nodes[i].robot else "human"
+            play.append(Step(who, edge.action, edge.units * resolution, edge.state))
+        i = edge.target
+    return tuple(play)

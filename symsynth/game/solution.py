@@ -1,0 +1,80 @@
+"""What a solver returns (spec §6, §8): the value, the verdict, a strategy and plays.
+
+Shared by the explicit and the symbolic solver, so their answers compare
+field by field.  Plays list robot actions and human moves; a human pass is
+not a step (between two robot steps the human passed).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Hashable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from symsynth.game.abstraction import EPSILON, State
+
+#: A robot-turn position: (abstract state, DFA state, human moves left).
+Position = tuple[State, Hashable, int]
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step of a play: who acted, the action, its quantized cost in
+    costmap units (0 for the human), and the abstract state it produced."""
+
+    who: str  # "robot" or "human"
+    action: str
+    cost: float
+    state: State
+
+
+@dataclass(frozen=True)
+class Solution:
+    """The solved game.
+
+    - `cost_bound`: E_p in costmap units (`units * resolution`), None when infinite;
+    - `realizable`: E_p <= budget (None without a budget);
+    - `states`: game positions the solver represented;
+    - `strategy`: the robot's action at every robot-turn position of finite value;
+    - `principal_play`: the strategy against the human's worst replies, to the win;
+    - `counter_play`: when not realizable, a play that defeats the robot (see the solver).
+    """
+
+    cost_bound: float | None
+    units: int | None
+    resolution: float
+    budget: float | None
+    realizable: bool | None
+    k: int
+    states: int
+    seconds: Mapping[str, float]
+    strategy: Mapping[Position, str] = field(repr=False)
+    principal_play: tuple[Step, ...] = ()
+    counter_play: tuple[Step, ...] | None = None
+    objects: tuple[str, ...] = ()  # names for `at`, in order, to print states
+
+    def to_json(self) -> dict[str, Any]:
+        """Spec §8's fields, the units and the plays."""
+        out: dict[str, Any] = {
+            "realizable": self.realizable, "cost_bound": self.cost_bound, "budget": self.budget,
+            "k": self.k, "states": self.states, "seconds": dict(self.seconds),
+            "units": self.units, "resolution": self.resolution,
+            "principal_play": [self._step(s) for s in self.principal_play],
+        }
+        out["counter_play"] = (None if self.counter_play is None
+                               else [self._step(s) for s in self.counter_play])
+        return out
+
+    def _step(self, step: Step) -> dict[str, Any]:
+        v = step.state
+        ee = list(v.ee) if isinstance(v.ee, tuple) else v.ee
+        state = {"at": dict(zip(self.objects, v.at)), "grip": v.grip, "ee": ee}
+        return {"who": step.who, "action": step.action, "cost": step.cost, "state": state}
+
+
+def verdict(units: int | None, resolution: float, budget: float | None) -> bool | None:
+    """Whether E_p = units * resolution is within `budget`, compared in units
+    with the quantization tolerance (so 3 units of 0.1 fit a budget of 0.3)."""
+    if budget is None:
+        return None
+    return units is not None and units <= budget / resolution + EPSILON

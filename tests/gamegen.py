@@ -1,0 +1,90 @@
+"""Seeded random scenes for the game solvers: abstract scenes, conditional
+costmaps and tasks, built through `scene_from_data` so they are validated.
+
+`random_scene(seed)` draws 1–3 objects with shared tags, 2–4 locations,
+0–2 Else samples, 1–2 grasps, a human with k in 0..2 and a task from a few
+patterns.  The costmap covers the motions the game can ask for (transit:
+any anchor to any x/g; transfer with o/g: x/g to l/g), but each goal anchor
+is dropped for a mode now and then, single pairs go missing, and rules
+carry random `free` conditions, so some scenes are unrealizable.
+
+`positive=True` makes every action cost at least one unit (costs 1–9,
+grab and drop 1–5, and never exactly one Else sample, which would make a
+transit between two objects in Else cost 0): then every play that stays
+within a cost bound B has at most B robot actions, which is what a
+budget-bounded brute force needs.
+"""
+
+from __future__ import annotations
+
+import random
+
+from symsynth.scene import Scene, scene_from_data
+
+TAGS = ("block", "red", "blue")
+
+
+def random_scene(seed: int, *, positive: bool = False, max_objects: int = 3) -> Scene:
+    rng = random.Random(seed)
+    low = 1 if positive else 0
+    locations = [f"l{i}" for i in range(1, rng.randint(2, 4) + 1)]
+    samples = [f"e{i}" for i in range(1, rng.choice([0, 2, 2, 2] if positive else [0, 1, 2, 2]) + 1)]
+    grasps = ["top", "side"][:rng.randint(1, 2)]
+    names = [f"o{i}" for i in range(1, rng.randint(1, max_objects) + 1)]
+    spots = rng.sample(locations + ["Else"] * len(names), len(names))
+    objects = {o: {"tags": rng.sample(TAGS, rng.randint(0, 2)), "at": at}
+               for o, at in zip(names, spots)}
+    data = {
+        "name": f"random{seed}",
+        "objects": objects,
+        "locations": locations,
+        "else_samples": samples,
+        "grasps": grasps,
+        "primitives": {"grab": rng.randint(low, 5), "drop": rng.randint(low, 5)},
+        "human": {"k": rng.randint(0, 2)},
+        "task": _task(rng, objects, locations),
+        "costmap": _costmap(rng, names, locations, samples, grasps, low),
+    }
+    return scene_from_data(data)
+
+
+def _task(rng: random.Random, objects: dict, locations: list[str]) -> str:
+    tags = sorted({t for o, spec in objects.items() for t in [o, *spec["tags"]]})
+    x, y = rng.choice(tags), rng.choice(tags)
+    l, m = rng.sample(locations, 2)
+    anywhere = rng.choice(locations + ["Else"])
+    patterns = [
+        f"F(at({x}, {l}))",
+        f"F(at({x}, {anywhere}))",
+        f"F(at({x}, {l}) & at({y}, {m}))",
+        f"F(at({x}, {l})) & G(!at({y}, {m}))",
+        f"F(at({x}, {l})) & G(occupied({m}) -> at({y}, {m}))",
+        f"F(holding({x}))",
+        f"F(occupied({l}) & free({m}))",
+        f"F(at({x}, {l}) & F(at({y}, {m})))",
+    ]
+    return rng.choice(patterns)
+
+
+def _costmap(rng: random.Random, names: list[str], locations: list[str], samples: list[str],
+             grasps: list[str], low: int) -> dict:
+    places = locations + samples
+    every = ["home"] + [f"{x}/{g}" for x in places for g in grasps]
+    pairs = [("empty", s, f"{x}/{g}") for x in places for g in grasps for s in every]
+    pairs += [(f"{o}/{g}", f"{x}/{g}", f"{l}/{g}")
+              for o in names for g in grasps for x in places for l in locations]
+    dropped = {(mode, t) for mode, _, t in pairs if rng.random() < 0.05}
+    motions = []
+    for mode, s, t in pairs:
+        if s == t or (mode, t) in dropped or rng.random() < 0.003:
+            continue
+        rules = [{"free": _some(rng, places), "cost": rng.randint(low, 9)}
+                 for _ in range(rng.randint(1, 3))]
+        if rng.random() < 0.97:
+            rules[-1]["free"] = []  # usually one unconditional fallback
+        motions.append({"mode": mode, "from": s, "to": t, "rules": rules})
+    return {"format": "symsynth.costmap/1", "motions": motions}
+
+
+def _some(rng: random.Random, places: list[str]) -> list[str]:
+    return [x for x in places if rng.random() < 0.25]

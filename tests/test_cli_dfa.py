@@ -1,0 +1,168 @@
+"""`symsynth dfa` through `symsynth.cli.main`, with captured output."""
+
+from __future__ import annotations
+
+import itertools
+import json
+import re
+
+import pytest
+
+from reference import JsonDFA, distinguishing_trace, letters, minimal_num_states, reference_dfa
+from symsynth.cli import main
+from symsynth.logic import atoms, holds, parse_ltlf
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def all_traces(atom_keys, max_length):
+    alphabet = letters(atom_keys)
+    for n in range(1, max_length + 1):
+        yield from (list(t) for t in itertools.product(alphabet, repeat=n))
+
+
+def check_json_language(data, formula, max_length=4):
+    """The printed JSON, simulated through its guards, accepts exactly the models."""
+    simulated = JsonDFA(data)
+    keys = {x.key for x in atoms(formula)}
+    assert set(data["atoms"]) == keys
+    for trace in all_traces(keys, max_length):
+        assert simulated.accepts(trace) == holds(formula, trace), trace
+    assert distinguishing_trace(simulated, reference_dfa(formula), keys) is None
+    assert len(simulated.states) == minimal_num_states(formula)
+
+
+def test_summary_reports_states_nodes_and_seconds(capsys):
+    code, out, err = run(capsys, "dfa", "G(a -> F b)")
+    assert code == 0
+    assert err == ""
+    assert re.search(r"states\D*\b3\b", out, re.I)   # initial, satisfied, pending
+    assert re.search(r"nodes", out, re.I)
+    assert re.search(r"seconds", out, re.I)
+
+
+def test_summary_of_the_response_family(capsys):
+    formula = " & ".join(f"G(a{i} -> F b{i})" for i in range(3))
+    code, out, _ = run(capsys, "dfa", formula)
+    assert code == 0
+    assert re.search(r"states\D*\b9\b", out, re.I)   # 2^3 + 1
+
+
+def test_json_is_parsed_and_simulated(capsys):
+    code, out, err = run(capsys, "dfa", "--json", "G(a -> F b) & F(c & last)")
+    assert code == 0 and err == ""
+    data = json.loads(out)
+    assert data["initial"] not in data["accepting"]
+    check_json_language(data, parse_ltlf("G(a -> F b) & F(c & last)"))
+
+
+def test_json_with_predicate_atoms(capsys):
+    text = "F(at(black, top)) & G(occupied(l3) -> at(white, l1))"
+    code, out, _ = run(capsys, "dfa", "--json", text)
+    assert code == 0
+    data = json.loads(out)
+    assert set(data["atoms"]) == {"at(black, top)", "occupied(l3)", "at(white, l1)"}
+    check_json_language(data, parse_ltlf(text), max_length=3)
+
+
+def test_dot_file_is_written(capsys, tmp_path):
+    target = tmp_path / "dfa.dot"
+    code, out, _ = run(capsys, "dfa", "--dot", str(target), "F a & F b")
+    assert code == 0
+    dot = target.read_text(encoding="utf-8")
+    assert "digraph" in dot
+    assert dot.count("doublecircle") >= 1            # {a, b} seen is accepting
+    # the same DFA as JSON: one DOT edge per transition, plus the entry arrow
+    _, out, _ = run(capsys, "dfa", "--json", "F a & F b")
+    data = json.loads(out)
+    edges = [line for line in dot.splitlines() if "->" in line]
+    assert len(edges) == len(data["transitions"]) + 1
+
+
+def test_dot_and_json_together(capsys, tmp_path):
+    target = tmp_path / "x.dot"
+    code, out, _ = run(capsys, "dfa", "--json", "--dot", str(target), "X true")
+    assert code == 0
+    check_json_language(json.loads(out), parse_ltlf("X true"))
+    assert "digraph" in target.read_text(encoding="utf-8")
+
+
+def test_formula_from_a_file_with_comments_and_line_breaks(capsys, tmp_path):
+    spec = tmp_path / "task.ltlf"
+    spec.write_text("# respond to every request\nG(a ->\n  F b)  # eventually\n", encoding="utf-8")
+    code, out, err = run(capsys, "dfa", "--json", "-f", str(spec))
+    assert code == 0 and err == ""
+    from_file = json.loads(out)
+    check_json_language(from_file, parse_ltlf("G(a -> F b)"))
+    code, out, _ = run(capsys, "dfa", "--file", str(spec))
+    assert code == 0
+    assert re.search(r"states\D*\b3\b", out, re.I)
+
+
+def test_next_weak_changes_the_meaning_of_x(capsys):
+    code, out, _ = run(capsys, "dfa", "--json", "X a")
+    assert code == 0
+    strong = JsonDFA(json.loads(out))
+    code, out, _ = run(capsys, "dfa", "--json", "--next", "weak", "X a")
+    assert code == 0
+    weak = JsonDFA(json.loads(out))
+    # a trace of length 1 has no next position: strong X fails, weak X holds
+    assert not strong.accepts([{"a"}])
+    assert weak.accepts([{"a"}])
+    assert weak.accepts([set()])
+    assert strong.accepts([set(), {"a"}]) and weak.accepts([set(), {"a"}])
+    assert not weak.accepts([set(), set()])
+    check_json_language(json.loads(out), parse_ltlf("WX a"))
+
+
+def test_bad_formula_gives_exit_2_with_position_and_no_traceback(capsys):
+    code, out, err = run(capsys, "dfa", "G(a -> F b")
+    assert code == 2
+    assert out == ""
+    assert re.search(r":1:11\b", err)
+    assert "^" in err
+    assert "Traceback" not in err
+
+
+def test_bad_formula_in_a_file_names_the_file_line_and_column(capsys, tmp_path):
+    spec = tmp_path / "bad.ltlf"
+    spec.write_text("# a comment\nG(a ->\n  F b c)\n", encoding="utf-8")
+    code, out, err = run(capsys, "dfa", "-f", str(spec))
+    assert code == 2
+    assert f"{spec}:3:7" in err     # the stray atom `c`
+    assert "Traceback" not in err
+    assert len([line for line in err.splitlines() if "syntax error" in line]) == 1
+
+
+def test_missing_file_is_a_user_error(capsys, tmp_path):
+    code, _, err = run(capsys, "dfa", "-f", str(tmp_path / "nowhere.ltlf"))
+    assert code == 2
+    assert "nowhere.ltlf" in err
+    assert "Traceback" not in err
+
+
+def test_unwritable_dot_target_is_a_user_error(capsys, tmp_path):
+    code, _, err = run(capsys, "dfa", "--dot", str(tmp_path / "no" / "such" / "dir.dot"), "F a")
+    assert code == 2
+    assert "Traceback" not in err
+
+
+@pytest.mark.parametrize("argv", [
+    ["dfa"],                                 # neither formula nor file
+    ["dfa", "--next", "medium", "X a"],      # unknown convention
+    ["dfa", "-f", "x.ltlf", "F a"],          # both a file and a formula
+])
+def test_bad_options_exit_with_2(capsys, argv):
+    # argparse reports usage errors by raising SystemExit(2); returning 2 is as good
+    try:
+        code = main(argv)
+    except SystemExit as stop:
+        code = stop.code
+    assert code == 2
+    err = capsys.readouterr().err
+    assert err.strip()
+    assert "Traceback" not in err
