@@ -15,6 +15,9 @@ def test_wheel_ships_grammar_and_compiles(tmp_path):
     (wheel,) = wheels.glob("symsynth-*.whl")
     names = zipfile.ZipFile(wheel).namelist()
     assert "symsynth/grammars/ltlf.lark" in names
+    # every package of the source tree is listed in pyproject.toml
+    sources = {p.relative_to(ROOT).as_posix() for p in (ROOT / "symsynth").rglob("*.py")}
+    assert sources <= set(names), sorted(sources - set(names))
 
     target = tmp_path / "site"
     subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "-q", "--target", str(target),
