@@ -24,13 +24,13 @@ from symsynth.scene import Scene, scene_from_data
 TAGS = ("block", "red", "blue")
 
 
-def random_scene(seed: int, *, positive: bool = False, max_objects: int = 3) -> Scene:
+def random_scene(seed: int, *, positive: bool = False) -> Scene:
     rng = random.Random(seed)
     low = 1 if positive else 0
     locations = [f"l{i}" for i in range(1, rng.randint(2, 4) + 1)]
     samples = [f"e{i}" for i in range(1, rng.choice([0, 2, 2, 2] if positive else [0, 1, 2, 2]) + 1)]
     grasps = ["top", "side"][:rng.randint(1, 2)]
-    names = [f"o{i}" for i in range(1, rng.randint(1, max_objects) + 1)]
+    names = [f"o{i}" for i in range(1, rng.randint(1, 3) + 1)]
     spots = rng.sample(locations + ["Else"] * len(names), len(names))
     objects = {o: {"tags": rng.sample(TAGS, rng.randint(0, 2)), "at": at}
                for o, at in zip(names, spots)}
@@ -73,7 +73,8 @@ def _costmap(rng: random.Random, names: list[str], locations: list[str], samples
     pairs = [("empty", s, f"{x}/{g}") for x in places for g in grasps for s in every]
     pairs += [(f"{o}/{g}", f"{x}/{g}", f"{l}/{g}")
               for o in names for g in grasps for x in places for l in locations]
-    dropped = {(mode, t) for mode, _, t in pairs if rng.random() < 0.05}
+    goals = sorted({(mode, t) for mode, _, t in pairs})
+    dropped = {goal for goal in goals if rng.random() < 0.1}
     motions = []
     for mode, s, t in pairs:
         if s == t or (mode, t) in dropped or rng.random() < 0.003:

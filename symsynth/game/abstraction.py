@@ -117,10 +117,10 @@ def starts(scene: Scene, v: State) -> tuple[str, ...]:
 def _motion(scene: Scene, v: State, mode: str, S: tuple[str, ...], T: tuple[str, ...],
             serves: int) -> float:
     """max over s in S, t in T of cost(mode, s, t, v, o); inf when S or T is empty."""
+    costmap = costmap_of(scene)
     if not S or not T:
         return math.inf
     free = _free_for(scene, v, serves)
-    costmap = _costmap(scene)
     return max(_cost(costmap, mode, s, t, free) for s in S for t in T)
 
 
@@ -142,7 +142,8 @@ def _free_for(scene: Scene, v: State, serves: int) -> frozenset[str]:
     return frozenset(free)
 
 
-def _costmap(scene: Scene) -> Costmap:
+def costmap_of(scene: Scene) -> Costmap:
+    """The scene's costmap; a scene without one is an input error."""
     if scene.costmap is None:
         raise InputError(f"scene {scene.name!r} has no costmap: give one (costmap: FILE) "
                          "or compute it with a planner")

@@ -31,15 +31,15 @@ from typing import NamedTuple
 
 from symsynth.automata import SymbolicDFA, compile_ltlf
 from symsynth.errors import InputError
-from symsynth.game.abstraction import (State, human_moves, initial_state, letter, quantize,
-                                       robot_moves)
+from symsynth.game.abstraction import (State, costmap_of, human_moves, initial_state, letter,
+                                       quantize, robot_moves)
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import Solution, Step, verdict
 from symsynth.logic import ast, parse_ltlf
 from symsynth.scene.model import Scene
 
 PASS = "pass"
-WIN = 0  # index of the target position
+WIN, START = 0, 1  # indices of the target and of the initial position
 
 
 class Node(NamedTuple):
@@ -73,7 +73,7 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
     clock = time.perf_counter()
     v0 = initial_state(scene)
     q0 = game.read(game.dfa.initial, v0)
-    if game.dfa.is_accepting(q0):  # ρ(v0) alone is accepted
+    if game.accepts(q0):  # ρ(v0) alone is accepted
         return Solution(0.0, 0, resolution, budget, verdict(0, resolution, budget), k, 0,
                         seconds | {"explore": 0.0, "solve": 0.0}, {}, (), None, scene.object_names)
     nodes, edges = game.explore(Node(v0, q0, k, False))
@@ -81,15 +81,14 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
 
     clock = time.perf_counter()
     value, choice = _dijkstra(nodes, edges)
-    strategy = {(n.v, n.q, n.h): edges[i][choice[i]].action
-                for i, n in enumerate(nodes) if n is not None and n.robot and i in choice}
-    units = value.get(1)  # the initial position has index 1
+    strategy = {(nodes[i].v, nodes[i].q, nodes[i].h): edges[i][e].action for i, e in choice.items()}
+    units = value.get(START)
     realizable = verdict(units, resolution, budget)
-    principal = _principal_play(nodes, edges, value, choice, resolution) if units is not None else ()
     if units is None:
-        counter = _counter_play(nodes, edges, value, resolution)
-    else:
-        counter = None if realizable is not False else principal
+        principal, counter = (), _counter_play(nodes, edges, value, resolution)
+    else:  # over budget, the principal play is the human's winning answer
+        principal = _principal_play(nodes, edges, value, choice, resolution)
+        counter = principal if realizable is False else None
     seconds["solve"] = time.perf_counter() - clock
     return Solution(None if units is None else units * resolution, units, resolution, budget,
                     realizable, k, len(nodes) - 1, seconds, strategy, principal, counter,
@@ -111,11 +110,13 @@ class _Game:
     (moves depend on `v` only, DFA steps on (q, letter) only)."""
 
     def __init__(self, scene: Scene, formula: ast.Formula, resolution: float):
+        costmap_of(scene)  # fail early, not at the first motion
         self.scene = scene
         self.props = interpret_all(formula, scene)
         self.dfa: SymbolicDFA = compile_ltlf(formula)
         self.resolution = resolution
         self._steps: dict[tuple[Hashable, frozenset[str]], Hashable] = {}
+        self._accepting: dict[Hashable, bool] = {}
         self._letters: dict[State, frozenset[str]] = {}
         self._robot: dict[State, list[tuple[str, State, int]]] = {}
         self._human: dict[State, list[tuple[str, State]]] = {}
@@ -144,16 +145,21 @@ class _Game:
             out += [(a, self._after(w, q, h - 1, robot=True), 0, w) for a, w in self._human[v]]
         return out
 
+    def accepts(self, q: Hashable) -> bool:
+        if q not in self._accepting:
+            self._accepting[q] = self.dfa.is_accepting(q)
+        return self._accepting[q]
+
     def _after(self, w: State, q: Hashable, h: int, robot: bool) -> Node | None:
         q2 = self.read(q, w)
-        return None if self.dfa.is_accepting(q2) else Node(w, q2, h, robot)
+        return None if self.accepts(q2) else Node(w, q2, h, robot)
 
     def explore(self, start: Node) -> tuple[list[Node | None], list[list[Edge]]]:
-        """The positions reachable from `start` (index 1; index 0 is WIN) and their edges."""
+        """The positions reachable from `start` (index START; WIN has none) and their edges."""
         nodes: list[Node | None] = [None, start]
-        index = {start: 1}
+        index = {start: START}
         edges: list[list[Edge]] = [[], []]
-        queue = deque([1])
+        queue = deque([START])
         while queue:
             i = queue.popleft()
             for action, succ, units, w in self.moves(nodes[i]):
@@ -203,11 +209,12 @@ def _dijkstra(nodes: list[Node | None], edges: list[list[Edge]]) -> tuple[dict[i
     return value, choice
 
 
-def _principal_play(nodes, edges, value, choice, resolution) -> tuple[Step, ...]:
+def _principal_play(nodes: list[Node | None], edges: list[list[Edge]], value: dict[int, int],
+                    choice: dict[int, int], resolution: float) -> tuple[Step, ...]:
     """The strategy against the human's worst replies (argmax; a pass on ties,
     then the first move), from the initial position to the win."""
     play = []
-    i = 1
+    i = START
     while i != WIN:
         if nodes[i].robot:
             edge = edges[i][choice[i]]
@@ -220,13 +227,15 @@ def _principal_play(nodes, edges, value, choice, resolution) -> tuple[Step, ...]
     return tuple(play)
 
 
-def _counter_play(nodes, edges, value, resolution) -> tuple[Step, ...]:
+def _counter_play(nodes: list[Node | None], edges: list[list[Edge]], value: dict[int, int],
+                  resolution: float) -> tuple[Step, ...]:
     """A play from the initial position where the robot never wins: the human
     keeps to positions of infinite value (passing when that does), the robot
     takes its cheapest action.  It ends where the robot has no available
-    action, or just before a position would repeat (the robot goes in circles)."""
+    action, or with the step that comes back to a position already visited
+    (from there the robot goes in circles)."""
     play = []
-    i, seen = 1, set()
+    i, seen = START, set()
     while i not in seen:
         seen.add(i)
         if nodes[i].robot:

@@ -37,7 +37,11 @@ class Solution:
     - `states`: game positions the solver represented;
     - `strategy`: the robot's action at every robot-turn position of finite value;
     - `principal_play`: the strategy against the human's worst replies, to the win;
-    - `counter_play`: when not realizable, a play that defeats the robot (see the solver).
+    - `counter_play`: None unless the robot loses.  When E_p is infinite, a play
+      in which it never wins: the human keeps to positions of infinite value, the
+      robot takes its cheapest action, until the robot has no action or the play
+      comes back to a position it has visited.  When E_p exceeds the budget, the
+      principal play (the human's answers that cost the best strategy too much).
     """
 
     cost_bound: float | None
