@@ -226,8 +226,21 @@ def at_last_dnf(obligation: Dnf, letter: Letter) -> bool:
 # ----------------------------------------------------------------- DFAs
 
 
+class _Runs:
+    """Running a DFA on a trace, given `step`, `initial` and `accepting`."""
+
+    def is_accepting(self, state: int) -> bool:
+        return state in self.accepting
+
+    def accepts(self, trace: Sequence[Collection[str]]) -> bool:
+        state = self.initial
+        for letter in trace:
+            state = self.step(state, letter)
+        return bool(trace) and self.is_accepting(state)
+
+
 @dataclass(frozen=True)
-class ReferenceDFA:
+class ReferenceDFA(_Runs):
     """An explicit, complete DFA: `delta[state][i]` is the successor on `alphabet[i]`."""
 
     atoms: tuple[str, ...]
@@ -242,15 +255,6 @@ class ReferenceDFA:
 
     def step(self, state: int, letter: Collection[str]) -> int:
         return self.delta[state][self.alphabet.index(frozenset(letter) & frozenset(self.atoms))]
-
-    def is_accepting(self, state: int) -> bool:
-        return state in self.accepting
-
-    def accepts(self, trace: Sequence[Collection[str]]) -> bool:
-        state = self.initial
-        for letter in trace:
-            state = self.step(state, letter)
-        return bool(trace) and self.is_accepting(state)
 
 
 def reference_dfa(formula: ast.Formula) -> ReferenceDFA:
@@ -338,7 +342,7 @@ def distinguishing_trace(first, second, atom_keys_: Iterable[str]) -> list[Lette
 # ------------------------------------------------------ the JSON format
 
 
-class JsonDFA:
+class JsonDFA(_Runs):
     """A DFA read from the documented JSON form, simulated through its guard texts.
 
     Guards are parsed with `parse_ltlf` and evaluated with `holds` on a
@@ -368,12 +372,3 @@ class JsonDFA:
             raise AssertionError(f"state {state} on letter {sorted(letter)}: "
                                  f"{len(targets)} enabled transitions, expected exactly 1")
         return targets[0]
-
-    def is_accepting(self, state: int) -> bool:
-        return state in self.accepting
-
-    def accepts(self, trace: Sequence[Collection[str]]) -> bool:
-        state = self.initial
-        for letter in trace:
-            state = self.step(state, letter)
-        return bool(trace) and self.is_accepting(state)

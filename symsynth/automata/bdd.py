@@ -48,14 +48,6 @@ def is_constant(bdd: BDD, u: Function) -> bool:
     return u == bdd.true or u == bdd.false
 
 
-def cube(bdd: BDD, literals: Mapping[str, bool]) -> Function:
-    """The conjunction of the literals `var = value`."""
-    result = bdd.true
-    for var, value in literals.items():
-        result &= bdd.var(var) if value else ~bdd.var(var)
-    return result
-
-
 def isop(bdd: BDD, f: Function) -> list[Cube]:
     """An irredundant sum of products of `f` (Minato–Morreale).
 

@@ -1,8 +1,8 @@
 """LTLf: the abstract syntax, its parser and printer, and its reference semantics."""
 
-from symsynth.logic.ast import Formula, atoms, conjuncts
+from symsynth.logic.ast import Formula, atoms
 from symsynth.logic.parser import parse_ltlf
 from symsynth.logic.printer import to_string
 from symsynth.logic.semantics import holds
 
-__all__ = ["Formula", "atoms", "conjuncts", "parse_ltlf", "to_string", "holds"]
+__all__ = ["Formula", "atoms", "parse_ltlf", "to_string", "holds"]

@@ -140,9 +140,3 @@ def atoms(formula: Formula) -> tuple[Atom, ...]:
             stack.append(node.left)
     return tuple(seen)
 
-
-def conjuncts(formula: Formula) -> list[Formula]:
-    """Split a top-level conjunction `f1 & f2 & ...` into its parts."""
-    if isinstance(formula, And):
-        return conjuncts(formula.left) + conjuncts(formula.right)
-    return [formula]

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -128,13 +128,3 @@ def load_costmap(path: Path) -> Costmap:
 def write_costmap(costmap: Costmap, path: Path) -> None:
     Path(path).write_text(json.dumps(costmap.to_json(), indent=1) + "\n", encoding="utf-8")
 
-
-def merge(rules: Iterable[Rule]) -> tuple[Rule, ...]:
-    """Drop rules implied by others: (F, c) is useless when some (F', c')
-    with F' ⊆ F and c' <= c exists."""
-    rules = sorted(rules, key=lambda r: (r.cost, len(r.free)))
-    kept: list[Rule] = []
-    for rule in rules:
-        if not any(k.free <= rule.free and k.cost <= rule.cost for k in kept):
-            kept.append(rule)
-    return tuple(kept)

@@ -8,6 +8,7 @@ expected`; nothing here raises a traceback for bad input.
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -118,7 +119,7 @@ def scene_from_data(data: Any, source: Path | None = None,
     if costmap is not None:
         _check_costmap(scene, costmap, report)
     report.raise_if_any()
-    return Scene(**{**scene.__dict__, "costmap": costmap})
+    return dataclasses.replace(scene, costmap=costmap)
 
 
 def _check_task(scene: Scene, report: _Report) -> None:

@@ -15,12 +15,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from symsynth.automata.bdd import BDD, Function
+from symsynth.automata.symbolic import prime
 
 Vector = list[Function]
-
-
-def prime(name: str) -> str:
-    return name + "'"
 
 
 @dataclass(frozen=True)
@@ -106,12 +103,3 @@ def subtract(bdd: BDD, x: Sequence[Function], y: Sequence[Function]) -> Vector:
         borrow = (~xi & yi) | (~bdd.apply("xor", xi, yi) & borrow)
     return out
 
-
-def add(bdd: BDD, x: Sequence[Function], y: Sequence[Function]) -> Vector:
-    """The bits of x + y modulo 2^width."""
-    carry = bdd.false
-    out = []
-    for xi, yi in zip(x, y):
-        out.append(bdd.apply("xor", bdd.apply("xor", xi, yi), carry))
-        carry = (xi & yi) | (carry & bdd.apply("xor", xi, yi))
-    return out
