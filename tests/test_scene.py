@@ -1,0 +1,150 @@
+"""Scene and costmap loading: every problem reported with file, line and key
+path, and a valid file read back exactly."""
+
+import json
+import textwrap
+
+import pytest
+
+from symsynth.errors import InputError
+from symsynth.scene import Costmap, Rule, load_costmap, load_scene, write_costmap
+from symsynth.scene.load import SceneError
+
+GOOD = """\
+name: toy
+objects:
+  w1: {tags: [block, white], at: l1}
+  b:  {tags: [block, black], at: Else}
+locations: [l1, l2, l3]
+else_samples: [e1, e2]
+grasps: [top]
+primitives: {grab: 5, drop: 4}
+human: {k: 2}
+task: "F(at(black, l2)) & G(occupied(l3) -> at(white, l1))"
+costmap: toy.costmap.json
+"""
+
+COSTMAP = {"format": "symsynth.costmap/1", "motions": [
+    {"mode": "empty", "from": "home", "to": "l1/top",
+     "rules": [{"free": [], "cost": 7}, {"free": ["l2"], "cost": 3}]},
+    {"mode": "b/top", "from": "e1/top", "to": "l2/top", "rules": [{"free": ["e2"], "cost": 4}]},
+]}
+
+
+def write(tmp_path, text, costmap=COSTMAP):
+    (tmp_path / "toy.costmap.json").write_text(json.dumps(costmap))
+    path = tmp_path / "toy.yaml"
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+def problems(tmp_path, text, costmap=COSTMAP):
+    with pytest.raises(SceneError) as caught:
+        load_scene(write(tmp_path, text, costmap))
+    return str(caught.value)
+
+
+def test_valid_scene_is_read_exactly(tmp_path):
+    scene = load_scene(write(tmp_path, GOOD))
+    assert scene.object_names == ("w1", "b")
+    assert scene.objects[0].tags == {"w1", "block", "white"}  # own name is a tag
+    assert scene.objects[1].at == "Else"
+    assert scene.locations == ("l1", "l2", "l3") and scene.else_samples == ("e1", "e2")
+    assert (scene.grab_cost, scene.drop_cost, scene.k) == (5.0, 4.0, 2)
+    assert scene.costmap.rules("empty", "home", "l1/top") == (Rule(frozenset(), 7.0),
+                                                             Rule(frozenset({"l2"}), 3.0))
+    assert scene.costmap.rules("empty", "l1/top", "home") == ()
+    assert scene.anchors == ("home", "l1/top", "l2/top", "l3/top", "e1/top", "e2/top")
+    assert scene.modes == ("empty", "w1/top", "b/top")
+
+
+def test_two_objects_at_one_location(tmp_path):
+    text = GOOD.replace("b:  {tags: [block, black], at: Else}", "b:  {tags: [block, black], at: l1}")
+    message = problems(tmp_path, text)
+    assert f"{tmp_path / 'toy.yaml'}:4: objects.b.at: location 'l1' already holds 'w1'" in message
+
+
+def test_unknown_location_in_at_lists_the_known_ones(tmp_path):
+    message = problems(tmp_path, GOOD.replace("at: Else}", "at: l9}"))
+    assert ":4: objects.b.at: unknown location 'l9'; expected one of l1, l2, l3, Else" in message
+
+
+def test_every_problem_is_reported_at_once(tmp_path):
+    text = (GOOD.replace("at: Else}", "at: l9}")
+            .replace("at(black, l2)", "at(black, l7)")
+            .replace("G(occupied(l3)", "G(occupied(l3) & holding(green)"))
+    message = problems(tmp_path, text)
+    assert message.startswith("2 problems in the scene:")
+    assert ":4: objects.b.at:" in message
+    assert ":10: task:" in message and "unknown location 'l7'" in message
+
+
+def test_unknown_tag_in_task_lists_the_known_ones(tmp_path):
+    message = problems(tmp_path, GOOD.replace("at(black, l2)", "at(green, l2)"))
+    assert "unknown object or tag 'green'; known: b, black, block, w1, white" in message
+
+
+def test_task_syntax_error_names_the_line(tmp_path):
+    message = problems(tmp_path, GOOD.replace('task: "F(at(black, l2))', 'task: "F(at(black, l2)'))
+    assert ":10: task: syntax error" in message and "^" in message
+
+
+def test_schema_problems_name_key_path_and_expectation(tmp_path):
+    text = GOOD.replace("primitives: {grab: 5, drop: 4}", "primitives: {grab: -5, drop: 4}")
+    assert ":8: primitives.grab: -5 is less than the minimum of 0" in problems(tmp_path, text)
+    text = GOOD.replace("human: {k: 2}", "human: {k: two}")
+    assert ":9: human.k: expected integer, found 'two'" in problems(tmp_path, text)
+    text = GOOD.replace("grasps: [top]", "grasp: [top]")
+    assert "'grasp' was unexpected" in problems(tmp_path, text)
+    assert "'locations' is required" in problems(tmp_path, GOOD.replace("locations: [l1, l2, l3]\n", ""))
+
+
+def test_reserved_and_clashing_names(tmp_path):
+    text = GOOD.replace("locations: [l1, l2, l3]", "locations: [l1, l2, l3, Else]")
+    assert "locations.3: 'Else' is reserved" in problems(tmp_path, text)
+    text = GOOD.replace("else_samples: [e1, e2]", "else_samples: [e1, l2]")
+    assert "else_samples.1: 'l2' is already a location of interest" in problems(tmp_path, text)
+
+
+def test_costmap_with_unknown_anchor_mode_location(tmp_path):
+    bad = {"format": "symsynth.costmap/1", "motions": [
+        {"mode": "x/top", "from": "home", "to": "l9/top", "rules": [{"free": ["l8"], "cost": 1}]}]}
+    message = problems(tmp_path, GOOD, bad)
+    assert "unknown mode 'x/top'" in message
+    assert "unknown anchor 'l9/top'" in message
+    assert "rule names unknown locations l8" in message
+
+
+def test_costmap_negative_cost_and_missing_file(tmp_path):
+    bad = {"format": "symsynth.costmap/1", "motions": [
+        {"mode": "empty", "from": "home", "to": "l1/top", "rules": [{"free": [], "cost": -3}]}]}
+    assert "motions[0].rules[0].cost: must be >= 0, found -3" in problems(tmp_path, GOOD, bad)
+    text = GOOD.replace("toy.costmap.json", "missing.json")
+    assert "cannot read costmap" in problems(tmp_path, text) and "missing.json" in problems(tmp_path, text)
+
+
+def test_costmap_not_json_names_line(tmp_path):
+    path = tmp_path / "c.json"
+    path.write_text('{"format": "symsynth.costmap/1",\n "motions": [,]}')
+    with pytest.raises(InputError, match=r"c\.json:2:\d+: not JSON"):
+        load_costmap(path)
+
+
+def test_costmap_write_read_round_trip(tmp_path):
+    costmap = Costmap({("empty", "home", "l1/top"): (Rule(frozenset(), 7.0), Rule(frozenset({"l2", "e1"}), 2.5)),
+                       ("b/top", "e1/top", "l2/top"): (Rule(frozenset({"e2"}), 4.0, ((0.0, 1.5), (0.5, 1.0))),)})
+    write_costmap(costmap, tmp_path / "c.json")
+    back = load_costmap(tmp_path / "c.json")
+    assert back == costmap
+    assert back.rules("b/top", "e1/top", "l2/top")[0].path == ((0.0, 1.5), (0.5, 1.0))
+
+
+def test_yaml_syntax_error_names_the_line(tmp_path):
+    path = write(tmp_path, GOOD.replace("grasps: [top]", "grasps: [top"))
+    with pytest.raises(SceneError, match=r"toy\.yaml:\d+: not valid YAML"):
+        load_scene(path)
+
+
+def test_missing_scene_file(tmp_path):
+    with pytest.raises(SceneError, match="cannot read scene"):
+        load_scene(tmp_path / "nope.yaml")
