@@ -7,6 +7,7 @@ else imports `BDD` and `Function` from this module.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Iterable, Mapping
 from typing import Any
 
@@ -30,6 +31,22 @@ def new_manager(*, reordering: bool = False) -> BDD:
     bdd = BDD(memory_estimate=2**24, initial_cache_size=2**14) if BACKEND == "cudd" else BDD()
     bdd.configure(reordering=reordering)
     return bdd
+
+
+def and_exists(bdd: BDD, u: Function, v: Function, qvars: set[str]) -> Function:
+    """\\E qvars: u /\\ v, in one pass where the backend has it."""
+    if BACKEND == "cudd":
+        return _backend.and_exists(u, v, qvars)
+    return bdd.exist(qvars, u & v)  # pragma: no cover - only without CUDD
+
+
+def peak_nodes(bdd: BDD) -> int:
+    """The most BDD nodes the manager has held at once."""
+    if BACKEND != "cudd":  # pragma: no cover - only without CUDD
+        return len(bdd)
+    with warnings.catch_warnings():  # dd warns that the unrelated "mem" changed units
+        warnings.simplefilter("ignore")
+        return int(bdd.statistics()["peak_nodes"])
 
 
 def branches(bdd: BDD, u: Function) -> tuple[Function, Function]:

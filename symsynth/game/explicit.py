@@ -34,8 +34,8 @@ from symsynth.errors import InputError
 from symsynth.game.abstraction import (State, costmap_of, human_moves, initial_state, letter,
                                        quantize, robot_moves)
 from symsynth.game.propositions import interpret_all
-from symsynth.game.solution import Solution, Step, verdict
-from symsynth.logic import ast, parse_ltlf
+from symsynth.game.solution import Solution, Step, task_formula, verdict
+from symsynth.logic import ast
 from symsynth.scene.model import Scene
 
 PASS = "pass"
@@ -67,7 +67,7 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
     if not resolution > 0 or math.isinf(resolution):
         raise InputError(f"resolution must be a positive number, found {resolution}")
     clock = time.perf_counter()
-    game = _Game(scene, _formula(scene, formula), resolution)
+    game = _Game(scene, task_formula(scene, formula), resolution)
     seconds = {"dfa": time.perf_counter() - clock}
 
     clock = time.perf_counter()
@@ -93,16 +93,6 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
     return Solution(None if units is None else units * resolution, units, resolution, budget,
                     realizable, k, len(nodes) - 1, seconds, strategy, principal, counter,
                     scene.object_names)
-
-
-def _formula(scene: Scene, formula: str | ast.Formula | None) -> ast.Formula:
-    if formula is None:
-        if scene.task is None:
-            raise InputError(f"scene {scene.name!r} has no task: give one (task: FORMULA)")
-        formula = scene.task
-    if isinstance(formula, str):
-        return parse_ltlf(formula, source=f"{scene.name} (task)")
-    return formula
 
 
 class _Game:

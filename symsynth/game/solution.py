@@ -11,7 +11,10 @@ from collections.abc import Hashable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from symsynth.errors import InputError
 from symsynth.game.abstraction import EPSILON, State
+from symsynth.logic import ast, parse_ltlf
+from symsynth.scene.model import Scene
 
 #: A robot-turn position: (abstract state, DFA state, human moves left).
 Position = tuple[State, Hashable, int]
@@ -56,13 +59,14 @@ class Solution:
     principal_play: tuple[Step, ...] = ()
     counter_play: tuple[Step, ...] | None = None
     objects: tuple[str, ...] = ()  # names for `at`, in order, to print states
+    stats: Mapping[str, Any] = field(default_factory=dict)  # solver-specific counters
 
     def to_json(self) -> dict[str, Any]:
         """Spec §8's fields, the units and the plays."""
         out: dict[str, Any] = {
             "realizable": self.realizable, "cost_bound": self.cost_bound, "budget": self.budget,
             "k": self.k, "states": self.states, "seconds": dict(self.seconds),
-            "units": self.units, "resolution": self.resolution,
+            "units": self.units, "resolution": self.resolution, "stats": dict(self.stats),
             "principal_play": [self._step(s) for s in self.principal_play],
         }
         out["counter_play"] = (None if self.counter_play is None
@@ -74,6 +78,17 @@ class Solution:
         ee = list(v.ee) if isinstance(v.ee, tuple) else v.ee
         state = {"at": dict(zip(self.objects, v.at)), "grip": v.grip, "ee": ee}
         return {"who": step.who, "action": step.action, "cost": step.cost, "state": state}
+
+
+def task_formula(scene: Scene, formula: str | ast.Formula | None) -> ast.Formula:
+    """The formula to solve: `formula` (text or AST), or else the scene's task."""
+    if formula is None:
+        if scene.task is None:
+            raise InputError(f"scene {scene.name!r} has no task: give one (task: FORMULA)")
+        formula = scene.task
+    if isinstance(formula, str):
+        return parse_ltlf(formula, source=f"{scene.name} (task)")
+    return formula
 
 
 def verdict(units: int | None, resolution: float, budget: float | None) -> bool | None:

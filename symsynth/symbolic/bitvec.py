@@ -33,13 +33,35 @@ class Domain:
         return tuple(prime(b) for b in self.bits)
 
     @classmethod
-    def declare(cls, bdd: BDD, name: str, size: int) -> Domain:
+    def declare(cls, bdd: BDD, name: str, size: int, *, primed: bool = True) -> Domain:
+        """Declare the bits at the bottom of the order, each followed by its
+        primed copy unless `primed` is false (counters that are only ever
+        substituted, such as costs and budgets)."""
         if size < 1:
             raise ValueError(f"domain {name} needs at least one value")
         bits = tuple(f"{name}_{i}" for i in range((size - 1).bit_length()))
         for b in bits:
-            bdd.declare(b, prime(b))
+            bdd.declare(*((b, prime(b)) if primed else (b,)))
         return cls(name, size, bits)
+
+    def least(self, bdd: BDD, u: Function) -> int | None:
+        """The least value of x in the non-empty set `u` (over x alone, or
+        with other variables existentially quantified); None when `u` is
+        empty.  Scans from the highest bit down."""
+        if u == bdd.false:
+            return None
+        others = bdd.support(u) - set(self.bits)
+        if others:
+            u = bdd.exist(others, u)
+        value = 0
+        for i in reversed(range(len(self.bits))):
+            low = bdd.let({self.bits[i]: False}, u)
+            if low != bdd.false:
+                u = low
+            else:
+                u = bdd.let({self.bits[i]: True}, u)
+                value |= 1 << i
+        return value
 
     def eq(self, bdd: BDD, value: int, primed: bool = False) -> Function:
         """x = value  (x' = value when `primed`)."""

@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from symsynth.automata.bdd import BDD, Function
+from symsynth.game.abstraction import State
 from symsynth.game.propositions import Proposition
 from symsynth.scene.model import ELSE, HAND, Scene
 from symsynth.symbolic.bitvec import Domain
@@ -118,12 +119,38 @@ class StateEncoding:
         result &= in_hand | ~at_location
         return result
 
-    def state(self, at: dict[str, str], grip: str | None, ee: object) -> Function:
+    def state(self, at: dict[str, str], grip: str | None, ee: object,
+              primed: bool = False) -> Function:
         """The cube of one abstract state."""
-        result = self.grip_is(grip) & self.ee_is(ee)
+        result = self.grip_is(grip, primed) & self.ee_is(ee, primed)
         for o, where in at.items():
-            result &= self.at_is(o, where)
+            result &= self.at_is(o, where, primed)
         return result
+
+    def encode(self, v: State, primed: bool = False) -> Function:
+        """The cube of an explicit `State` (objects in scene order)."""
+        return self.state(dict(zip(self.scene.object_names, v.at)), v.grip, v.ee, primed)
+
+    def assignment(self, v: State, primed: bool = False) -> dict[str, bool]:
+        """The bit values of an explicit `State`, for `let`."""
+        values: dict[str, bool] = {}
+        codes = [(self.at[o], self.at_values.index(a)) for o, a in zip(self.scene.object_names, v.at)]
+        codes += [(self.grip, self.grip_values.index(v.grip)), (self.ee, self.ee_values.index(v.ee))]
+        for dom, code in codes:
+            names = dom.primed if primed else dom.bits
+            values.update({b: bool(code >> i & 1) for i, b in enumerate(names)})
+        return values
+
+    def decode(self, assignment: dict[str, bool], primed: bool = False) -> State:
+        """The explicit `State` of a satisfying assignment."""
+        at = tuple(self.at_values[self.at[o].decode(assignment, primed)]
+                   for o in self.scene.object_names)
+        return State(at, self.grip_values[self.grip.decode(assignment, primed)],
+                     self.ee_values[self.ee.decode(assignment, primed)])
+
+    def bits(self, primed: bool = False) -> list[str]:
+        """Every bit of the state (primed copies when `primed`)."""
+        return [b for dom in self.domains for b in (dom.primed if primed else dom.bits)]
 
     def initial(self) -> Function:
         """Spec §2: objects where the scene puts them, hand empty, ee = Else."""

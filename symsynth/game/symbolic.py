@@ -1,0 +1,367 @@
+"""The symbolic solver: spec §6's value by the cost-bounded attractor on BDDs.
+
+1. Encode the game (`symbolic.arena`): state bits, the task DFA in the same
+   manager, robot relations with cost bits, the human relation.
+2. Qualitative attractor (costs ignored) until the initial position is
+   won; its rank r bounds the robot actions of some winning strategy, so
+   E_p <= r * c_max and the budget needs bit_length(r * c_max) bits.  When
+   the initial position is never won, E_p is infinite.
+3. The cost-bounded attractor over (position, budget); E_p is the least e
+   with X(v0, q0, k, e).
+4. The strategy, read off the iterates: at a robot position p of value
+   val(p), let i be the first iterate with R_i(p, val(p)); play an action
+   leading into X_{i-1} with budget val(p) - c.  Along every play (val, i)
+   decreases lexicographically, so the strategy wins, spending at most
+   val(p) (see docs in `Strategy`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Iterator, Mapping
+
+from symsynth.automata.bdd import Function, peak_nodes
+from symsynth.errors import InputError
+from symsynth.game.abstraction import State, initial_state
+from symsynth.game.explicit import PASS
+from symsynth.game.solution import Position, Solution, Step, task_formula, verdict
+from symsynth.logic import ast
+from symsynth.scene.model import ELSE, HAND, Scene
+from symsynth.symbolic.arena import FAMILIES, Arena
+from symsynth.symbolic.fixpoint import Attractor, attractor
+
+Q = tuple[bool, ...]
+
+
+def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
+                   k: int | None = None, budget: float | None = None,
+                   resolution: float = 1.0) -> Solution:
+    """E_p, a strategy and plays for `formula` (default: the scene's task)
+    against a human with `k` moves (default: the scene's k)."""
+    k = scene.k if k is None else k
+    if k < 0:
+        raise InputError(f"k must be >= 0, found {k}")
+    if not resolution > 0 or math.isinf(resolution):
+        raise InputError(f"resolution must be a positive number, found {resolution}")
+    clock = time.perf_counter()
+    arena = Arena(scene, task_formula(scene, formula), k, resolution)
+    game = _Queries(arena)
+    seconds = {"encode": time.perf_counter() - clock}
+    stats: dict[str, object] = {"state_bits": len(arena.state_bits), "dfa_bits": len(arena.dfa.bits),
+                                "cost_bits": len(arena.c.bits), "max_units": arena.max_units}
+
+    v0 = initial_state(scene)
+    q0 = game.read(game.dfa_initial, v0)
+    start = (v0, q0, k)
+    if game.accepting(q0):
+        return _solution(arena, 0, budget, seconds, stats, None, (), None)
+
+    clock = time.perf_counter()
+    qualitative = attractor(arena, with_costs=False,
+                            stop=lambda x: game.contains(x, start))
+    seconds["qualitative"] = time.perf_counter() - clock
+    stats["qualitative_iterations"] = len(qualitative.layers)
+    if qualitative.converged:  # the initial position was never won
+        game.attractor = qualitative
+        counter = _counter_play(game, start)
+        stats["peak_nodes"] = peak_nodes(arena.bdd)
+        return _solution(arena, None, budget, seconds, stats, None, (), counter)
+
+    width = (len(qualitative.layers) * arena.max_units).bit_length()
+    arena.declare_budget(width)
+    stats["budget_bits"] = width
+    del qualitative
+    clock = time.perf_counter()
+    quantitative = attractor(arena, with_costs=True)
+    seconds["attractor"] = time.perf_counter() - clock
+    stats["iterations"] = len(quantitative.layers)
+    stats.update({f"seconds_{key}": value for key, value in quantitative.seconds.items()})
+    stats["peak_nodes"] = peak_nodes(arena.bdd)
+    game.attractor = quantitative
+    units = game.value_human(start)
+
+    clock = time.perf_counter()
+    strategy = Strategy(game)
+    principal = _principal_play(game, start, units)
+    seconds["plays"] = time.perf_counter() - clock
+    counter = principal if verdict(units, resolution, budget) is False else None
+    return _solution(arena, units, budget, seconds, stats, strategy, principal, counter)
+
+
+def _solution(arena: Arena, units: int | None, budget: float | None, seconds: dict,
+              stats: dict, strategy: Mapping | None, principal: tuple[Step, ...],
+              counter: tuple[Step, ...] | None) -> Solution:
+    r = arena.resolution
+    return Solution(None if units is None else units * r, units, r, budget,
+                    verdict(units, r, budget), arena.k, _count_positions(arena), seconds,
+                    strategy if strategy is not None else {}, principal, counter,
+                    arena.scene.object_names, stats)
+
+
+def _count_positions(arena: Arena) -> int:
+    """Robot-turn positions (v, q, h) the encoding represents: well-formed
+    states x reachable DFA states x 0..k."""
+    bdd = arena.bdd
+    space = arena.wf & arena.dfa.reachable & arena.h_ok
+    nvars = len(arena.state_bits) + len(arena.dfa.bits) + len(arena.h.bits)
+    return int(bdd.count(space, nvars=nvars))
+
+
+class _Queries:
+    """Questions about single positions, answered from the BDDs."""
+
+    def __init__(self, arena: Arena):
+        self.arena = arena
+        self.bdd = arena.bdd
+        self.dfa_initial: Q = arena.dfa.initial
+        self.attractor: Attractor | None = None
+
+    # -- the DFA on explicit states ----------------------------------------------
+    def read(self, q: Q, v: State) -> Q:
+        """The DFA state after reading ρ(v) from q."""
+        values = self._values(v, q)
+        return tuple(self.bdd.let(values, self.arena.dfa_now[b]) == self.bdd.true
+                     for b in self.arena.dfa.bits)
+
+    def accepting(self, q: Q) -> bool:
+        return self._holds(self.arena.accepting, self._values(None, q))
+
+    # -- membership and values ------------------------------------------------------
+    def _values(self, v: State | None, q: Q | None = None, h: int | None = None,
+                e: int | None = None) -> dict[str, bool]:
+        arena = self.arena
+        values = arena.enc.assignment(v) if v is not None else {}
+        if q is not None:
+            values.update(zip(arena.dfa.bits, q))
+        if h is not None:
+            values.update({b: bool(h >> i & 1) for i, b in enumerate(arena.h.bits)})
+        if e is not None:
+            values.update({b: bool(e >> i & 1) for i, b in enumerate(arena.e.bits)})
+        return values
+
+    def _holds(self, u: Function, values: dict[str, bool]) -> bool:
+        return (self.bdd.let(values, u) if values else u) == self.bdd.true
+
+    def restrict(self, u: Function, position: Position) -> Function:
+        v, q, h = position
+        values = self._values(v, q, h)
+        return self.bdd.let(values, u) if values else u
+
+    def contains(self, u: Function, position: Position) -> bool:
+        """Some budget puts `position` in `u`."""
+        return self.restrict(u, position) != self.bdd.false
+
+    def value_robot(self, position: Position) -> int | None:
+        """val(p) of a robot-turn position, in units; None when infinite."""
+        return self._least_budget(self.attractor.robot_win, position)
+
+    def value_human(self, position: Position) -> int | None:
+        v, q, h = position
+        if self.accepting(q):
+            return 0
+        return self._least_budget(self.attractor.win, position)
+
+    def _least_budget(self, u: Function, position: Position) -> int | None:
+        restricted = self.restrict(u, position)
+        if self.arena.e is None:  # qualitative only
+            return None if restricted == self.bdd.false else 0
+        return self.arena.e.least(self.bdd, restricted)
+
+    def rank(self, position: Position, budget: int) -> int:
+        """The first iterate (0-based) that wins `position` with `budget`."""
+        v, q, h = position
+        values = self._values(v, q, h, budget)
+        layers = self.attractor.layers
+        lo, hi = 0, len(layers) - 1  # layers grow: binary search the first member
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if self._holds(layers[mid], values):
+                hi = mid
+            else:
+                lo = mid + 1
+        return lo
+
+    # -- moves on explicit states ---------------------------------------------------
+    def robot_moves(self, v: State, within: Function | None = None) -> list[tuple[str, State, int]]:
+        """(action, next state, units) for every robot action from v, or only
+        those with (v', c) in `within` (a set over v', c)."""
+        arena, bdd = self.arena, self.bdd
+        values = arena.enc.assignment(v)
+        moves = []
+        for family in FAMILIES:
+            options = bdd.let(values, arena.robot[family])
+            if within is not None:
+                options &= within
+            targets = bdd.exist(set(arena.c.bits), options)
+            for bits in bdd.pick_iter(targets, care_vars=set(arena.next_bits)):
+                w = arena.enc.decode(bits, primed=True)
+                cost = arena.c.least(bdd, bdd.let(arena.enc.assignment(w, primed=True),
+                                                   bdd.let(values, arena.robot[family])))
+                moves.append((action_name(arena.scene, v, w), w, cost))
+        return sorted(moves, key=lambda m: m[0])
+
+    def human_moves(self, v: State) -> list[tuple[str, State]]:
+        arena, bdd = self.arena, self.bdd
+        options = bdd.let(arena.enc.assignment(v), arena.human)
+        moves = [(None, arena.enc.decode(bits, primed=True))
+                 for bits in bdd.pick_iter(options, care_vars=set(arena.next_bits))]
+        return sorted(((_move_name(arena.scene, v, w), w) for _, w in moves), key=lambda m: m[0])
+
+    def choose(self, position: Position) -> tuple[str, State, int, int] | None:
+        """The strategy at a robot position: (action, next state, units, budget
+        left after it), or None where the robot cannot win."""
+        value = self.value_robot(position)
+        if value is None:
+            return None
+        i = self.rank(position, value)
+        v, q, h = position
+        bdd = self.bdd
+        # (v', c) with X_{i-1}(v', D(q, v'), h, value - c) /\ c <= value
+        within = bdd.let(self._values(None, q, h, value), self.attractor.composed[i])
+        action, w, units = self.robot_moves(v, within)[0]
+        return action, w, units, value - units
+
+
+class Strategy(Mapping):
+    """The robot's action at robot-turn positions (v, q, h), computed on
+    demand from the attractor's iterates.
+
+    Looking up a position of infinite value raises KeyError.  Iterating
+    yields the positions reachable from the initial one when the robot
+    follows the strategy and the human does anything legal.
+    """
+
+    def __init__(self, game: _Queries):
+        self._game = game
+        self._cache: dict[Position, str | None] = {}
+        self._reachable: list[Position] | None = None
+
+    def __getitem__(self, position: Position) -> str:
+        if position not in self._cache:
+            choice = self._game.choose(position)
+            self._cache[position] = None if choice is None else choice[0]
+        action = self._cache[position]
+        if action is None:
+            raise KeyError(position)
+        return action
+
+    def __iter__(self) -> Iterator[Position]:
+        return iter(self.reachable())
+
+    def __len__(self) -> int:
+        return len(self.reachable())
+
+    def reachable(self) -> list[Position]:
+        if self._reachable is None:
+            game = self._game
+            arena = game.arena
+            v0 = initial_state(arena.scene)
+            start = (v0, game.read(game.dfa_initial, v0), arena.k)
+            order, seen = [], {start}
+            stack = [start]
+            while stack:
+                v, q, h = stack.pop()
+                order.append((v, q, h))
+                choice = game.choose((v, q, h))
+                if choice is None:
+                    continue
+                w = choice[1]
+                q2 = game.read(q, w)
+                if game.accepting(q2):
+                    continue
+                successors = [(w, q2, h)]
+                if h > 0:
+                    for _, u in game.human_moves(w):
+                        q3 = game.read(q2, u)
+                        if not game.accepting(q3):
+                            successors.append((u, q3, h - 1))
+                for p in successors:
+                    if p not in seen:
+                        seen.add(p)
+                        stack.append(p)
+            self._reachable = order
+        return self._reachable
+
+
+def _principal_play(game: _Queries, start: Position, units: int) -> tuple[Step, ...]:
+    """The strategy against the human's worst replies (the largest value; a
+    pass on ties, then the first move by name), from the start to the win."""
+    r = game.arena.resolution
+    play: list[Step] = []
+    v, q, h = start
+    while True:
+        # the human's turn at (v, q, h): pass, or move to a robot position
+        options = [(game.value_robot((v, q, h)), PASS, v, q, h)]
+        if h > 0:
+            for name, u in game.human_moves(v):
+                q2 = game.read(q, u)
+                worth = 0 if game.accepting(q2) else game.value_robot((u, q2, h - 1))
+                options.append((worth, name, u, q2, h - 1))
+        worth, name, v, q, h = max(options, key=lambda o: o[0])
+        if name != PASS:
+            play.append(Step("human", name, 0.0, v))
+            if game.accepting(q):
+                return tuple(play)
+        action, w, cost, _ = game.choose((v, q, h))
+        play.append(Step("robot", action, cost * r, w))
+        v, q = w, game.read(q, w)
+        if game.accepting(q):
+            return tuple(play)
+
+
+def _counter_play(game: _Queries, start: Position) -> tuple[Step, ...]:
+    """A play where the robot never wins (the initial position is lost): the
+    human keeps to lost robot positions (passing when that does), the robot
+    takes its cheapest action; it ends where the robot has no action or the
+    play comes back to a robot position already visited."""
+    r = game.arena.resolution
+    play: list[Step] = []
+    v, q, h = start
+    seen = set()
+    while True:
+        if game.value_robot((v, q, h)) is not None:  # passing would let the robot win
+            for name, u in game.human_moves(v) if h > 0 else []:
+                q2 = game.read(q, u)
+                if not game.accepting(q2) and game.value_robot((u, q2, h - 1)) is None:
+                    play.append(Step("human", name, 0.0, u))
+                    v, q, h = u, q2, h - 1
+                    break
+        if (v, q, h) in seen:
+            return tuple(play)
+        seen.add((v, q, h))
+        moves = game.robot_moves(v)
+        if not moves:
+            return tuple(play)
+        action, w, units = min(moves, key=lambda m: m[2])
+        play.append(Step("robot", action, units * r, w))
+        v, q = w, game.read(q, w)
+
+
+# -- names of moves --------------------------------------------------------------
+
+def action_name(scene: Scene, v: State, w: State) -> str:
+    """The robot action that leads from v to w (spec §4's names)."""
+    if v.grip is None:
+        if w.grip is None:
+            o, g = w.ee
+            return f"transit({o},{g})"
+        return f"grab({scene.object_names[w.at.index(HAND)]})"
+    if w.grip is not None:
+        return f"transfer({w.ee})"
+    i = v.at.index(HAND)
+    return f"drop({scene.object_names[i]},{w.at[i]})"
+
+
+def _move_name(scene: Scene, v: State, w: State) -> str:
+    """The human move from v to w.  A move within Else changes no `at`: it
+    is the object the end-effector was aimed at, if any, else the first
+    object at Else (the states are the same whichever moved)."""
+    changed = [i for i, (a, b) in enumerate(zip(v.at, w.at)) if a != b]
+    if changed:
+        i = changed[0]
+    elif isinstance(v.ee, tuple) and w.ee == ELSE:
+        i = scene.object_names.index(v.ee[0])
+    else:
+        i = v.at.index(ELSE)
+    return f"move({scene.object_names[i]},{w.at[i]})"

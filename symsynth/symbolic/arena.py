@@ -1,0 +1,311 @@
+"""The game of spec §4–§6 as BDDs: variables, transition relations with cost
+bits, and the substitutions that compose the task DFA with the moves.
+
+Variables, top to bottom (each bit next to its primed copy):
+
+    at.o (per object) | grip | ee | h | DFA state q (and its atoms) | c_0 e_0 c_1 e_1 ...
+
+`c` is an action's cost and `e` the budget left, both in integer units of
+the resolution; `e` is declared later (`declare_budget`), when its width is
+known, with its bits interleaved with those of `c` so that `c <= e` and
+`e - c` stay linear in size.
+
+Robot relations, one per action family, over (v, v', c):
+
+    T_fam(v, v', c) = WF(v) /\\ guard /\\ effect /\\ frame /\\ U(v, c)
+
+where U is *upward closed* in c: it holds for every c at least the action's
+cost.  That turns spec §5 into Boolean structure: the max over anchor pairs
+becomes a conjunction and the min over rules a disjunction,
+
+    U(v, c) = /\\_(s,t) [s in S(v) /\\ t in T(v) => \\/_rules (free_o(F)(v) /\\ c >= cost)]
+
+and an action of infinite cost has U = false (it is not available).  The
+fixpoint only ever asks "is there a c <= e with X(e - c)?", and X is upward
+closed in e, so the least c is what counts.
+
+The human relation H(v, v') is spec §4's `move(o, t)`; the counter `h` is
+decremented by substitution.  The DFA reads ρ(v'): its transition function
+delta_b(q, x) becomes D_b(q, v') = delta_b(q, x := P_x(v')).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from symsynth.automata import SymbolicDFA, compile_ltlf
+from symsynth.automata.bdd import Function, new_manager
+from symsynth.game.abstraction import anchors, costmap_of, quantize
+from symsynth.game.propositions import interpret_all
+from symsynth.logic import ast
+from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, Scene
+from symsynth.symbolic.bitvec import Domain, constant, less_equal, less_than, subtract
+from symsynth.symbolic.encoding import StateEncoding
+
+FAMILIES = ("transit", "grab", "transfer", "drop")
+
+
+class Arena:
+    """One game (scene, task, k, resolution) encoded in one BDD manager."""
+
+    def __init__(self, scene: Scene, formula: ast.Formula, k: int, resolution: float):
+        self.scene = scene
+        self.k = k
+        self.resolution = resolution
+        self.costmap = costmap_of(scene)
+        self.bdd = bdd = new_manager(reordering=False)
+        self.enc = StateEncoding.declare(bdd, scene)
+        self.h = Domain.declare(bdd, "#h", k + 1)
+        self.props = interpret_all(formula, scene)
+        self.dfa: SymbolicDFA = compile_ltlf(formula, bdd=bdd)
+        self.max_units = max(self._all_units(), default=0)
+        self.c = Domain.declare(bdd, "#c", self.max_units + 1, primed=False)
+        self.e: Domain | None = None
+        self._free: dict[tuple[str, str], Function] = {}
+        self._at_least: dict[int, Function] = {}
+
+        self.wf = self.enc.well_formed()
+        self.h_ok = self.h.invariant(bdd)
+        #: Acc(q): the task is done
+        self.accepting = self.dfa.accepting
+        # D_b(q, v') = delta_b(q, x := P_x(v'))
+        letter_next = {key: self.enc.proposition(p, primed=True) for key, p in self.props.items()}
+        letter_now = {key: self.enc.proposition(p) for key, p in self.props.items()}
+        self.dfa_next = {b: bdd.let(letter_next, d) if letter_next else d
+                         for b, d in self.dfa.delta.items()}
+        self.dfa_now = {b: bdd.let(letter_now, d) if letter_now else d
+                        for b, d in self.dfa.delta.items()}
+        self.robot = {family: build(self) & self.wf
+                      for family, build in zip(FAMILIES, (_transit, _grab, _transfer, _drop))}
+        self.human = _human(self)
+        self.state_bits = self.enc.bits()
+        self.next_bits = self.enc.bits(primed=True)
+
+    # -- the budget ------------------------------------------------------------
+    def declare_budget(self, width: int) -> Domain:
+        """Budget bits e_0..e_{width-1}, e_i just below c_i (the rest at the bottom)."""
+        bdd = self.bdd
+        bits = tuple(f"#e_{i}" for i in range(width))
+        for i, b in enumerate(bits):
+            if i < len(self.c.bits):
+                bdd.insert_var(b, bdd.level_of_var(self.c.bits[i]) + 1)
+            else:
+                bdd.declare(b)
+        self.e = Domain("#e", 1 << width, bits)
+        return self.e
+
+    def cost_vector(self) -> list[Function]:
+        """c, zero-extended to the width of e."""
+        bdd, width = self.bdd, len(self.e.bits)
+        return self.c.vector(bdd) + constant(bdd, 0, width - len(self.c.bits))
+
+    # -- substitutions -----------------------------------------------------------
+    def robot_substitution(self, with_costs: bool) -> dict[str, Function]:
+        """v := v', q := D(q, v'), and with costs e := e - c."""
+        bdd = self.bdd
+        sub = {b: bdd.var(p) for b, p in zip(self.enc.bits(), self.enc.bits(primed=True))}
+        sub.update(self.dfa_next)
+        if with_costs:
+            budget = self.e.vector(bdd)
+            sub.update(zip(self.e.bits, subtract(bdd, budget, self.cost_vector())))
+        return sub
+
+    def human_substitution(self) -> dict[str, Function]:
+        """v := v', q := D(q, v'), h := h - 1."""
+        bdd = self.bdd
+        sub = {b: bdd.var(p) for b, p in zip(self.enc.bits(), self.enc.bits(primed=True))}
+        sub.update(self.dfa_next)
+        if self.h.bits:  # with k = 0 there is no move to count (h > 0 is false)
+            one = constant(bdd, 1, len(self.h.bits))
+            sub.update(zip(self.h.bits, subtract(bdd, self.h.vector(bdd), one)))
+        return sub
+
+    def affordable(self) -> Function:
+        """c <= e."""
+        return less_equal(self.bdd, self.cost_vector(), self.e.vector(self.bdd))
+
+    def can_move(self) -> Function:
+        """h > 0: the human has a move left."""
+        return ~self.h.eq(self.bdd, 0)
+
+    # -- costs ---------------------------------------------------------------------
+    def units(self, cost: float) -> int:
+        return quantize(cost, self.resolution)
+
+    def _all_units(self) -> Iterable[int]:
+        yield self.units(self.scene.grab_cost)
+        yield self.units(self.scene.drop_cost)
+        for rules in self.costmap.motions.values():
+            for rule in rules:
+                yield self.units(rule.cost)
+
+    def at_least(self, units: int) -> Function:
+        """c >= units."""
+        if units not in self._at_least:
+            self._at_least[units] = ~less_than(self.bdd, self.c.vector(self.bdd), units)
+        return self._at_least[units]
+
+    def free_for(self, place: str, obj: str) -> Function:
+        """`place` in L ∪ E counts as free for a motion serving `obj` (spec §5)."""
+        key = (place, obj)
+        if key not in self._free:
+            where = place if place in self.scene.locations else ELSE
+            result = self.bdd.true
+            for other in self.scene.object_names:
+                if other != obj:
+                    result &= ~self.enc.at_is(other, where)
+            self._free[key] = result
+        return self._free[key]
+
+    def step_cost(self, mode: str, start: str, goal: str, obj: str) -> Function:
+        """cost(mode, s, t, v, o) <= c, as a BDD over (v, c)."""
+        if start == goal:
+            return self.bdd.true
+        result = self.bdd.false
+        for rule in self.costmap.rules(mode, start, goal):
+            condition = self.at_least(self.units(rule.cost))
+            for place in rule.free:
+                condition &= self.free_for(place, obj)
+            result |= condition
+        return result
+
+    def motion(self, mode: str, starts: dict[str, Function], goals: dict[str, Function],
+               obj: str) -> Function:
+        """motion(mode, S(v), T(v), o) <= c, given `s -> [s in S(v)]` and
+        `t -> [t in T(v)]` over every candidate anchor; false when S(v) or
+        T(v) is empty."""
+        bdd = self.bdd
+        some_start = bdd.false
+        for cond in starts.values():
+            some_start |= cond
+        some_goal = bdd.false
+        for cond in goals.values():
+            some_goal |= cond
+        result = some_start & some_goal
+        for s, in_s in starts.items():
+            for t, in_t in goals.items():
+                # s in S(v) /\ t in T(v) => cost(mode, s, t, v, o) <= c
+                result &= ~(in_s & in_t) | self.step_cost(mode, s, t, obj)
+        return result
+
+
+# -- robot families (spec §4) ------------------------------------------------------
+
+def _keep(arena: Arena, objects: Iterable[str] = (), grip: bool = False, ee: bool = False) -> Function:
+    """Frame condition: the named parts of v' equal those of v."""
+    bdd = arena.bdd
+    result = bdd.true
+    for o in objects:
+        result &= arena.enc.at[o].unchanged(bdd)
+    if grip:
+        result &= arena.enc.grip.unchanged(bdd)
+    if ee:
+        result &= arena.enc.ee.unchanged(bdd)
+    return result
+
+
+def _empty_starts(arena: Arena) -> dict[str, Function]:
+    """s -> [s in S(v)] for an empty hand: from ee = Else every anchor (and
+    home); from ee = (o', g') the anchors of o' with g'."""
+    enc, scene = arena.enc, arena.scene
+    anywhere = enc.ee_is(ELSE)
+    starts = {HOME: anywhere}
+    for x in scene.locations + scene.else_samples:
+        where = x if x in scene.locations else ELSE
+        for g in scene.grasps:
+            cond = anywhere
+            for o in scene.object_names:
+                cond |= enc.ee_is((o, g)) & enc.at_is(o, where)
+            starts[f"{x}/{g}"] = cond
+    return starts
+
+
+def _goals(arena: Arena, obj: str, grasp: str) -> dict[str, Function]:
+    """t -> [t in anchors(at[obj], grasp)]."""
+    enc, scene = arena.enc, arena.scene
+    goals = {}
+    for x in scene.locations:
+        goals[f"{x}/{grasp}"] = enc.at_is(obj, x)
+    for anchor in anchors(scene, ELSE, grasp):
+        goals[anchor] = enc.at_is(obj, ELSE)
+    return goals
+
+
+def _transit(arena: Arena) -> Function:
+    """transit(o, g): hand empty, ee != (o, g); ee' = (o, g)."""
+    bdd, enc, scene = arena.bdd, arena.enc, arena.scene
+    starts = _empty_starts(arena)
+    moves = bdd.false
+    for o in scene.object_names:
+        for g in scene.grasps:
+            cost = arena.motion(EMPTY, starts, _goals(arena, o, g), o)
+            moves |= ~enc.ee_is((o, g)) & enc.ee_is((o, g), primed=True) & cost
+    return enc.grip_is(None) & moves & _keep(arena, scene.object_names, grip=True)
+
+
+def _grab(arena: Arena) -> Function:
+    """grab: hand empty, ee = (o, g); at[o]' = Hand, grip' = g, ee' = at[o]."""
+    bdd, enc, scene = arena.bdd, arena.enc, arena.scene
+    moves = bdd.false
+    for o in scene.object_names:
+        others = [p for p in scene.object_names if p != o]
+        ee_follows = bdd.false
+        for x in scene.locations + (ELSE,):
+            ee_follows |= enc.at_is(o, x) & enc.ee_is(x, primed=True)
+        for g in scene.grasps:
+            moves |= (enc.ee_is((o, g)) & enc.at_is(o, HAND, primed=True)
+                      & enc.grip_is(g, primed=True) & ee_follows & _keep(arena, others))
+    return enc.grip_is(None) & moves & arena.at_least(arena.units(scene.grab_cost))
+
+
+def _transfer(arena: Arena) -> Function:
+    """transfer(l): holding o with g, l free, ee != l; ee' = l."""
+    bdd, enc, scene = arena.bdd, arena.enc, arena.scene
+    moves = bdd.false
+    for o in scene.object_names:
+        for g in scene.grasps:
+            # S(v) while holding with g: l/g when ee = l, every e/g when ee = Else
+            starts = {f"{x}/{g}": enc.ee_is(x) for x in scene.locations}
+            starts.update({a: enc.ee_is(ELSE) for a in anchors(scene, ELSE, g)})
+            holding = enc.at_is(o, HAND) & enc.grip_is(g)
+            for l in scene.locations:
+                cost = arena.motion(f"{o}/{g}", starts, {f"{l}/{g}": bdd.true}, o)
+                moves |= (holding & ~enc.occupied(l) & ~enc.ee_is(l)
+                          & enc.ee_is(l, primed=True) & cost)
+    return moves & _keep(arena, scene.object_names, grip=True)
+
+
+def _drop(arena: Arena) -> Function:
+    """drop: holding o with g, ee = l free; at[o]' = l, grip' = none, ee' = (o, g)."""
+    bdd, enc, scene = arena.bdd, arena.enc, arena.scene
+    moves = bdd.false
+    for o in scene.object_names:
+        others = [p for p in scene.object_names if p != o]
+        for g in scene.grasps:
+            for l in scene.locations:
+                moves |= (enc.at_is(o, HAND) & enc.grip_is(g) & enc.ee_is(l) & ~enc.occupied(l)
+                          & enc.at_is(o, l, primed=True) & enc.grip_is(None, primed=True)
+                          & enc.ee_is((o, g), primed=True) & _keep(arena, others))
+    return moves & arena.at_least(arena.units(scene.drop_cost))
+
+
+# -- the human (spec §4) -----------------------------------------------------------
+
+def _human(arena: Arena) -> Function:
+    """move(o, t): at[o] != Hand; t = Else, or t in L free and not where the
+    held object is aligned; at[o]' = t; ee' = Else if ee was (o, g)."""
+    bdd, enc, scene = arena.bdd, arena.enc, arena.scene
+    aligned_ok = {l: ~(enc.holding() & enc.ee_is(l)) for l in scene.locations}
+    moves = bdd.false
+    for o in scene.object_names:
+        others = [p for p in scene.object_names if p != o]
+        targets = enc.at_is(o, ELSE, primed=True)
+        for l in scene.locations:
+            targets |= ~enc.occupied(l) & aligned_ok[l] & enc.at_is(o, l, primed=True)
+        aimed = bdd.false  # ee = (o, g) for some g
+        for g in scene.grasps:
+            aimed |= enc.ee_is((o, g))
+        ee_after = (aimed & enc.ee_is(ELSE, primed=True)) | (~aimed & enc.ee.unchanged(bdd))
+        moves |= (~enc.at_is(o, HAND) & targets & ee_after
+                  & _keep(arena, others, grip=True))
+    return moves & arena.wf
