@@ -1,15 +1,10 @@
 """The abstract state of spec §2 as bit-vectors, and its predicates.
 
 Variables, in the order they are declared (the order matters for BDD size):
-
-- for each object `o`: `at.o` over L + [Else, Hand] (each object's bits
-  together, every bit next to its primed copy);
-- `grip` over G + [none];
-- `ee` over [Else] + L + O x G;
-- `h`, the human's moves left, over 0..k;
-- the task DFA's state bits (declared by `compile_ltlf` in the same manager);
-- the budget `e` and the cost `c` bit-vectors, last: a set over states and
-  budgets then reads as "state part first, then a threshold on e".
+`grip` over G + [none], `ee` over [Else] + L + O x G, then for each object
+`o`: `at.o` over L + [Else, Hand] (each object's bits together, every bit
+next to its primed copy).  The game (`symbolic.arena`) declares the human's
+counter and the DFA above them and the cost and budget bits below.
 
 Every set built here is conjoined with the range invariants of the
 variables it mentions, so unused bit patterns never count as states.
@@ -41,18 +36,18 @@ class StateEncoding:
 
     @classmethod
     def declare(cls, bdd: BDD, scene: Scene) -> StateEncoding:
-        at_values = scene.locations + (ELSE, HAND)
-        at = {o: Domain.declare(bdd, f"#at.{o}", len(at_values)) for o in scene.object_names}
         grip_values = scene.grasps + (None,)
         grip = Domain.declare(bdd, "#grip", len(grip_values))
         ee_values = ((ELSE,) + scene.locations
                      + tuple((o, g) for o in scene.object_names for g in scene.grasps))
         ee = Domain.declare(bdd, "#ee", len(ee_values))
+        at_values = scene.locations + (ELSE, HAND)
+        at = {o: Domain.declare(bdd, f"#at.{o}", len(at_values)) for o in scene.object_names}
         return cls(bdd, scene, at, grip, ee, at_values, grip_values, ee_values)
 
     @property
     def domains(self) -> list[Domain]:
-        return list(self.at.values()) + [self.grip, self.ee]
+        return [self.grip, self.ee] + list(self.at.values())
 
     # -- atomic predicates ---------------------------------------------------
     def at_is(self, obj: str, where: str, primed: bool = False) -> Function:
