@@ -225,17 +225,16 @@ class _Queries:
 
 class Strategy(Mapping):
     """The robot's action at robot-turn positions (v, q, h), computed on
-    demand from the attractor's iterates.
+    demand from the attractor's iterates and then cached.
 
-    Looking up a position of infinite value raises KeyError.  Iterating
-    yields the positions reachable from the initial one when the robot
-    follows the strategy and the human does anything legal.
+    Looking up a position of infinite value raises KeyError.  The mapping is
+    lazy: iterating lists the positions decided so far; the positions a
+    play can reach are `game.strategy.reachable_positions`.
     """
 
     def __init__(self, game: _Queries):
         self._game = game
         self._cache: dict[Position, str | None] = {}
-        self._reachable: list[Position] | None = None
 
     def __getitem__(self, position: Position) -> str:
         if position not in self._cache:
@@ -247,41 +246,10 @@ class Strategy(Mapping):
         return action
 
     def __iter__(self) -> Iterator[Position]:
-        return iter(self.reachable())
+        return (p for p, action in list(self._cache.items()) if action is not None)
 
     def __len__(self) -> int:
-        return len(self.reachable())
-
-    def reachable(self) -> list[Position]:
-        if self._reachable is None:
-            game = self._game
-            arena = game.arena
-            v0 = initial_state(arena.scene)
-            start = (v0, game.read(game.dfa_initial, v0), arena.k)
-            order, seen = [], {start}
-            stack = [start]
-            while stack:
-                v, q, h = stack.pop()
-                order.append((v, q, h))
-                choice = game.choose((v, q, h))
-                if choice is None:
-                    continue
-                w = choice[1]
-                q2 = game.read(q, w)
-                if game.accepting(q2):
-                    continue
-                successors = [(w, q2, h)]
-                if h > 0:
-                    for _, u in game.human_moves(w):
-                        q3 = game.read(q2, u)
-                        if not game.accepting(q3):
-                            successors.append((u, q3, h - 1))
-                for p in successors:
-                    if p not in seen:
-                        seen.add(p)
-                        stack.append(p)
-            self._reachable = order
-        return self._reachable
+        return sum(action is not None for action in self._cache.values())
 
 
 def _principal_play(game: _Queries, start: Position, units: int) -> tuple[Step, ...]:

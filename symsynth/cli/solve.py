@@ -1,0 +1,263 @@
+"""`symsynth solve`: solve a scene's manipulation game and show why the bound is what it is."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+from symsynth.errors import InputError
+from symsynth.game.abstraction import State, anchors, initial_state, robot_moves, starts
+from symsynth.game.propositions import interpret_all
+from symsynth.game.solution import Solution, Step
+from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
+from symsynth.game.strategy import format_state, write_strategy
+from symsynth.logic import parse_ltlf
+from symsynth.scene import Scene, load_costmap, load_scene
+from symsynth.scene.model import ELSE, EMPTY, HAND
+
+HELP = "solve a scene's game: the cost the robot can guarantee against the human"
+DESCRIPTION = """\
+Solve the manipulation game of a scene.
+
+The human moves first, then robot and human take turns.  On its turn the
+human passes or moves one object, at most k times in a play; the robot
+transits, grabs, transfers or drops at the costs of the scene's costmap.
+The robot wins as soon as the trace of abstract states satisfies the LTLf
+task.  E_p is the min over robot strategies of the max over human
+behaviours of the total cost (infinite when the human can keep the robot
+from winning).  The task is realizable within budget E iff E_p <= E.
+Costs are rounded up to multiples of --resolution, so E_p stays sound.
+
+Output: the verdict, E_p, the game positions the solver represented, the
+seconds per phase, then the principal play: the strategy against the
+human's worst replies, with each action's cost and the running total.
+Without a winning strategy, the counter play shows how the human defeats
+the robot.  --json prints realizable, cost_bound (null when infinite),
+budget, k, states, seconds, units, resolution, principal_play,
+counter_play, scene, task and solver.  -o FILE writes the strategy for the
+simulator (format symsynth.strategy/1: every position it can reach).
+
+Exit status: 0 when the game is solved, whatever the verdict (read it in
+the output, or "realizable" in --json); 2 on bad input."""
+
+_MAX_REASONS = 3  # missing motions listed per action when the robot is stuck
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("solve", help=HELP, description=DESCRIPTION,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("scene", type=Path, help="the scene file (YAML)")
+    parser.add_argument("--task", metavar="FORMULA", help="LTLf task instead of the scene's")
+    parser.add_argument("--k", type=_count, metavar="K",
+                        help="human moves per play instead of the scene's human.k (>= 0)")
+    parser.add_argument("--budget", type=_amount, metavar="E",
+                        help="cost budget: say whether E_p <= E (costmap units, >= 0)")
+    parser.add_argument("--costmap", type=Path, metavar="FILE",
+                        help="costmap file (symsynth.costmap/1) instead of the scene's")
+    parser.add_argument("--solver", choices=tuple(SOLVERS), default=DEFAULT_SOLVER,
+                        help=f"game solver (default: {DEFAULT_SOLVER})")
+    parser.add_argument("--resolution", type=_positive, default=1.0, metavar="R",
+                        help="round each action's cost up to a multiple of R (default: 1)")
+    parser.add_argument("--json", action="store_true", help="print the solution as JSON")
+    parser.add_argument("-o", "--output", type=Path, metavar="FILE",
+                        help="write the strategy to FILE (symsynth.strategy/1)")
+    parser.set_defaults(run=run)
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, found {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, found {value}")
+    return value
+
+
+def _number(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, found {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, found {text!r}")
+    return value
+
+
+def _amount(text: str) -> float:
+    value = _number(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, found {text}")
+    return value
+
+
+def _positive(text: str) -> float:
+    value = _number(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, found {text}")
+    return value
+
+
+def run(args: argparse.Namespace) -> int:
+    scene = _load(args)
+    task = args.task if args.task is not None else scene.task
+    if task is None:
+        raise InputError(f"scene {scene.name!r} has no task: give --task FORMULA "
+                         f"or a 'task:' entry in {args.scene}")
+    source = "--task" if args.task is not None else f"{args.scene} (task)"
+    formula = parse_ltlf(task, source=source)
+    try:
+        interpret_all(formula, scene)
+    except InputError as error:
+        raise InputError(f"{source}: {error}") from None
+    solution = SOLVERS[args.solver](scene, formula, k=args.k, budget=args.budget,
+                                    resolution=args.resolution)
+    written = None if args.output is None else write_strategy(args.output, scene, task, solution)
+    if args.json:
+        out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver}
+        if written is not None:
+            out["strategy"] = {"file": str(args.output), "positions": written}
+        print(json.dumps(out, indent=2))
+        return 0
+    _report(scene, task, args.solver, solution)
+    if written is not None:
+        print(f"\nwrote {args.output} ({written} positions)")
+    return 0
+
+
+def _load(args: argparse.Namespace) -> Scene:
+    scene = load_scene(args.scene)
+    if args.costmap is None:
+        return scene
+    costmap = load_costmap(args.costmap)
+    used = {a for key in costmap.motions for a in key} | {
+        x for rules in costmap.motions.values() for rule in rules for x in rule.free}
+    known = set(scene.modes) | set(scene.anchors) | set(scene.locations) | set(scene.else_samples)
+    unknown = sorted(used - known)
+    if unknown:  # most likely the costmap of another scene
+        raise InputError(f"{args.costmap}: names unknown to scene {scene.name!r}: {', '.join(unknown)}"
+                         f"; its modes are {', '.join(scene.modes)} and anchors {', '.join(scene.anchors)}")
+    return dataclasses.replace(scene, costmap=costmap)
+
+
+# -- the human-readable report -------------------------------------------------
+
+def _report(scene: Scene, task: str, solver: str, solution: Solution) -> None:
+    where = f" ({scene.source})" if scene.source else ""
+    r = solution.resolution
+    print(f"scene      {scene.name}{where}")
+    print(f"task       {task.strip()}")
+    print(f"human      k = {solution.k} move{'s' if solution.k != 1 else ''}, human first")
+    print(f"solver     {solver}")
+    print(f"verdict    {_verdict(solution)}")
+    if solution.cost_bound is None:
+        print("E_p        infinite")
+    elif r == 1:
+        print(f"E_p        {_num(solution.cost_bound)}")
+    else:
+        print(f"E_p        {_num(solution.cost_bound)} ({solution.units} units of resolution "
+              f"{_num(r)}, each cost rounded up)")
+    print(f"positions  {solution.states} game positions")
+    phases = ", ".join(f"{name} {s:.4f}" for name, s in solution.seconds.items())
+    print(f"seconds    {sum(solution.seconds.values()):.4f} ({phases})")
+    stats = solution.stats
+    if "peak_nodes" in stats:
+        rounds = [f"{stats[key]} {label}" for key, label in
+                  (("qualitative_iterations", "qualitative"), ("iterations", "cost-bounded"))
+                  if key in stats]
+        print(f"bdd        {stats['peak_nodes']} peak nodes; fixpoint rounds: {', '.join(rounds)}")
+    print()
+    if solution.cost_bound is None:
+        _counter_report(scene, solution)
+    elif not solution.principal_play:
+        print("The task holds in the initial state: the robot has nothing to do.")
+    else:
+        print("Principal play: the strategy against the human's worst replies.")
+        _print_play(solution.principal_play, solution.objects)
+        print(f"total cost {_num(sum(s.cost for s in solution.principal_play))} = E_p")
+
+
+def _verdict(solution: Solution) -> str:
+    if solution.cost_bound is None:
+        return "no winning strategy"
+    if solution.realizable is None:
+        return "solved (no --budget given: realizable within E iff E_p <= E)"
+    budget = _num(solution.budget)
+    if solution.realizable:
+        return f"realizable within budget {budget}"
+    return f"not realizable within budget {budget}"
+
+
+def _print_play(play: tuple[Step, ...], objects: tuple[str, ...]) -> None:
+    width = max(len(s.action) for s in play)
+    total = 0.0
+    for n, step in enumerate(play, 1):
+        if step.who == "robot":
+            total += step.cost
+            cost = f"+{_num(step.cost)} = {_num(total)}"
+        else:
+            cost = ""
+        print(f"{n:3}. {step.who:<5}  {step.action:<{width}}  {cost:<14} {format_state(step.state, objects)}")
+
+
+def _counter_report(scene: Scene, solution: Solution) -> None:
+    play = solution.counter_play or ()
+    print("No strategy wins: no robot strategy completes the task against every human behaviour.")
+    if play:
+        print("Counter play: a play the robot never wins, with the human's moves that defeat it "
+              "(the robot takes its cheapest action).")
+        _print_play(play, solution.objects)
+    last = play[-1].state if play else initial_state(scene)
+    if robot_moves(scene, last):
+        print("The play then comes back to a position already visited: "
+              "it can go on in circles without the task ever being completed.")
+        return
+    print(f"The play ends in  {format_state(last, solution.objects)}")
+    print("with no action available from this state:")
+    for reason in stuck_reasons(scene, last):
+        print(f"  - {reason}")
+
+
+def stuck_reasons(scene: Scene, v: State) -> list[str]:
+    """Why each action the robot could take in `v` is unavailable (spec §4, §5)."""
+    names = scene.object_names
+    held = v.held()
+    reasons: list[str] = []
+    if held is None:
+        wanted = [(f"transit({o},{g})", EMPTY, v.at[i], g)
+                  for i, o in enumerate(names) if v.at[i] != HAND for g in scene.grasps]
+        if not wanted:
+            reasons.append("there is no object to reach")
+    else:
+        o, g = names[held], v.grip
+        wanted = [(f"transfer({l})", f"{o}/{g}", l, g)
+                  for l in scene.locations if l not in v.at and l != v.ee]
+        if v.ee == ELSE:  # with ee at a (free) location, drop would be available
+            reasons.append(f"drop({o},...): {o} is held but not aligned with a location")
+        if not wanted:
+            reasons.append(f"transfer: {o} is held and every other location is occupied")
+    return reasons + [_why(scene, v, action, mode, place, g) for action, mode, place, g in wanted]
+
+
+def _why(scene: Scene, v: State, action: str, mode: str, place: str, grasp: str) -> str:
+    sources, targets = starts(scene, v), anchors(scene, place, grasp)
+    if not targets:
+        return f"{action}: the object is at {ELSE} and the scene has no else_samples"
+    if not sources:
+        return f"{action}: the hand is at {ELSE} and the scene has no else_samples"
+    missing = [f"{s} -> {t}" for s in sources for t in targets
+               if s != t and not scene.costmap.rules(mode, s, t)]
+    if not missing:
+        return (f"{action}: the costmap's rules for {mode} to {', '.join(targets)} all need "
+                "a location free that is occupied")
+    more = f" (and {len(missing) - _MAX_REASONS} more)" if len(missing) > _MAX_REASONS else ""
+    return (f"{action}: the costmap has no motion for mode {mode} from "
+            f"{', '.join(missing[:_MAX_REASONS])}{more}")
+
+
+def _num(x: float) -> str:
+    """12.0 -> '12', 7.25 -> '7.25'."""
+    return f"{x:.10g}"

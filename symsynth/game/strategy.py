@@ -1,0 +1,370 @@
+"""The strategy file, format `symsynth.strategy/1`: what `solve -o` writes and
+the simulator reads back.
+
+The file lists every robot-turn position reachable from the initial one when
+the robot follows the strategy and the human does anything legal (spec §6),
+each with the robot's action there::
+
+    {"format": "symsynth.strategy/1",
+     "scene": "pick", "task": "F(at(b, l2))", "k": 1,
+     "resolution": 1.0, "units": 34, "cost_bound": 34.0,
+     "objects": ["b"],
+     "dfa": {"bits": ["#q0_0", "#q0_1"], "initial": [0, 0]},
+     "positions": [
+      {"at": {"b": "l1"}, "grip": null, "ee": "Else", "q": [0, 1], "h": 1,
+       "action": "transit(b,top)", "budget": 34.0},
+      ...]}
+
+- `units` and `cost_bound` are E_p in units of `resolution` and in costmap
+  units; both null when no strategy wins (then `positions` is empty, as it
+  is when the task holds in the initial state).
+- `objects` orders the objects; every position's `at` names each of them.
+- `dfa.bits` names the state bits of `compile_ltlf(task)` in order and
+  `dfa.initial` is its initial state; a position's `q` is the DFA state
+  after the trace so far, one 0/1 per bit.  A reader compiles the task and
+  compares the bits before it trusts `q`.
+- `grip` is a grasp or null (hand empty); `ee` is "Else", a location, or
+  `[object, grasp]`; `h` is the number of human moves left.
+- `budget` is the most the strategy can still spend, in costmap units, from
+  this position to the win against any human: a run with that much left is
+  sure to finish within it.  Null when the strategy does not win from there
+  (it goes in circles), which a correct solver never produces.
+
+Positions where the DFA has accepted are wins and are not listed.
+"""
+
+from __future__ import annotations
+
+import json
+from collections import deque
+from collections.abc import Hashable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import jsonschema
+from tqdm import tqdm
+
+from symsynth.automata import compile_ltlf
+from symsynth.errors import InputError
+from symsynth.game.abstraction import State, human_moves, initial_state, letter, quantize, robot_moves
+from symsynth.game.propositions import interpret_all
+from symsynth.game.solution import Position, Solution
+from symsynth.logic import ast, parse_ltlf
+from symsynth.scene.model import Scene
+
+FORMAT = "symsynth.strategy/1"
+
+
+class InconsistentStrategy(ValueError):
+    """A strategy with no action, or an unavailable one, at a reachable
+    position: a solver bug, not an input error."""
+
+
+class MissingPosition(LookupError):
+    """A position the strategy file has no action for."""
+
+
+class Choice(NamedTuple):
+    """The robot's move at a position and where it can lead."""
+
+    action: str
+    units: int  # the action's cost, quantized
+    replies: tuple[Position, ...]  # robot positions after each human answer; () when it wins
+
+
+# -- the positions a strategy reaches -----------------------------------------
+
+def reachable_positions(scene: Scene, formula: str | ast.Formula,
+                        solution: Solution) -> dict[Position, Choice]:
+    """The robot-turn positions reachable under `solution.strategy`, in
+    breadth-first order, each with the strategy's choice there.
+
+    Only positions reached are looked up in the strategy, so it may compute
+    its entries lazily.  Empty when no strategy wins (`cost_bound` is None)
+    or the task holds in the initial state.
+    """
+    if isinstance(formula, str):
+        formula = parse_ltlf(formula, source=f"{scene.name} (task)")
+    return _explore(_Walk(scene, formula), solution)
+
+
+def _explore(walk: _Walk, solution: Solution) -> dict[Position, Choice]:
+    """Breadth-first from the initial position, human first (spec §6)."""
+    if solution.cost_bound is None:
+        return {}
+    v0 = initial_state(walk.scene)
+    q0 = walk.read(walk.dfa.initial, v0)
+    if walk.dfa.is_accepting(q0):
+        return {}
+    choices: dict[Position, Choice] = {}
+    start = walk.human_turn(v0, q0, solution.k)
+    queue = deque(start)
+    seen = set(start)
+    # delay: no bar unless it takes a while; disable=None: none when not a terminal
+    with tqdm(desc="strategy positions", unit=" pos", delay=2.0, leave=False, disable=None) as bar:
+        while queue:
+            position = queue.popleft()
+            choices[position] = choice = walk.follow(position, solution)
+            for reply in choice.replies:
+                if reply not in seen:
+                    seen.add(reply)
+                    queue.append(reply)
+            bar.update()
+    return choices
+
+
+class _Walk:
+    """One step of the game at a time, with the DFA steps cached."""
+
+    def __init__(self, scene: Scene, formula: ast.Formula):
+        self.scene = scene
+        self.props = interpret_all(formula, scene)
+        self.dfa = compile_ltlf(formula)
+        self._steps: dict[tuple[Hashable, State], Hashable] = {}
+
+    def read(self, q: Hashable, v: State) -> Hashable:
+        """The DFA state after reading ρ(v) from q."""
+        if (q, v) not in self._steps:
+            self._steps[q, v] = self.dfa.step(q, letter(self.scene, self.props, v))
+        return self._steps[q, v]
+
+    def human_turn(self, v: State, q: Hashable, h: int) -> tuple[Position, ...]:
+        """The robot positions after the human's pass or any of its moves
+        from (v, q, h); moves that make the DFA accept are wins, left out."""
+        out = [(v, q, h)]
+        for _, w in (human_moves(self.scene, v) if h > 0 else ()):
+            q2 = self.read(q, w)
+            if not self.dfa.is_accepting(q2):
+                out.append((w, q2, h - 1))
+        return tuple(out)
+
+    def follow(self, position: Position, solution: Solution) -> Choice:
+        v, q, h = position
+        try:
+            action = solution.strategy[position]
+        except KeyError:
+            raise InconsistentStrategy(f"the strategy has no action at reachable position "
+                                       f"{format_position(position, solution.objects)}") from None
+        moves = {a: (w, c) for a, w, c in robot_moves(self.scene, v)}
+        if action not in moves:
+            raise InconsistentStrategy(
+                f"the strategy plays {action!r} at {format_position(position, solution.objects)}, "
+                f"where the robot can only {', '.join(moves) or 'do nothing'}")
+        w, cost = moves[action]
+        q2 = self.read(q, w)
+        replies = () if self.dfa.is_accepting(q2) else self.human_turn(w, q2, h)
+        return Choice(action, quantize(cost, solution.resolution), replies)
+
+
+def worst_units(choices: Mapping[Position, Choice]) -> dict[Position, int | None]:
+    """For each position, the most units the strategy spends from there to the
+    win against any human: its action's units plus the worst reply's.  None
+    for positions from which the strategy can go in circles.
+
+    Positions are settled once all their replies are (Kahn's algorithm on the
+    reversed graph), so a position on or before a cycle is never settled.
+    """
+    waiting = {p: len(set(c.replies)) for p, c in choices.items()}
+    askers: dict[Position, list[Position]] = {}
+    for p, c in choices.items():
+        for reply in set(c.replies):
+            askers.setdefault(reply, []).append(p)
+    worst: dict[Position, int] = {}
+    ready = deque(p for p, n in waiting.items() if n == 0)
+    while ready:
+        p = ready.popleft()
+        worst[p] = choices[p].units + max((worst[r] for r in choices[p].replies), default=0)
+        for asker in askers.get(p, ()):
+            waiting[asker] -= 1
+            if waiting[asker] == 0:
+                ready.append(asker)
+    return {p: worst.get(p) for p in choices}
+
+
+# -- the file ---------------------------------------------------------------
+
+@dataclass(frozen=True)
+class StrategyFile:
+    """A strategy file read back: its header and position -> action."""
+
+    scene: str
+    task: str
+    k: int
+    resolution: float
+    units: int | None
+    cost_bound: float | None
+    objects: tuple[str, ...]
+    dfa_bits: tuple[str, ...]
+    dfa_initial: tuple[bool, ...]
+    positions: Mapping[Position, str]
+    budgets: Mapping[Position, float | None]  # see the module docstring
+
+    def lookup(self, state: State, q: tuple[bool | int, ...], h: int) -> str:
+        """The action at a position; `q` may be bools or 0/1."""
+        position = (state, tuple(bool(b) for b in q), h)
+        if position not in self.positions:
+            raise MissingPosition(f"no action for {format_position(position, self.objects)}: "
+                                  "the strategy does not reach it")
+        return self.positions[position]
+
+
+def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: Solution) -> int:
+    """Write the strategy of `solution` for `formula_text` to `path`;
+    returns the number of positions written."""
+    walk = _Walk(scene, parse_ltlf(formula_text, source=f"{scene.name} (task)"))
+    choices = _explore(walk, solution)
+    worst = worst_units(choices)
+    dfa = walk.dfa
+    header = {
+        "format": FORMAT, "scene": scene.name, "task": formula_text.strip(), "k": solution.k,
+        "resolution": solution.resolution, "units": solution.units, "cost_bound": solution.cost_bound,
+        "objects": list(scene.object_names),
+        "dfa": {"bits": list(dfa.bits), "initial": [int(b) for b in dfa.initial]},
+    }
+    entries = [_position_json(p, c.action, worst[p], scene.object_names, solution.resolution)
+               for p, c in choices.items()]
+    # One position per line: the file stays short, diffable and greppable.
+    text = json.dumps(header, indent=1)[:-2] + ',\n "positions": [' + ",".join(
+        "\n  " + json.dumps(entry) for entry in entries) + "\n ]\n}\n"
+    try:
+        Path(path).write_text(text, encoding="utf-8")
+    except OSError as error:
+        raise InputError(f"cannot write strategy file {path}: {error.strerror}") from None
+    return len(entries)
+
+
+def _position_json(position: Position, action: str, units: int | None,
+                   objects: tuple[str, ...], resolution: float) -> dict[str, Any]:
+    v, q, h = position
+    return {"at": dict(zip(objects, v.at)), "grip": v.grip,
+            "ee": list(v.ee) if isinstance(v.ee, tuple) else v.ee,
+            "q": [int(b) for b in q], "h": h, "action": action,
+            "budget": None if units is None else units * resolution}
+
+
+_NAME = {"type": "string", "minLength": 1}
+_COUNT = {"type": ["integer", "null"], "minimum": 0}
+_AMOUNT = {"type": ["number", "null"], "minimum": 0}
+_BITS = {"type": "array", "items": {"enum": [0, 1]}}
+SCHEMA: dict[str, Any] = {
+    "type": "object",
+    "required": ["format", "scene", "task", "k", "resolution", "units", "cost_bound",
+                 "objects", "dfa", "positions"],
+    "properties": {
+        "format": {"const": FORMAT},
+        "scene": {"type": "string"}, "task": {"type": "string"},
+        "k": {"type": "integer", "minimum": 0},
+        "resolution": {"type": "number", "exclusiveMinimum": 0},
+        "units": _COUNT, "cost_bound": _AMOUNT,
+        "objects": {"type": "array", "items": _NAME, "uniqueItems": True},
+        "dfa": {"type": "object", "required": ["bits", "initial"],
+                "properties": {"bits": {"type": "array", "items": _NAME}, "initial": _BITS}},
+        "positions": {"type": "array", "items": {
+            "type": "object", "required": ["at", "grip", "ee", "q", "h", "action", "budget"],
+            "properties": {
+                "at": {"type": "object", "additionalProperties": _NAME},
+                "grip": {"type": ["string", "null"]},
+                "ee": {"oneOf": [_NAME, {"type": "array", "items": _NAME, "minItems": 2, "maxItems": 2}]},
+                "q": _BITS, "h": {"type": "integer", "minimum": 0},
+                "action": _NAME, "budget": _AMOUNT}}},
+    },
+}
+_MAX_PROBLEMS = 10
+
+
+def read_strategy(path: str | Path) -> StrategyFile:
+    """Read and validate a strategy file; every problem is an `InputError`
+    naming the file, the place in it and what was expected."""
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as error:
+        raise InputError(f"cannot read strategy file {path}: {error.strerror}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"strategy file {path} is not UTF-8 text") from None
+    except json.JSONDecodeError as error:
+        raise InputError(f"{path}:{error.lineno}:{error.colno}: not JSON: {error.msg}") from None
+    problems = [f"{_where(e.absolute_path)}: {_expected(e)}"
+                for e in jsonschema.Draft202012Validator(SCHEMA).iter_errors(data)]
+    if not problems:
+        problems = _meaning_problems(data)
+    if problems:
+        shown = problems[:_MAX_PROBLEMS]
+        if len(problems) > _MAX_PROBLEMS:
+            shown.append(f"... and {len(problems) - _MAX_PROBLEMS} more")
+        raise InputError(f"{path}: not a valid {FORMAT} file:\n" + "\n".join(f"  {p}" for p in shown))
+    objects = tuple(data["objects"])
+    positions: dict[Position, str] = {}
+    budgets: dict[Position, float | None] = {}
+    for entry in data["positions"]:
+        ee = tuple(entry["ee"]) if isinstance(entry["ee"], list) else entry["ee"]
+        state = State(tuple(entry["at"][o] for o in objects), entry["grip"], ee)
+        position = (state, tuple(bool(b) for b in entry["q"]), entry["h"])
+        positions[position] = entry["action"]
+        budgets[position] = entry["budget"]
+    return StrategyFile(
+        scene=data["scene"], task=data["task"], k=data["k"], resolution=float(data["resolution"]),
+        units=data["units"], cost_bound=data["cost_bound"], objects=objects,
+        dfa_bits=tuple(data["dfa"]["bits"]), dfa_initial=tuple(bool(b) for b in data["dfa"]["initial"]),
+        positions=positions, budgets=budgets)
+
+
+def _meaning_problems(data: dict[str, Any]) -> list[str]:
+    """What the schema cannot say: names and sizes that must agree."""
+    problems = []
+    objects, bits = set(data["objects"]), len(data["dfa"]["bits"])
+    if len(data["dfa"]["initial"]) != bits:
+        problems.append(f"dfa.initial: expected {bits} bits, one per dfa.bits, "
+                        f"found {len(data['dfa']['initial'])}")
+    if (data["units"] is None) != (data["cost_bound"] is None):
+        problems.append("units, cost_bound: expected both null (no winning strategy) or both numbers")
+    seen = set()
+    for i, entry in enumerate(data["positions"]):
+        where = f"positions[{i}]"
+        if set(entry["at"]) != objects:
+            problems.append(f"{where}.at: expected one place for each of the objects "
+                            f"{', '.join(data['objects'])}, found {', '.join(entry['at']) or 'none'}")
+        if len(entry["q"]) != bits:
+            problems.append(f"{where}.q: expected {bits} bits, one per dfa.bits, found {len(entry['q'])}")
+        if entry["h"] > data["k"]:
+            problems.append(f"{where}.h: expected at most k = {data['k']} moves left, found {entry['h']}")
+        key = json.dumps([entry[x] for x in ("at", "grip", "ee", "q", "h")], sort_keys=True)
+        if key in seen:
+            problems.append(f"{where}: the same position is listed twice")
+        seen.add(key)
+    return problems
+
+
+def _where(path: Any) -> str:
+    out = ""
+    for part in path:
+        out += f"[{part}]" if isinstance(part, int) else f".{part}"
+    return out.lstrip(".") or "(top)"
+
+
+def _expected(error: jsonschema.ValidationError) -> str:
+    if error.validator == "const":
+        return f"expected {error.validator_value!r}, found {error.instance!r}"
+    if error.validator == "type":
+        return f"expected {' or '.join(_listed(error.validator_value))}, found {error.instance!r}"
+    if error.validator == "oneOf":
+        return f"expected a location, 'Else' or [object, grasp], found {error.instance!r}"
+    return error.message.replace("is a required property", "is required")
+
+
+def _listed(value: str | list[str]) -> list[str]:
+    return [value] if isinstance(value, str) else list(value)
+
+
+# -- printing ----------------------------------------------------------------
+
+def format_state(v: State, objects: tuple[str, ...]) -> str:
+    """`at: b=l2 w=Hand | grip=top | ee=l1`; a pair end-effector prints as (o,g)."""
+    at = " ".join(f"{o}={a}" for o, a in zip(objects, v.at))
+    ee = f"({v.ee[0]},{v.ee[1]})" if isinstance(v.ee, tuple) else v.ee
+    return f"at: {at} | grip={v.grip or 'none'} | ee={ee}"
+
+
+def format_position(position: Position, objects: tuple[str, ...]) -> str:
+    v, q, h = position
+    return f"[{format_state(v, objects)} | q={''.join(str(int(b)) for b in q)} | h={h}]"

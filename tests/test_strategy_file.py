@@ -1,0 +1,368 @@
+"""The strategy file `symsynth.strategy/1`: written from every solver's
+solution, read back, and checked by following it against every human.
+
+The check (`follow_file`) is independent of `symsynth.game.strategy`: it
+walks the game from the initial position with the file's actions and every
+legal human behaviour, so it fails if the file misses a reachable position,
+names an unavailable action, goes in circles or costs more than it says.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import json
+from collections.abc import Mapping
+
+import pytest
+
+from gamegen import random_scene
+from symsynth.automata import compile_ltlf
+from symsynth.errors import InputError
+from symsynth.game.abstraction import (State, human_moves, initial_state, letter, quantize,
+                                       robot_moves)
+from symsynth.game.propositions import interpret_all
+from symsynth.game.solvers import SOLVERS
+from symsynth.game.strategy import (FORMAT, InconsistentStrategy, MissingPosition, read_strategy,
+                                    reachable_positions, worst_units, write_strategy)
+from symsynth.logic import parse_ltlf
+from symsynth.scene import scene_from_data
+
+SOLVER_NAMES = sorted(SOLVERS)
+
+#: One block `b` at l1 to be put at l2; Else sample e1; grab = drop = 5
+#: (the hand-solved scene of test_game_explicit).  With k = 0:
+#: transit(b,top) from ee = Else costs max(home 7, l1/top 0, l2/top 3,
+#: e1/top 2) = 7, grab 5, transfer(l2) 4, drop 5: E_p = 21.  With k = 1 the
+#: human waits for the transit, then moves b to Else: 7, then transit to
+#: Else max(home 6, l1/top 8, l2/top 4, e1/top 0) = 8, grab 5, transfer
+#: e1/top -> l2/top 9, drop 5: E_p = 34.  With k = 2 the human repeats the
+#: trick within Else once: 7 + 8 + 27 = 42.
+PICK = {
+    ("empty", "home", "l1/top"): 7, ("empty", "l2/top", "l1/top"): 3,
+    ("empty", "e1/top", "l1/top"): 2,
+    ("empty", "home", "e1/top"): 6, ("empty", "l1/top", "e1/top"): 8,
+    ("empty", "l2/top", "e1/top"): 4,
+    ("b/top", "l1/top", "l2/top"): 4, ("b/top", "e1/top", "l2/top"): 9,
+}
+
+#: Two blocks: b at l1 must go to l3, a at l2 blocks the cheap transfer
+#: (b/top l1/top -> l3/top: 2 if l2 is free, else 40); k = 0, no Else.
+#: Clearing a first: transit(a,top) max(home 6, l1 2, l3 2, l4 2) = 6, grab 5,
+#: transfer(l4) 2, drop 5, transit(b,top) l4/top -> l1/top 3, grab 5,
+#: transfer(l3) 2, drop 5 = 33; straight: 5 + 5 + 40 + 5 = 55; b first
+#: then a: 5 + 2 + 27 = 34.  E_p = 33.
+CLEAR = {
+    ("empty", "home", "l2/top"): 6, ("empty", "l1/top", "l2/top"): 2,
+    ("empty", "l3/top", "l2/top"): 2, ("empty", "l4/top", "l2/top"): 2,
+    ("empty", "home", "l1/top"): 5, ("empty", "l2/top", "l1/top"): 3,
+    ("empty", "l3/top", "l1/top"): 2, ("empty", "l4/top", "l1/top"): 3,
+    ("a/top", "l2/top", "l4/top"): 2,
+    ("b/top", "l1/top", "l3/top"): [(["l2"], 2), ([], 40)],
+}
+
+
+def costmap_json(motions):
+    """`motions`: (mode, from, to) -> cost, or a list of (free, cost) rules."""
+    entries = []
+    for (mode, start, goal), rules in motions.items():
+        rules = [([], rules)] if isinstance(rules, (int, float)) else rules
+        entries.append({"mode": mode, "from": start, "to": goal,
+                        "rules": [{"free": list(free), "cost": cost} for free, cost in rules]})
+    return {"format": "symsynth.costmap/1", "motions": entries}
+
+
+def scene_data(objects, locations, *, else_samples=(), k=0, task="true", motions=None):
+    data = {"name": "pick", "objects": {o: {"at": at, "tags": ["block"]} for o, at in objects.items()},
+            "locations": list(locations), "else_samples": list(else_samples), "grasps": ["top"],
+            "primitives": {"grab": 5, "drop": 5}, "human": {"k": k}, "task": task}
+    if motions is not None:
+        data["costmap"] = costmap_json(motions)
+    return data
+
+
+def pick(k, motions=PICK, task="F(at(b, l2))"):
+    return scene_from_data(scene_data({"b": "l1"}, ["l1", "l2"], else_samples=["e1"], k=k,
+                                      task=task, motions=motions))
+
+
+def clear():
+    return scene_from_data(scene_data({"a": "l2", "b": "l1"}, ["l1", "l2", "l3", "l4"],
+                                      task="F(at(b, l3))", motions=CLEAR))
+
+
+def follow_file(scene, formula, file):
+    """Follow the file's actions from the initial position against every
+    human behaviour (pass, or any move while moves are left).  Returns the
+    worst total units and, for each robot position reached, the worst units
+    from there.  Fails on a missing position, an unavailable action or a
+    cycle."""
+    props = interpret_all(formula, scene)
+    dfa = compile_ltlf(formula)
+    read = functools.cache(lambda q, v: dfa.step(q, letter(scene, props, v)))
+    worst, on_path = {}, set()
+
+    def robot(v, q, h):
+        key = (v, q, h)
+        if key not in worst:
+            assert key not in on_path, "the strategy goes in circles"
+            on_path.add(key)
+            action = file.lookup(v, q, h)
+            (w, cost), = [(w, c) for a, w, c in robot_moves(scene, v) if a == action]
+            q2 = read(q, w)
+            rest = 0 if dfa.is_accepting(q2) else human(w, q2, h)
+            worst[key] = quantize(cost, file.resolution) + rest
+            on_path.discard(key)
+        return worst[key]
+
+    def human(v, q, h):
+        outcomes = [robot(v, q, h)]
+        for _, w in (human_moves(scene, v) if h > 0 else ()):
+            q2 = read(q, w)
+            if not dfa.is_accepting(q2):
+                outcomes.append(robot(w, q2, h - 1))
+        return max(outcomes)
+
+    v0 = initial_state(scene)
+    q0 = read(dfa.initial, v0)
+    total = 0 if dfa.is_accepting(q0) else human(v0, q0, file.k)
+    return total, worst
+
+
+def start_position(scene):
+    """The robot's first position if the human passes: (v0, q after ρ(v0), k)."""
+    formula = parse_ltlf(scene.task)
+    dfa = compile_ltlf(formula)
+    v0 = initial_state(scene)
+    return v0, dfa.step(dfa.initial, letter(scene, interpret_all(formula, scene), v0)), scene.k
+
+
+def check_file(scene, formula, solution, file):
+    """The file is the solution's strategy on exactly the reachable positions,
+    and it wins within cost_bound against every human."""
+    assert (file.scene, file.k, file.units, file.cost_bound) == (
+        scene.name, solution.k, solution.units, solution.cost_bound)
+    dfa = compile_ltlf(formula)
+    assert (file.dfa_bits, file.dfa_initial) == (dfa.bits, dfa.initial)
+    if solution.cost_bound is None:
+        assert file.positions == {}
+        return
+    total, worst = follow_file(scene, formula, file)
+    assert set(file.positions) == set(worst)
+    assert total == solution.units  # the strategy is optimal: it spends E_p, never more
+    for position, units in worst.items():
+        assert file.budgets[position] == pytest.approx(units * file.resolution)
+
+
+def solve_and_write(tmp_path, solver, scene, task=None, **options):
+    task = scene.task if task is None else task
+    solution = SOLVERS[solver](scene, task, **options)
+    target = tmp_path / "strategy.json"
+    count = write_strategy(target, scene, task, solution)
+    file = read_strategy(target)
+    assert count == len(file.positions)
+    return solution, file
+
+
+# -- files written from solutions ----------------------------------------------------
+
+@pytest.mark.parametrize("solver", SOLVER_NAMES)
+@pytest.mark.parametrize("k, expected", [(0, 21), (1, 34), (2, 42)])
+def test_pick_strategy_file_wins_within_its_bound(tmp_path, solver, k, expected):
+    scene = pick(k)
+    solution, file = solve_and_write(tmp_path, solver, scene)
+    assert file.cost_bound == expected
+    check_file(scene, parse_ltlf(scene.task), solution, file)
+    first = start_position(scene)
+    assert file.lookup(*first) == "transit(b,top)"
+    assert file.budgets[first] == expected
+
+
+@pytest.mark.parametrize("solver", SOLVER_NAMES)
+def test_clearing_strategy_file(tmp_path, solver):
+    scene = clear()
+    solution, file = solve_and_write(tmp_path, solver, scene)
+    assert file.cost_bound == 33 and len(file.positions) == 8  # k = 0: one position per action
+    check_file(scene, parse_ltlf(scene.task), solution, file)
+    assert sorted(file.positions.values()) == sorted([
+        "transit(a,top)", "grab(a)", "transfer(l4)", "drop(a,l4)",
+        "transit(b,top)", "grab(b)", "transfer(l3)", "drop(b,l3)"])
+
+
+@pytest.mark.parametrize("solver", SOLVER_NAMES)
+def test_resolution_is_kept(tmp_path, solver):
+    """r = 2: transit 4 units, grab 3, transfer 2, drop 3 = 12 units = 24."""
+    scene = pick(0)
+    solution, file = solve_and_write(tmp_path, solver, scene, resolution=2)
+    assert (file.resolution, file.units, file.cost_bound) == (2.0, 12, 24)
+    check_file(scene, parse_ltlf(scene.task), solution, file)
+
+
+@pytest.mark.parametrize("solver", SOLVER_NAMES)
+@pytest.mark.parametrize("seed", range(30))
+def test_generated_scenes(tmp_path, solver, seed):
+    scene = random_scene(seed)
+    solution, file = solve_and_write(tmp_path, solver, scene)
+    check_file(scene, parse_ltlf(scene.task), solution, file)
+
+
+def test_generated_scenes_are_varied():
+    """The generated cases above cover won, lost and trivial games, and
+    strategies that must answer human moves."""
+    solutions = [(random_scene(s), SOLVERS["explicit"](random_scene(s))) for s in range(30)]
+    assert sum(x.cost_bound is None for _, x in solutions) >= 3
+    assert sum(x.cost_bound == 0 for _, x in solutions) >= 1
+    answered = [len({h for _, _, h in reachable_positions(scene, scene.task, x)}) > 1
+                for scene, x in solutions]
+    assert sum(answered) >= 3
+
+
+@pytest.mark.parametrize("solver", SOLVER_NAMES)
+def test_no_winning_strategy_writes_no_positions(tmp_path, solver):
+    """Without b/top motions b never reaches l2: E_p is infinite."""
+    scene = pick(0, motions={key: c for key, c in PICK.items() if key[0] == "empty"})
+    solution, file = solve_and_write(tmp_path, solver, scene)
+    assert (file.units, file.cost_bound, file.positions) == (None, None, {})
+    data = json.loads((tmp_path / "strategy.json").read_text())
+    assert data["format"] == FORMAT and data["positions"] == []
+
+
+@pytest.mark.parametrize("solver", SOLVER_NAMES)
+def test_task_true_at_start_needs_no_position(tmp_path, solver):
+    scene = pick(1, task="F(at(b, l1))")
+    solution, file = solve_and_write(tmp_path, solver, scene)
+    assert (file.units, file.cost_bound, file.positions) == (0, 0, {})
+
+
+# -- reachable_positions on its own --------------------------------------------------
+
+class LazyStrategy(Mapping):
+    """A strategy that only answers lookups, and records them."""
+
+    def __init__(self, table):
+        self.table, self.asked = table, []
+
+    def __getitem__(self, position):
+        self.asked.append(position)
+        return self.table[position]
+
+    def __iter__(self):
+        raise AssertionError("a strategy must not be enumerated")
+
+    def __len__(self):
+        raise AssertionError("a strategy must not be counted")
+
+
+def test_only_reachable_positions_are_looked_up():
+    """The explicit solver's strategy also covers positions off the optimal
+    plays (b moved first, say); only the 8 on the play are looked up."""
+    scene = clear()
+    solution = SOLVERS["explicit"](scene)
+    lazy = LazyStrategy(solution.strategy)
+    choices = reachable_positions(scene, scene.task, _with_strategy(solution, lazy))
+    assert sorted(map(repr, lazy.asked)) == sorted(map(repr, choices))  # each looked up once
+    assert len(choices) == 8 < len(solution.strategy)
+    assert sorted(worst_units(choices).values()) == [5, 7, 12, 15, 20, 22, 27, 33]
+
+
+def test_inconsistent_strategy_is_named():
+    scene = pick(0)
+    solution = SOLVERS["explicit"](scene)
+    start = start_position(scene)
+    wrong = dict(solution.strategy) | {start: "drop(b,l2)"}
+    with pytest.raises(InconsistentStrategy, match=r"'drop\(b,l2\)'.*can only transit\(b,top\)"):
+        reachable_positions(scene, scene.task, _with_strategy(solution, wrong))
+    missing = {p: a for p, a in solution.strategy.items() if a != "grab(b)"}
+    with pytest.raises(InconsistentStrategy, match="no action at reachable position"):
+        reachable_positions(scene, scene.task, _with_strategy(solution, missing))
+
+
+def test_a_strategy_in_circles_has_no_budget():
+    """Transit to b, then 'transit' back to where it is: positions after the
+    first never reach the win, so their worst cost is unknown."""
+    scene = pick(0, motions=PICK | {("empty", "l1/top", "l1/top"): 0})
+    solution = SOLVERS["explicit"](scene)
+    choices = reachable_positions(scene, scene.task, solution)
+    loop = {p: c._replace(replies=(p,)) for p, c in choices.items()}
+    assert set(worst_units(loop).values()) == {None}
+    assert worst_units(choices)[next(iter(choices))] == 21
+
+
+def _with_strategy(solution, strategy):
+    return dataclasses.replace(solution, strategy=strategy)
+
+
+# -- reading -----------------------------------------------------------------------
+
+@pytest.fixture
+def valid(tmp_path):
+    """The k = 1 pick file's JSON."""
+    scene = pick(1)
+    write_strategy(tmp_path / "s.json", scene, scene.task, SOLVERS["explicit"](scene))
+    return json.loads((tmp_path / "s.json").read_text())
+
+
+def _set(path, value):
+    def change(data):
+        *parents, last = path
+        for key in parents:
+            data = data[key]
+        data[last] = value
+    return change
+
+
+def _delete(key):
+    return lambda data: data.pop(key)
+
+
+def _duplicate(data):
+    data["positions"].append(dict(data["positions"][0]))
+
+
+@pytest.mark.parametrize("change, expected", [
+    (_set(["format"], "symsynth.strategy/0"), "format: expected 'symsynth.strategy/1', found 'symsynth.strategy/0'"),
+    (_delete("positions"), "'positions' is required"),
+    (_set(["k"], -1), "k: -1 is less than the minimum of 0"),
+    (_set(["positions", 0, "q"], [0, 1]), "positions[0].q: expected 1 bits"),
+    (_set(["positions", 0, "q"], [2]), "positions[0].q[0]"),
+    (_set(["positions", 0, "at"], {"c": "l1"}), "positions[0].at: expected one place for each of the objects b"),
+    (_set(["positions", 0, "h"], 5), "positions[0].h: expected at most k = 1"),
+    (_set(["positions", 0, "ee"], ["b"]), "positions[0].ee: expected a location, 'Else' or [object, grasp]"),
+    (_set(["positions", 0, "action"], 3), "positions[0].action: expected string, found 3"),
+    (_set(["cost_bound"], None), "units, cost_bound: expected both null"),
+    (_set(["dfa", "initial"], []), "dfa.initial: expected 1 bits"),
+    (_duplicate, "listed twice"),
+    (lambda data: data.clear() or data.update(format=FORMAT), "'scene' is required"),
+])
+def test_bad_files_name_the_file_the_place_and_the_expectation(tmp_path, valid, change, expected):
+    change(valid)
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps(valid))
+    with pytest.raises(InputError) as error:
+        read_strategy(path)
+    message = str(error.value)
+    assert message.startswith(f"{path}: not a valid symsynth.strategy/1 file")
+    assert expected in message
+
+
+def test_unreadable_files(tmp_path):
+    with pytest.raises(InputError, match="cannot read strategy file .*nowhere.json"):
+        read_strategy(tmp_path / "nowhere.json")
+    broken = tmp_path / "broken.json"
+    broken.write_text('{"format": ')
+    with pytest.raises(InputError, match=r"broken.json:1:\d+: not JSON"):
+        read_strategy(broken)
+    many = tmp_path / "many.json"
+    many.write_text(json.dumps({"format": FORMAT, "positions": [{}] * 20}))
+    with pytest.raises(InputError, match=r"and \d+ more"):
+        read_strategy(many)
+
+
+def test_lookup(tmp_path):
+    scene = pick(0)
+    _, file = solve_and_write(tmp_path, "explicit", scene)
+    (state, q, h), = [p for p, a in file.positions.items() if a == "grab(b)"]
+    assert file.lookup(state, [int(b) for b in q], h) == "grab(b)"  # q as 0/1 works too
+    nowhere = State(("l2",), None, "Else")
+    with pytest.raises(MissingPosition, match=r"at: b=l2 \| grip=none \| ee=Else"):
+        file.lookup(nowhere, q, h)
