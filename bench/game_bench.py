@@ -1,0 +1,483 @@
+#!/usr/bin/env python3
+"""Benchmark: the game solvers (explicit, symbolic) on a growing pattern family.
+
+    python bench/game_bench.py [--quick] [--sizes 1x2,2x3,...] [--solvers explicit,symbolic]
+                               [--timeout S] [--k K] [--seed S] [--mem-limit GB] [--out FILE.md]
+
+Family (bench/gamefamily.py): n blocks, m >= n + 1 locations, 2 Else samples,
+grasp `top`, a human with k moves (default 3), the task one pattern
+F(at(c1, l_p1) & ... & at(cn, l_pn)), a conditional costmap from a grid
+layout.  Sizes (n, m) along 1x2 2x3 2x4 3x4 3x5 4x6 5x7 6x8 7x10 8x12.
+
+Every (size, solver) runs alone in a fresh child process (this script with
+`--worker`), one after the other, never two at once:
+  time     the solver call itself, measured in the child (imports and the
+           scene's construction excluded; the child's start-up is not timed);
+  memory   the child's peak resident set (ru_maxrss from wait4 on that child:
+           CUDD's C heap included), and its resident set just before the
+           solver was called (Python, symsynth, the scene);
+  value    E_p (cost_bound); all solvers that finish a size must agree, else
+           a MISMATCH line is printed and the exit status is 2;
+  states   the solver's `states`; `stats` (the symbolic solver's iterations,
+           peak BDD nodes, time splits...) and `seconds` are listed as given.
+
+A child is killed (SIGKILL, its whole process group) when it runs longer than
+the time limit (default 600 s) or its resident set grows past the memory
+limit (default 8 GB); the cell says TO or OOM, and the larger sizes are not
+run for that solver (TO*, OOM*).
+
+Targets (PASS/FAIL): (a) the symbolic solver at least 10x faster than the
+explicit one at the largest size the explicit one finishes (same run, side by
+side); (b) 8 objects x 12 locations x k = 3 solved by the symbolic solver in
+under 60 s.  Exit status 0 when all pass, 1 when a target fails, 2 on a
+mismatch.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+DEFAULT_OUT = HERE / "results" / "game.md"
+SIZES = [(1, 2), (2, 3), (2, 4), (3, 4), (3, 5), (4, 6), (5, 7), (6, 8), (7, 10), (8, 12)]
+QUICK_SIZES = [(1, 2), (2, 3), (2, 4), (3, 4)]
+TARGET_SPEEDUP = 10.0
+TARGET_SIZE = (8, 12, 3)
+TARGET_SECONDS = 60.0
+POLL = 0.1  # s between checks of a running child
+
+
+def log(msg):
+    try:
+        from tqdm import tqdm
+        tqdm.write(msg, file=sys.stderr)
+    except ImportError:
+        print(msg, file=sys.stderr, flush=True)
+
+
+# ---------------------------------------------------------------------------
+# The child: one solver on one scene
+# ---------------------------------------------------------------------------
+
+def worker(solver: str, n: int, m: int, k: int, seed: int, out: str) -> int:
+    import resource
+
+    result: dict = {"solver": solver}
+    try:
+        sys.path.insert(0, str(HERE))
+        from gamefamily import pattern_scene
+        from symsynth.game.solvers import SOLVERS
+
+        clock = time.perf_counter()
+        scene = pattern_scene(n, m, k=k, seed=seed)
+        result["build_s"] = time.perf_counter() - clock
+        solve = SOLVERS[solver]
+        result["base_kb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+        clock = time.perf_counter()
+        solution = solve(scene)
+        result["solve_s"] = time.perf_counter() - clock
+        result["cost_bound"] = solution.cost_bound
+        result["states"] = solution.states
+        result["seconds"] = {str(a): _plain(b) for a, b in dict(solution.seconds).items()}
+        result["stats"] = {str(a): _plain(b) for a, b in dict(getattr(solution, "stats", None) or {}).items()}
+        result["status"] = "ok"
+    except BaseException as error:  # noqa: BLE001 - reported to the parent
+        import traceback
+        result["status"] = "ERR"
+        result["error"] = f"{type(error).__name__}: {error}"
+        result["traceback"] = traceback.format_exc()
+    Path(out).write_text(json.dumps(result), encoding="utf-8")
+    return 0
+
+
+def _plain(x):
+    if isinstance(x, (bool, int, float, str)) or x is None:
+        return x
+    try:
+        return float(x)
+    except (TypeError, ValueError):
+        return str(x)
+
+
+# ---------------------------------------------------------------------------
+# The parent: run children with limits
+# ---------------------------------------------------------------------------
+
+@dataclass
+class Cell:
+    solver: str
+    n: int
+    m: int
+    k: int
+    status: str = "ok"            # ok, TO, OOM, ERR, TO*, OOM*, ERR*, n/a
+    solve_s: float | None = None  # solver call, in the child
+    wall_s: float | None = None   # the child process, start to exit
+    peak_mb: float | None = None
+    base_mb: float | None = None
+    cost_bound: float | None = None
+    states: int | None = None
+    seconds: dict = field(default_factory=dict)
+    stats: dict = field(default_factory=dict)
+    error: str | None = None
+
+    @property
+    def ok(self):
+        return self.status == "ok"
+
+
+def run_cell(solver, n, m, k, seed, timeout, mem_limit_mb) -> Cell:
+    cell = Cell(solver, n, m, k)
+    with tempfile.TemporaryDirectory(prefix="game_bench_") as tmp:
+        out = Path(tmp) / "result.json"
+        errfile = Path(tmp) / "stderr.txt"
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", solver,
+               str(n), str(m), str(k), str(seed), str(out)]
+        with open(errfile, "wb") as err:
+            start = time.perf_counter()
+            proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                    stderr=err, start_new_session=True, cwd=ROOT)
+            killed = None
+            while True:
+                pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
+                if pid:
+                    break
+                elapsed = time.perf_counter() - start
+                if killed is None:
+                    if elapsed > timeout:
+                        killed = "TO"
+                    elif mem_limit_mb and _rss_mb(proc.pid) > mem_limit_mb:
+                        killed = "OOM"
+                    if killed:
+                        try:
+                            os.killpg(proc.pid, signal.SIGKILL)
+                        except ProcessLookupError:
+                            pass
+                time.sleep(POLL)
+            proc.returncode = os.waitstatus_to_exitcode(status)  # reaped by wait4
+        cell.wall_s = time.perf_counter() - start
+        cell.peak_mb = usage.ru_maxrss / 1024  # KiB on Linux
+        if killed:
+            cell.status = killed
+            cell.solve_s = cell.wall_s
+            return cell
+        if not out.exists():
+            cell.status = "ERR"
+            tail = errfile.read_text(errors="replace").strip().splitlines()[-3:]
+            cell.error = f"child exited with {proc.returncode}: " + " | ".join(tail)
+            return cell
+        result = json.loads(out.read_text(encoding="utf-8"))
+    cell.status = result["status"]
+    cell.error = result.get("error")
+    if cell.status == "ERR":
+        log(result.get("traceback", ""))
+    cell.solve_s = result.get("solve_s")
+    cell.base_mb = result["base_kb"] / 1024 if "base_kb" in result else None
+    cell.cost_bound = result.get("cost_bound")
+    cell.states = result.get("states")
+    cell.seconds = result.get("seconds", {})
+    cell.stats = result.get("stats", {})
+    return cell
+
+
+def _rss_mb(pid: int) -> float:
+    """Resident set of `pid`, in MB (Linux /proc; 0 once it is gone)."""
+    total = 0
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            for line in f:
+                if line.startswith("VmRSS:"):
+                    total += int(line.split()[1])
+    except OSError:
+        pass
+    return total / 1024
+
+
+# ---------------------------------------------------------------------------
+# Report
+# ---------------------------------------------------------------------------
+
+def fmt_s(cell: Cell | None) -> str:
+    if cell is None:
+        return ""
+    if cell.status in ("TO", "OOM"):
+        return f"{cell.status} ({cell.wall_s:.0f} s)"
+    if not cell.ok:
+        return cell.status
+    t = cell.solve_s
+    return f"{t:.3f}" if t < 10 else f"{t:.1f}"
+
+
+def fmt_mb(cell: Cell | None) -> str:
+    if cell is None or cell.peak_mb is None:
+        return ""
+    s = f"{cell.peak_mb:.0f}"
+    if cell.status in ("TO", "OOM"):
+        return "≥" + s
+    if cell.base_mb is not None:
+        s += f" ({cell.base_mb:.0f})"
+    return s
+
+
+def fmt_num(x) -> str:
+    if isinstance(x, bool) or x is None:
+        return str(x)
+    if isinstance(x, int):
+        return f"{x:,}"
+    if isinstance(x, float):
+        if x.is_integer() and abs(x) < 1e15:
+            return f"{int(x):,}"
+        return f"{x:.3g}"
+    return str(x)
+
+
+def fmt_value(x) -> str:
+    return "∞" if x is None else fmt_num(float(x))
+
+
+def report(sizes, solvers, cells, meta, args, missing):
+    lines = ["# Game solvers on the pattern family", ""]
+    lines += [f"- {key}: {value}" for key, value in meta.items()]
+    if missing:
+        lines.append(f"- **not registered** in `symsynth.game.solvers.SOLVERS`: {', '.join(missing)} "
+                     f"(columns left empty)")
+    lines += ["", "Time: the solver call in a fresh child process, s. Memory: the child's peak "
+              "resident set, MB (in parentheses: before the solver was called). `TO`/`OOM`: killed "
+              "at the limit; `*`: not run, a smaller size failed.", ""]
+
+    head = ["n", "m", "k"]
+    for s in solvers:
+        head += [f"{s} s", f"{s} MB", f"{s} states"]
+    head += ["E_p"]
+    speed = "explicit" in solvers and "symbolic" in solvers
+    if speed:
+        head.append("explicit/symbolic")
+    lines.append("| " + " | ".join(head) + " |")
+    lines.append("|" + "|".join("---:" for _ in head) + "|")
+    mismatches = []
+    for (n, m) in sizes:
+        row = [str(n), str(m), str(args.k)]
+        values = {}
+        for s in solvers:
+            c = cells.get((s, n, m))
+            row += [fmt_s(c), fmt_mb(c), fmt_num(c.states) if c is not None and c.ok else ""]
+            if c is not None and c.ok:
+                values[s] = c.cost_bound
+        distinct = {v for v in values.values()}
+        if len(distinct) > 1:
+            mismatches.append((n, m, values))
+            row.append("**MISMATCH** " + ", ".join(f"{s} {fmt_value(v)}" for s, v in values.items()))
+        else:
+            row.append(fmt_value(next(iter(distinct))) if distinct else "")
+        if speed:
+            e, y = cells.get(("explicit", n, m)), cells.get(("symbolic", n, m))
+            row.append(_ratio(e, y))
+        lines.append("| " + " | ".join(row) + " |")
+    lines.append("")
+
+    detail = [c for c in cells.values() if c.ok and (c.stats or c.seconds)]
+    if detail:
+        lines += ["### Solver splits and stats", "",
+                  "| n | m | solver | seconds | stats |", "|---:|---:|---|---|---|"]
+        for (n, m) in sizes:
+            for s in solvers:
+                c = cells.get((s, n, m))
+                if c is None or not c.ok or not (c.seconds or c.stats):
+                    continue
+                secs = " ".join(f"{a}={fmt_num(b)}" for a, b in c.seconds.items())
+                stats = " ".join(f"{a}={fmt_num(b)}" for a, b in c.stats.items())
+                lines.append(f"| {n} | {m} | {s} | {secs} | {stats} |")
+        lines.append("")
+    errors = [c for c in cells.values() if c.status == "ERR"]
+    if errors:
+        lines += ["### Errors", ""]
+        lines += [f"- {c.solver} {c.n}x{c.m}: {c.error}" for c in errors]
+        lines.append("")
+
+    verdicts = []  # (status, message); status PASS, FAIL or SKIP
+    verdicts.append(_target_speedup(sizes, cells, solvers, missing))
+    verdicts.append(_target_size(sizes, cells, solvers, missing, args))
+    for n, m, values in mismatches:
+        verdicts.append(("MISMATCH", f"{n}x{m}: E_p differs: "
+                         + ", ".join(f"{s} {fmt_value(v)}" for s, v in values.items())))
+    lines += ["## Targets", "", "```"]
+    lines += [f"{status} {msg}" for status, msg in verdicts]
+    lines += ["```", ""]
+    return "\n".join(lines), verdicts
+
+
+def _ratio(e: Cell | None, y: Cell | None) -> str:
+    if e is None or y is None or not y.ok or not y.solve_s:
+        return ""
+    if e.ok:
+        return f"{e.solve_s / y.solve_s:.1f}x"
+    if e.status in ("TO", "OOM"):
+        return f">{e.wall_s / y.solve_s:.0f}x"
+    return ""
+
+
+def _target_speedup(sizes, cells, solvers, missing):
+    what = f"(a) symbolic >= {TARGET_SPEEDUP:.0f}x faster than explicit at the largest size explicit finishes"
+    if "symbolic" in missing:
+        return "FAIL", f"{what}: symbolic solver not registered"
+    if "explicit" not in solvers or "symbolic" not in solvers:
+        return "SKIP", f"{what}: needs --solvers explicit,symbolic"
+    done = [(n, m) for (n, m) in sizes if (c := cells.get(("explicit", n, m))) is not None and c.ok]
+    if not done:
+        return "FAIL", f"{what}: explicit finished no size"
+    n, m = done[-1]
+    e, y = cells[("explicit", n, m)], cells.get(("symbolic", n, m))
+    if y is None or not y.ok:
+        return "FAIL", f"{what}: at {n}x{m} explicit {e.solve_s:.2f} s, symbolic {y.status if y else 'not run'}"
+    ratio = e.solve_s / y.solve_s if y.solve_s else float("inf")
+    return ("PASS" if ratio >= TARGET_SPEEDUP else "FAIL",
+            f"{what}: at {n}x{m}, explicit {e.solve_s:.2f} s / symbolic {y.solve_s:.3f} s = {ratio:.1f}x")
+
+
+def _target_size(sizes, cells, solvers, missing, args):
+    n, m, k = TARGET_SIZE
+    what = f"(b) {n} objects x {m} locations x k={k} solved by symbolic in < {TARGET_SECONDS:.0f} s"
+    if "symbolic" in missing:
+        return "FAIL", f"{what}: symbolic solver not registered"
+    if "symbolic" not in solvers or (n, m) not in sizes or args.k != k:
+        return "SKIP", f"{what}: not in this run (--sizes/--k/--solvers)"
+    c = cells.get(("symbolic", n, m))
+    if c is None:
+        return "FAIL", f"{what}: not run"
+    if not c.ok:
+        return "FAIL", f"{what}: {c.status}" + (f" ({c.error})" if c.error else "")
+    if c.cost_bound is None:  # m >= n + 1 and a finite k: the pattern is always achievable
+        return "FAIL", f"{what}: E_p infinite, but every scene of the family is winnable"
+    return ("PASS" if c.solve_s < TARGET_SECONDS else "FAIL",
+            f"{what}: {c.solve_s:.2f} s, peak {c.peak_mb:.0f} MB, E_p {fmt_value(c.cost_bound)}")
+
+
+def environment(args):
+    meta = {"date": time.strftime("%Y-%m-%d %H:%M:%S %Z"),
+            "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, {platform.platform()}",
+            "python": platform.python_version()}
+    try:
+        meta["load average at start"] = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    except OSError:
+        pass
+    try:
+        from importlib.metadata import version
+        meta["versions"] = f"symsynth {version('symsynth')}, dd {version('dd')}"
+    except Exception:
+        pass
+    meta["family"] = (f"bench/gamefamily.py pattern_scene(n, m, k={args.k}, seed={args.seed}): "
+                      "n blocks, m locations, 2 Else samples, grasp top, F(pattern)")
+    meta["settings"] = (f"time limit {args.timeout:g} s, memory limit "
+                        + (f"{args.mem_limit:g} GB" if args.mem_limit else "none")
+                        + (", --quick" if args.quick else "") + (", --no-skip" if args.no_skip else ""))
+    return meta
+
+
+def parse_sizes(text):
+    out = []
+    for part in text.split(","):
+        part = part.strip()
+        if not part:
+            continue
+        n, m = part.lower().split("x")
+        out.append((int(n), int(m)))
+    return out
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if argv and argv[0] == "--worker":
+        solver, n, m, k, seed, out = argv[1:7]
+        return worker(solver, int(n), int(m), int(k), int(seed), out)
+
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--quick", action="store_true",
+                   help=f"smoke run: sizes {','.join(f'{n}x{m}' for n, m in QUICK_SIZES)}, 30 s limit")
+    p.add_argument("--sizes", default=None,
+                   help="comma-separated NxM (default: " + ",".join(f"{n}x{m}" for n, m in SIZES) + ")")
+    p.add_argument("--solvers", default="explicit,symbolic")
+    p.add_argument("--timeout", type=float, default=None, help="per run, s (default 600; 30 with --quick)")
+    p.add_argument("--mem-limit", type=float, default=8.0, help="GB of resident memory per run (0: none)")
+    p.add_argument("--k", type=int, default=3, help="human moves (default 3)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--no-skip", action="store_true", help="run larger sizes even after a failure")
+    p.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"markdown file (default {DEFAULT_OUT})")
+    args = p.parse_args(argv)
+    args.timeout = args.timeout or (30.0 if args.quick else 600.0)
+    sizes = parse_sizes(args.sizes) if args.sizes else (QUICK_SIZES if args.quick else SIZES)
+    for n, m in sizes:
+        if m < n + 1:
+            p.error(f"size {n}x{m}: m must be >= n + 1")
+    solvers = [s.strip() for s in args.solvers.split(",") if s.strip()]
+
+    sys.path.insert(0, str(HERE))
+    from symsynth.game.solvers import SOLVERS
+    missing = [s for s in solvers if s not in SOLVERS]
+    if missing:
+        bar = "=" * 72
+        log(f"{bar}\nNOTE: solver(s) {', '.join(missing)} not registered in symsynth.game.solvers.SOLVERS "
+            f"(registered: {', '.join(SOLVERS)}).\nTheir columns stay empty; running "
+            f"{', '.join(s for s in solvers if s in SOLVERS) or 'nothing'}.\n{bar}")
+    runnable = [s for s in solvers if s in SOLVERS]
+
+    meta = environment(args)
+    cells: dict[tuple[str, int, int], Cell] = {}
+    failed: dict[str, str] = {}
+    try:
+        from tqdm import tqdm
+        bar = tqdm(total=len(sizes) * len(runnable), file=sys.stderr, unit="run")
+    except ImportError:
+        bar = None
+    try:
+        for n, m in sizes:
+            for s in runnable:
+                if s in failed and not args.no_skip:
+                    cells[(s, n, m)] = Cell(s, n, m, args.k, status=failed[s] + "*")
+                    if bar:
+                        bar.update()
+                    continue
+                if bar:
+                    bar.set_description(f"{s} {n}x{m}")
+                cell = run_cell(s, n, m, args.k, args.seed, args.timeout, args.mem_limit * 1024)
+                cells[(s, n, m)] = cell
+                if bar:
+                    bar.update()
+                if cell.ok:
+                    extra = " ".join(f"{a}={fmt_num(b)}" for a, b in cell.stats.items())
+                    log(f"{s:>9} {n}x{m}: {cell.solve_s:8.3f} s  {cell.peak_mb:7.0f} MB  "
+                        f"E_p {fmt_value(cell.cost_bound)}  states {fmt_num(cell.states)}  {extra}")
+                else:
+                    log(f"{s:>9} {n}x{m}: {cell.status} after {cell.wall_s:.0f} s, "
+                        f"peak {cell.peak_mb:.0f} MB" + (f": {cell.error}" if cell.error else ""))
+                    failed[s] = cell.status
+            values = {s: cells[(s, n, m)].cost_bound for s in runnable if cells[(s, n, m)].ok}
+            if len(set(values.values())) > 1:
+                log(f"!!!!!!!! MISMATCH at {n}x{m}: "
+                    + ", ".join(f"{s} E_p = {fmt_value(v)}" for s, v in values.items()) + " !!!!!!!!")
+    finally:
+        if bar:
+            bar.close()
+
+    text, verdicts = report(sizes, solvers, cells, meta, args, missing)
+    print(text)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(text + "\n", encoding="utf-8")
+    log(f"wrote {args.out}")
+    if any(status == "MISMATCH" for status, _ in verdicts):
+        return 2
+    return 1 if any(status == "FAIL" for status, _ in verdicts) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
