@@ -218,7 +218,7 @@ class _Queries:
         v, q, h = position
         bdd = self.bdd
         # (v', c) with X_{i-1}(v', D(q, v'), h, value - c) /\ c <= value
-        within = bdd.let(self._values(None, q, h, value), self.attractor.composed[i])
+        within = bdd.let(self._values(None, q, h, value), self.attractor.shifted(i))
         action, w, units = self.robot_moves(v, within)[0]
         return action, w, units, value - units
 

