@@ -30,6 +30,17 @@ def solve(request):
 
 # -- hand-solved scenes ------------------------------------------------------------
 
+#: b at l1 must go to l3; a at l2 blocks the cheap transfer (see
+#: test_conditional_rule_makes_the_robot_clear_a_location).
+CLEAR = {
+    ("empty", "home", "l2/top"): 6, ("empty", "l1/top", "l2/top"): 2,
+    ("empty", "l3/top", "l2/top"): 2, ("empty", "l4/top", "l2/top"): 2,
+    ("empty", "home", "l1/top"): 5, ("empty", "l2/top", "l1/top"): 3,
+    ("empty", "l3/top", "l1/top"): 2, ("empty", "l4/top", "l1/top"): 3,
+    ("a/top", "l2/top", "l4/top"): 2,
+    ("b/top", "l1/top", "l3/top"): [(["l2"], 2), ([], 40)],
+}
+
 def test_task_true_at_start_costs_nothing(solve):
     """b already stands at l1 and the task is F(at(b, l1)): the first letter
     ρ(v0) is accepted, so the robot has won before anyone moves.  E_p = 0,
@@ -103,14 +114,7 @@ def test_conditional_rule_makes_the_robot_clear_a_location(solve):
       transfer(l3) 40 (l2 occupied), drop 5: 55.
     - b first, then a: 5 + (l1/top -> l2/top 2) + 27 = 34.
     E_p = 33, starting with a."""
-    motions = {
-        ("empty", "home", "l2/top"): 6, ("empty", "l1/top", "l2/top"): 2,
-        ("empty", "l3/top", "l2/top"): 2, ("empty", "l4/top", "l2/top"): 2,
-        ("empty", "home", "l1/top"): 5, ("empty", "l2/top", "l1/top"): 3,
-        ("empty", "l3/top", "l1/top"): 2, ("empty", "l4/top", "l1/top"): 3,
-        ("a/top", "l2/top", "l4/top"): 2,
-        ("b/top", "l1/top", "l3/top"): [(["l2"], 2), ([], 40)],
-    }
+    motions = CLEAR
     scene = make_scene({"a": "l2", "b": "l1"}, ["l1", "l2", "l3", "l4"], motions,
                        task="F(at(b, l3))")
     solution = solve(scene)

@@ -27,39 +27,14 @@ from symsynth.game.strategy import (FORMAT, InconsistentStrategy, MissingPositio
                                     reachable_positions, worst_units, write_strategy)
 from symsynth.logic import parse_ltlf
 from symsynth.scene import scene_from_data
+from test_game_explicit import PICK
+from test_game_solvers import CLEAR
 
 SOLVER_NAMES = sorted(SOLVERS)
 
-#: One block `b` at l1 to be put at l2; Else sample e1; grab = drop = 5
-#: (the hand-solved scene of test_game_explicit).  With k = 0:
-#: transit(b,top) from ee = Else costs max(home 7, l1/top 0, l2/top 3,
-#: e1/top 2) = 7, grab 5, transfer(l2) 4, drop 5: E_p = 21.  With k = 1 the
-#: human waits for the transit, then moves b to Else: 7, then transit to
-#: Else max(home 6, l1/top 8, l2/top 4, e1/top 0) = 8, grab 5, transfer
-#: e1/top -> l2/top 9, drop 5: E_p = 34.  With k = 2 the human repeats the
-#: trick within Else once: 7 + 8 + 27 = 42.
-PICK = {
-    ("empty", "home", "l1/top"): 7, ("empty", "l2/top", "l1/top"): 3,
-    ("empty", "e1/top", "l1/top"): 2,
-    ("empty", "home", "e1/top"): 6, ("empty", "l1/top", "e1/top"): 8,
-    ("empty", "l2/top", "e1/top"): 4,
-    ("b/top", "l1/top", "l2/top"): 4, ("b/top", "e1/top", "l2/top"): 9,
-}
-
-#: Two blocks: b at l1 must go to l3, a at l2 blocks the cheap transfer
-#: (b/top l1/top -> l3/top: 2 if l2 is free, else 40); k = 0, no Else.
-#: Clearing a first: transit(a,top) max(home 6, l1 2, l3 2, l4 2) = 6, grab 5,
-#: transfer(l4) 2, drop 5, transit(b,top) l4/top -> l1/top 3, grab 5,
-#: transfer(l3) 2, drop 5 = 33; straight: 5 + 5 + 40 + 5 = 55; b first
-#: then a: 5 + 2 + 27 = 34.  E_p = 33.
-CLEAR = {
-    ("empty", "home", "l2/top"): 6, ("empty", "l1/top", "l2/top"): 2,
-    ("empty", "l3/top", "l2/top"): 2, ("empty", "l4/top", "l2/top"): 2,
-    ("empty", "home", "l1/top"): 5, ("empty", "l2/top", "l1/top"): 3,
-    ("empty", "l3/top", "l1/top"): 2, ("empty", "l4/top", "l1/top"): 3,
-    ("a/top", "l2/top", "l4/top"): 2,
-    ("b/top", "l1/top", "l3/top"): [(["l2"], 2), ([], 40)],
-}
+# PICK (one block, E_p = 21 for k = 0, 34 for k = 1) and CLEAR (a second
+# block blocks the cheap transfer, E_p = 33) are the hand-solved scenes of
+# test_game_explicit and test_game_solvers, where the values are worked out.
 
 
 def costmap_json(motions):

@@ -23,18 +23,16 @@ strategy always reaches WIN, zero-cost actions included.
 from __future__ import annotations
 
 import heapq
-import math
 import time
 from collections import deque
 from collections.abc import Hashable
 from typing import NamedTuple
 
 from symsynth.automata import SymbolicDFA, compile_ltlf
-from symsynth.errors import InputError
 from symsynth.game.abstraction import (State, costmap_of, human_moves, initial_state, letter,
                                        quantize, robot_moves)
 from symsynth.game.propositions import interpret_all
-from symsynth.game.solution import Solution, Step, task_formula, verdict
+from symsynth.game.solution import Solution, Step, check_parameters, task_formula, verdict
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
 
@@ -61,11 +59,7 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
                    resolution: float = 1.0) -> Solution:
     """E_p, a strategy and plays for `formula` (default: the scene's task)
     against a human with `k` moves (default: the scene's k)."""
-    k = scene.k if k is None else k
-    if k < 0:
-        raise InputError(f"k must be >= 0, found {k}")
-    if not resolution > 0 or math.isinf(resolution):
-        raise InputError(f"resolution must be a positive number, found {resolution}")
+    k = check_parameters(scene, k, resolution)
     clock = time.perf_counter()
     game = _Game(scene, task_formula(scene, formula), resolution)
     seconds = {"dfa": time.perf_counter() - clock}

@@ -7,6 +7,7 @@ not a step (between two robot steps the human passed).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Hashable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -78,6 +79,16 @@ class Solution:
         ee = list(v.ee) if isinstance(v.ee, tuple) else v.ee
         state = {"at": dict(zip(self.objects, v.at)), "grip": v.grip, "ee": ee}
         return {"who": step.who, "action": step.action, "cost": step.cost, "state": state}
+
+
+def check_parameters(scene: Scene, k: int | None, resolution: float) -> int:
+    """The human's moves (default: the scene's k), after checking k and the resolution."""
+    k = scene.k if k is None else k
+    if k < 0:
+        raise InputError(f"k must be >= 0, found {k}")
+    if not resolution > 0 or math.isinf(resolution):
+        raise InputError(f"resolution must be a positive number, found {resolution}")
+    return k
 
 
 def task_formula(scene: Scene, formula: str | ast.Formula | None) -> ast.Formula:

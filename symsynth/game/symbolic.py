@@ -17,15 +17,13 @@
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Iterator, Mapping
 
 from symsynth.automata.bdd import Function, peak_nodes
-from symsynth.errors import InputError
 from symsynth.game.abstraction import State, initial_state
 from symsynth.game.explicit import PASS
-from symsynth.game.solution import Position, Solution, Step, task_formula, verdict
+from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, HAND, Scene
 from symsynth.symbolic.arena import FAMILIES, Arena
@@ -39,11 +37,7 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
                    resolution: float = 1.0) -> Solution:
     """E_p, a strategy and plays for `formula` (default: the scene's task)
     against a human with `k` moves (default: the scene's k)."""
-    k = scene.k if k is None else k
-    if k < 0:
-        raise InputError(f"k must be >= 0, found {k}")
-    if not resolution > 0 or math.isinf(resolution):
-        raise InputError(f"resolution must be a positive number, found {resolution}")
+    k = check_parameters(scene, k, resolution)
     clock = time.perf_counter()
     arena = Arena(scene, task_formula(scene, formula), k, resolution)
     game = _Queries(arena)
