@@ -23,12 +23,15 @@ Function = Any  # the backend's node type (`dd.cudd.Function` or `dd.autoref.Fun
 Cube = tuple[tuple[str, bool], ...]  # a conjunction of literals, as (variable, polarity)
 
 
-def new_manager(*, reordering: bool = False) -> BDD:
+def new_manager(*, reordering: bool = False, memory: int = 2**24, cache: int = 2**14) -> BDD:
     """A fresh manager.  Reordering is off unless asked for: several routines
-    rely on declared order (atoms above the variables that follow them)."""
+    rely on declared order (atoms above the variables that follow them).
+
+    `memory` (bytes) bounds what CUDD may give its computed table as it grows;
+    `cache` is that table's initial number of slots."""
     # dd's default sizes CUDD for 1 GiB: 17-20 ms to create and free, more
     # than most compilations take.  Start small; CUDD grows on demand.
-    bdd = BDD(memory_estimate=2**24, initial_cache_size=2**14) if BACKEND == "cudd" else BDD()
+    bdd = BDD(memory_estimate=memory, initial_cache_size=cache) if BACKEND == "cudd" else BDD()
     bdd.configure(reordering=reordering)
     return bdd
 
