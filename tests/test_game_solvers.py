@@ -158,10 +158,23 @@ def test_bad_input_is_named(solve):
 
 def worst_case_of(scene, solution, formula):
     """The largest cost the returned strategy pays against any human, found by
-    following it through every human behaviour (raises on a cycle)."""
+    following it through every human behaviour (raises on a cycle).
+
+    The recursive closures below form a reference cycle; the BDDs (the DFA's
+    and the strategy's) are reached only through `held`, which is emptied on
+    the way out, so no BDD manager is left for the cycle collector to free
+    before its nodes."""
     props = interpret_all(formula, scene)
-    dfa = compile_ltlf(formula)
-    read = functools.cache(lambda q, v: dfa.step(q, letter(scene, props, v)))
+    held = {"dfa": compile_ltlf(formula), "strategy": solution.strategy}
+    try:
+        return _worst_case(scene, solution.k, solution.resolution, props, held)
+    finally:
+        held.clear()
+
+
+def _worst_case(scene, k, resolution, props, held):
+    dfa = held["dfa"]
+    read = functools.cache(lambda q, v: held["dfa"].step(q, letter(scene, props, v)))
     on_path = set()
 
     @functools.cache
@@ -169,11 +182,11 @@ def worst_case_of(scene, solution, formula):
         key = (v, q, h)
         assert key not in on_path, "the strategy goes in circles"
         on_path.add(key)
-        action = solution.strategy[key]
+        action = held["strategy"][key]
         (w, c), = [(w, c) for a, w, c in robot_moves(scene, v) if a == action]
         q2 = read(q, w)
-        units = quantize(c, solution.resolution)
-        result = units + (0 if dfa.is_accepting(q2) else human(w, q2, h))
+        units = quantize(c, resolution)
+        result = units + (0 if held["dfa"].is_accepting(q2) else human(w, q2, h))
         on_path.discard(key)
         return result
 
@@ -182,13 +195,13 @@ def worst_case_of(scene, solution, formula):
         worst = robot(v, q, h)
         for _, w in (human_moves(scene, v) if h > 0 else ()):
             q2 = read(q, w)
-            if not dfa.is_accepting(q2):
+            if not held["dfa"].is_accepting(q2):
                 worst = max(worst, robot(w, q2, h - 1))
         return worst
 
     v0 = initial_state(scene)
     q0 = read(dfa.initial, v0)
-    return 0 if dfa.is_accepting(q0) else human(v0, q0, solution.k)
+    return 0 if dfa.is_accepting(q0) else human(v0, q0, k)
 
 
 @pytest.mark.parametrize("seed", range(40))

@@ -10,15 +10,20 @@
    with X(v0, q0, k, e).
 4. The strategy, read off the iterates: at a robot position p of value
    val(p), let i be the first iterate with R_i(p, val(p)); play an action
-   leading into X_{i-1} with budget val(p) - c.  Along every play (val, i)
-   decreases lexicographically, so the strategy wins, spending at most
-   val(p) (see docs in `Strategy`).
+   leading into X_{i-1} with budget val(p) - c.  Whatever the human does
+   next, the robot position p' it leads to has (p', val(p) - c) in R_{i-1},
+   so val(p') <= val(p) - c, and when c = 0 and the value stays, p' was
+   won by round i-1.  So (val, i) decreases lexicographically along every
+   play: the strategy wins, and the costs it pays add up to at most val(p).
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
+
+from tqdm import tqdm
 
 from symsynth.automata.bdd import Function, peak_nodes
 from symsynth.game.abstraction import State, initial_state
@@ -52,8 +57,9 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
         return _solution(arena, 0, budget, seconds, stats, None, (), None)
 
     clock = time.perf_counter()
-    qualitative = attractor(arena, with_costs=False,
-                            stop=lambda x: game.contains(x, start))
+    with _rounds("qualitative attractor") as bar:
+        qualitative = attractor(arena, with_costs=False, progress=bar,
+                                stop=lambda x: game.contains(x, start))
     seconds["qualitative"] = time.perf_counter() - clock
     stats["qualitative_iterations"] = len(qualitative.layers)
     if qualitative.converged:  # the initial position was never won
@@ -67,7 +73,8 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
     stats["budget_bits"] = width
     del qualitative
     clock = time.perf_counter()
-    quantitative = attractor(arena, with_costs=True)
+    with _rounds("cost-bounded attractor") as bar:
+        quantitative = attractor(arena, with_costs=True, progress=bar)
     seconds["attractor"] = time.perf_counter() - clock
     stats["iterations"] = len(quantitative.layers)
     stats.update({f"seconds_{key}": value for key, value in quantitative.seconds.items()})
@@ -81,6 +88,14 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
     seconds["plays"] = time.perf_counter() - clock
     counter = principal if verdict(units, resolution, budget) is False else None
     return _solution(arena, units, budget, seconds, stats, strategy, principal, counter)
+
+
+@contextmanager
+def _rounds(what: str) -> Iterator[Callable[[int], None]]:
+    """A progress bar of fixpoint rounds, shown only on a terminal and only
+    when the work takes more than a second."""
+    with tqdm(desc=what, unit=" rounds", delay=1.0, leave=False, disable=None) as bar:
+        yield lambda rounds: bar.update(rounds - bar.n)
 
 
 def _solution(arena: Arena, units: int | None, budget: float | None, seconds: dict,
@@ -177,16 +192,13 @@ class _Queries:
         return lo
 
     # -- moves on explicit states ---------------------------------------------------
-    def robot_moves(self, v: State, within: Function | None = None) -> list[tuple[str, State, int]]:
-        """(action, next state, units) for every robot action from v, or only
-        those with (v', c) in `within` (a set over v', c)."""
+    def robot_moves(self, v: State) -> list[tuple[str, State, int]]:
+        """(action, next state, units) for every robot action from v, by name."""
         arena, bdd = self.arena, self.bdd
         values = arena.enc.assignment(v)
         moves = []
         for family in FAMILIES:
             options = bdd.let(values, arena.robot[family])
-            if within is not None:
-                options &= within
             targets = bdd.exist(set(arena.c.bits), options)
             for bits in bdd.pick_iter(targets, care_vars=set(arena.next_bits)):
                 w = arena.enc.decode(bits, primed=True)
@@ -210,11 +222,12 @@ class _Queries:
             return None
         i = self.rank(position, value)
         v, q, h = position
-        bdd = self.bdd
-        # (v', c) with X_{i-1}(v', D(q, v'), h, value - c) /\ c <= value
-        within = bdd.let(self._values(None, q, h, value), self.attractor.shifted(i))
-        action, w, units = self.robot_moves(v, within)[0]
-        return action, w, units, value - units
+        target = self.attractor.wins[i]  # the human-turn set R_{i+1} was computed from
+        for action, w, units in self.robot_moves(v):
+            if units <= value and self._holds(target, self._values(w, self.read(q, w), h,
+                                                                     value - units)):
+                return action, w, units, value - units
+        raise RuntimeError(f"internal error: no action of value {value} at {position}")
 
 
 class Strategy(Mapping):

@@ -37,9 +37,7 @@ class Attractor:
     layers: list[Function]  # R_1, R_2, ...
     wins: list[Function]  # X_0 = Acc, X_1, ...: X_{i-1} gave R_i
     converged: bool
-    shift: Callable[[Function], Function]  # X -> X(v', D(q,v'), h, e - c) /\ c <= e
     seconds: dict[str, float] = field(default_factory=dict)
-    _shifted: dict[int, Function] = field(default_factory=dict, repr=False)
 
     @property
     def robot_win(self) -> Function:
@@ -48,12 +46,6 @@ class Attractor:
     @property
     def win(self) -> Function:
         return self.wins[-1]
-
-    def shifted(self, i: int) -> Function:
-        """X_i over the next state (v', c): the targets of R_{i+1}'s actions."""
-        if i not in self._shifted:
-            self._shifted[i] = self.shift(self.wins[i])
-        return self._shifted[i]
 
 
 def attractor(arena: Arena, *, with_costs: bool,
@@ -112,5 +104,5 @@ def attractor(arena: Arena, *, with_costs: bool,
         if progress is not None:
             progress(len(layers))
         if stop is not None and stop(x):
-            return Attractor(layers, wins + [x], False, shift, seconds)
-    return Attractor(layers, wins, True, shift, seconds)
+            return Attractor(layers, wins + [x], False, seconds)
+    return Attractor(layers, wins, True, seconds)
