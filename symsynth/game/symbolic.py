@@ -26,7 +26,7 @@ from contextlib import contextmanager
 from tqdm import tqdm
 
 from symsynth.automata.bdd import Function, peak_nodes
-from symsynth.game.abstraction import State, initial_state
+from symsynth.game.abstraction import State, initial_state, letter
 from symsynth.game.explicit import PASS
 from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
 from symsynth.logic import ast
@@ -84,7 +84,7 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
 
     clock = time.perf_counter()
     strategy = Strategy(game)
-    principal = _principal_play(game, start, units)
+    principal = _principal_play(game, start)
     seconds["plays"] = time.perf_counter() - clock
     counter = principal if verdict(units, resolution, budget) is False else None
     return _solution(arena, units, budget, seconds, stats, strategy, principal, counter)
@@ -112,7 +112,7 @@ def _count_positions(arena: Arena) -> int:
     """Robot-turn positions (v, q, h) the encoding represents: well-formed
     states x reachable DFA states x 0..k."""
     bdd = arena.bdd
-    space = arena.wf & arena.dfa.reachable & arena.h_ok
+    space = arena.enc.well_formed() & arena.dfa.reachable & arena.h.invariant(bdd)
     nvars = len(arena.state_bits) + len(arena.dfa.bits) + len(arena.h.bits)
     return int(bdd.count(space, nvars=nvars))
 
@@ -129,12 +129,10 @@ class _Queries:
     # -- the DFA on explicit states ----------------------------------------------
     def read(self, q: Q, v: State) -> Q:
         """The DFA state after reading ρ(v) from q."""
-        values = self._values(v, q)
-        return tuple(self.bdd.let(values, self.arena.dfa_now[b]) == self.bdd.true
-                     for b in self.arena.dfa.bits)
+        return self.arena.dfa.step(q, letter(self.arena.scene, self.arena.props, v))
 
     def accepting(self, q: Q) -> bool:
-        return self._holds(self.arena.accepting, self._values(None, q))
+        return self.arena.dfa.is_accepting(q)
 
     # -- membership and values ------------------------------------------------------
     def _values(self, v: State | None, q: Q | None = None, h: int | None = None,
@@ -144,9 +142,9 @@ class _Queries:
         if q is not None:
             values.update(zip(arena.dfa.bits, q))
         if h is not None:
-            values.update({b: bool(h >> i & 1) for i, b in enumerate(arena.h.bits)})
+            values.update(arena.h.assignment(h))
         if e is not None:
-            values.update({b: bool(e >> i & 1) for i, b in enumerate(arena.e.bits)})
+            values.update(arena.e.assignment(e))
         return values
 
     def _holds(self, u: Function, values: dict[str, bool]) -> bool:
@@ -198,21 +196,21 @@ class _Queries:
         values = arena.enc.assignment(v)
         moves = []
         for family in FAMILIES:
-            options = bdd.let(values, arena.robot[family])
+            options = bdd.let(values, arena.robot[family])  # over (v', c)
             targets = bdd.exist(set(arena.c.bits), options)
             for bits in bdd.pick_iter(targets, care_vars=set(arena.next_bits)):
                 w = arena.enc.decode(bits, primed=True)
-                cost = arena.c.least(bdd, bdd.let(arena.enc.assignment(w, primed=True),
-                                                   bdd.let(values, arena.robot[family])))
+                # the relation is upward closed in c: the action's cost is its least c
+                cost = arena.c.least(bdd, bdd.let(arena.enc.assignment(w, primed=True), options))
                 moves.append((action_name(arena.scene, v, w), w, cost))
         return sorted(moves, key=lambda m: m[0])
 
     def human_moves(self, v: State) -> list[tuple[str, State]]:
         arena, bdd = self.arena, self.bdd
         options = bdd.let(arena.enc.assignment(v), arena.human)
-        moves = [(None, arena.enc.decode(bits, primed=True))
-                 for bits in bdd.pick_iter(options, care_vars=set(arena.next_bits))]
-        return sorted(((_move_name(arena.scene, v, w), w) for _, w in moves), key=lambda m: m[0])
+        targets = (arena.enc.decode(bits, primed=True)
+                   for bits in bdd.pick_iter(options, care_vars=set(arena.next_bits)))
+        return sorted(((_move_name(arena.scene, v, w), w) for w in targets), key=lambda m: m[0])
 
     def choose(self, position: Position) -> tuple[str, State, int, int] | None:
         """The strategy at a robot position: (action, next state, units, budget
@@ -259,7 +257,7 @@ class Strategy(Mapping):
         return sum(action is not None for action in self._cache.values())
 
 
-def _principal_play(game: _Queries, start: Position, units: int) -> tuple[Step, ...]:
+def _principal_play(game: _Queries, start: Position) -> tuple[Step, ...]:
     """The strategy against the human's worst replies (the largest value; a
     pass on ties, then the first move by name), from the start to the win."""
     r = game.arena.resolution
@@ -273,7 +271,7 @@ def _principal_play(game: _Queries, start: Position, units: int) -> tuple[Step, 
                 q2 = game.read(q, u)
                 worth = 0 if game.accepting(q2) else game.value_robot((u, q2, h - 1))
                 options.append((worth, name, u, q2, h - 1))
-        worth, name, v, q, h = max(options, key=lambda o: o[0])
+        _, name, v, q, h = max(options, key=lambda o: o[0])
         if name != PASS:
             play.append(Step("human", name, 0.0, v))
             if game.accepting(q):

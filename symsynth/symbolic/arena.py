@@ -65,7 +65,7 @@ class Arena:
         self.k = k
         self.resolution = resolution
         self.costmap = costmap_of(scene)
-        self.bdd = bdd = new_manager(reordering=False, memory=_cache_memory(), cache=2**18)
+        self.bdd = bdd = new_manager(reordering=False, memory=_cache_memory())
         self.props = interpret_all(formula, scene)
         self.h = Domain.declare(bdd, "#h", k + 1)
         self.dfa: SymbolicDFA = compile_ltlf(formula, bdd=bdd)
@@ -76,22 +76,17 @@ class Arena:
         self._free: dict[tuple[str, str], Function] = {}
         self._at_least: dict[int, Function] = {}
 
-        self.wf = self.enc.well_formed()
-        self.h_ok = self.h.invariant(bdd)
+        self.state_bits = self.enc.bits()
+        self.next_bits = self.enc.bits(primed=True)
         #: Acc(q): the task is done
         self.accepting = self.dfa.accepting
         # D_b(q, v') = delta_b(q, x := P_x(v'))
         letter_next = {key: self.enc.proposition(p, primed=True) for key, p in self.props.items()}
-        letter_now = {key: self.enc.proposition(p) for key, p in self.props.items()}
         self.dfa_next = {b: bdd.let(letter_next, d) if letter_next else d
                          for b, d in self.dfa.delta.items()}
-        self.dfa_now = {b: bdd.let(letter_now, d) if letter_now else d
-                        for b, d in self.dfa.delta.items()}
         self.robot = {family: build(self)
                       for family, build in zip(FAMILIES, (_transit, _grab, _transfer, _drop))}
         self.human = _human(self)
-        self.state_bits = self.enc.bits()
-        self.next_bits = self.enc.bits(primed=True)
 
     # -- the budget ------------------------------------------------------------
     def declare_budget(self, width: int) -> Domain:
@@ -112,11 +107,16 @@ class Arena:
         return self.c.vector(bdd) + constant(bdd, 0, width - len(self.c.bits))
 
     # -- substitutions -----------------------------------------------------------
+    def _next_state(self) -> dict[str, Function]:
+        """v := v', q := D(q, v'): the state a move leads to, and the DFA reading it."""
+        sub = {b: self.bdd.var(p) for b, p in zip(self.state_bits, self.next_bits)}
+        sub.update(self.dfa_next)
+        return sub
+
     def robot_substitution(self, with_costs: bool) -> dict[str, Function]:
         """v := v', q := D(q, v'), and with costs e := e - c."""
         bdd = self.bdd
-        sub = {b: bdd.var(p) for b, p in zip(self.enc.bits(), self.enc.bits(primed=True))}
-        sub.update(self.dfa_next)
+        sub = self._next_state()
         if with_costs:
             budget = self.e.vector(bdd)
             sub.update(zip(self.e.bits, subtract(bdd, budget, self.cost_vector())))
@@ -125,8 +125,7 @@ class Arena:
     def human_substitution(self) -> dict[str, Function]:
         """v := v', q := D(q, v'), h := h - 1."""
         bdd = self.bdd
-        sub = {b: bdd.var(p) for b, p in zip(self.enc.bits(), self.enc.bits(primed=True))}
-        sub.update(self.dfa_next)
+        sub = self._next_state()
         if self.h.bits:  # with k = 0 there is no move to count (h > 0 is false)
             one = constant(bdd, 1, len(self.h.bits))
             sub.update(zip(self.h.bits, subtract(bdd, self.h.vector(bdd), one)))

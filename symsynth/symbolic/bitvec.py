@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from symsynth.automata.bdd import BDD, Function
+from symsynth.automata.bdd import BDD, Function, lexmin
 from symsynth.automata.symbolic import prime
 
 Vector = list[Function]
@@ -45,30 +45,26 @@ class Domain:
         return cls(name, size, bits)
 
     def least(self, bdd: BDD, u: Function) -> int | None:
-        """The least value of x in the non-empty set `u` (over x alone, or
-        with other variables existentially quantified); None when `u` is
-        empty.  Scans from the highest bit down."""
+        """The least value of x in the set `u` (over x alone, or with other
+        variables existentially quantified); None when `u` is empty."""
         if u == bdd.false:
             return None
         others = bdd.support(u) - set(self.bits)
         if others:
             u = bdd.exist(others, u)
-        value = 0
-        for i in reversed(range(len(self.bits))):
-            low = bdd.let({self.bits[i]: False}, u)
-            if low != bdd.false:
-                u = low
-            else:
-                u = bdd.let({self.bits[i]: True}, u)
-                value |= 1 << i
-        return value
+        high_first = lexmin(bdd, u, reversed(self.bits))
+        return sum(1 << i for i, bit in enumerate(reversed(high_first)) if bit)
+
+    def assignment(self, value: int, primed: bool = False) -> dict[str, bool]:
+        """The bit values of x = value (x' = value when `primed`), for `let`."""
+        names = self.primed if primed else self.bits
+        return {b: bool(value >> i & 1) for i, b in enumerate(names)}
 
     def eq(self, bdd: BDD, value: int, primed: bool = False) -> Function:
         """x = value  (x' = value when `primed`)."""
         if not 0 <= value < self.size:
             raise ValueError(f"{value} outside the domain of {self.name} (size {self.size})")
-        names = self.primed if primed else self.bits
-        return bdd.cube({b: bool(value >> i & 1) for i, b in enumerate(names)}) if names else bdd.true
+        return bdd.cube(self.assignment(value, primed)) if self.bits else bdd.true
 
     def unchanged(self, bdd: BDD) -> Function:
         """x' = x."""

@@ -128,12 +128,10 @@ class StateEncoding:
 
     def assignment(self, v: State, primed: bool = False) -> dict[str, bool]:
         """The bit values of an explicit `State`, for `let`."""
-        values: dict[str, bool] = {}
-        codes = [(self.at[o], self.at_values.index(a)) for o, a in zip(self.scene.object_names, v.at)]
-        codes += [(self.grip, self.grip_values.index(v.grip)), (self.ee, self.ee_values.index(v.ee))]
-        for dom, code in codes:
-            names = dom.primed if primed else dom.bits
-            values.update({b: bool(code >> i & 1) for i, b in enumerate(names)})
+        values = (self.grip.assignment(self.grip_values.index(v.grip), primed)
+                  | self.ee.assignment(self.ee_values.index(v.ee), primed))
+        for o, where in zip(self.scene.object_names, v.at):
+            values |= self.at[o].assignment(self.at_values.index(where), primed)
         return values
 
     def decode(self, assignment: dict[str, bool], primed: bool = False) -> State:
