@@ -7,6 +7,8 @@ exit code 2.  Anything else is a bug and keeps its traceback.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 
 class SymsynthError(Exception):
     """Base of all errors caused by the user's input."""
@@ -32,3 +34,15 @@ class LTLfSyntaxError(SymsynthError):
 
 class InputError(SymsynthError):
     """Bad input that is not a formula: a file that cannot be read, a bad option."""
+
+
+def read_text(path: Path, what: str, error: type[InputError] = InputError) -> str:
+    """The UTF-8 text of the file `path`; a file that cannot be read or is
+    not UTF-8 raises `error` naming `what` it is ("scene", "costmap", ...)."""
+    try:
+        return Path(path).read_text(encoding="utf-8")
+    except OSError as problem:
+        raise error(f"cannot read {what} {path}: {problem.strerror}") from None
+    except UnicodeDecodeError:
+        raise error(f"{what} {path} is not UTF-8 text") from None
+

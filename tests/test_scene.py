@@ -148,3 +148,27 @@ def test_yaml_syntax_error_names_the_line(tmp_path):
 def test_missing_scene_file(tmp_path):
     with pytest.raises(SceneError, match="cannot read scene"):
         load_scene(tmp_path / "nope.yaml")
+
+
+def test_unreadable_text_and_odd_yaml_are_named(tmp_path):
+    path = tmp_path / "latin.yaml"
+    path.write_bytes(b"name: x\xff\nobjects: {}\nlocations: [l1]\n")
+    with pytest.raises(SceneError, match=r"latin.yaml is not UTF-8 text"):
+        load_scene(path)
+    path = write(tmp_path, "name: x\nobjects:\n  ? [a]\n  : {}\nlocations: [l1]\n")
+    with pytest.raises(SceneError, match=r"toy.yaml:3: not valid YAML: a key must be a name"):
+        load_scene(path)
+    merged = write(tmp_path, GOOD.replace("  b:  {tags: [block, black], at: Else}",
+                                          "  b:  {<<: {tags: [block, black]}, at: Else}"))
+    assert load_scene(merged) == load_scene(write(tmp_path, GOOD))
+
+
+def test_costmap_infinite_cost_and_bad_path(tmp_path):
+    costmap = json.loads(json.dumps(COSTMAP))
+    costmap["motions"][0]["rules"][0]["cost"] = float("inf")
+    costmap["motions"][1]["rules"][0]["path"] = [["a"]]
+    with pytest.raises(InputError) as error:
+        load_scene(write(tmp_path, GOOD, costmap))
+    assert "motions[0].rules[0].cost: expected a finite number, found inf" in str(error.value)
+    assert "motions[1].rules[0].path: expected a list of waypoints" in str(error.value)
+

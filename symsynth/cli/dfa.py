@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 
 from symsynth.automata import compile_ltlf
-from symsynth.errors import InputError
+from symsynth.errors import InputError, read_text
 
 HELP = "compile an LTLf formula to its minimal symbolic DFA"
 DESCRIPTION = """\
@@ -42,12 +42,7 @@ def read_formula(args: argparse.Namespace) -> tuple[str, str]:
     """(text, source name) from the positional formula or --file."""
     if args.file is None:
         return args.formula, "<formula>"
-    try:
-        return args.file.read_text(encoding="utf-8"), str(args.file)
-    except OSError as error:
-        raise InputError(f"cannot read formula file {args.file}: {error.strerror}") from None
-    except UnicodeDecodeError:
-        raise InputError(f"formula file {args.file} is not UTF-8 text") from None
+    return read_text(args.file, "formula file"), str(args.file)
 
 
 def run(args: argparse.Namespace) -> int:

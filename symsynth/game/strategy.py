@@ -46,7 +46,7 @@ import jsonschema
 from tqdm import tqdm
 
 from symsynth.automata import compile_ltlf
-from symsynth.errors import InputError
+from symsynth.errors import InputError, read_text
 from symsynth.game.abstraction import State, human_moves, initial_state, letter, quantize, robot_moves
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import Position, Solution
@@ -276,12 +276,9 @@ _MAX_PROBLEMS = 10
 def read_strategy(path: str | Path) -> StrategyFile:
     """Read and validate a strategy file; every problem is an `InputError`
     naming the file, the place in it and what was expected."""
+    text = read_text(path, "strategy file")
     try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-    except OSError as error:
-        raise InputError(f"cannot read strategy file {path}: {error.strerror}") from None
-    except UnicodeDecodeError:
-        raise InputError(f"strategy file {path} is not UTF-8 text") from None
+        data = json.loads(text)
     except json.JSONDecodeError as error:
         raise InputError(f"{path}:{error.lineno}:{error.colno}: not JSON: {error.msg}") from None
     problems = [f"{_where(e.absolute_path)}: {_expected(e)}"

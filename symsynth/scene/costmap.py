@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from symsynth.errors import InputError
+from symsynth.errors import InputError, read_text
 
 FORMAT = "symsynth.costmap/1"
 
@@ -97,8 +97,9 @@ def _rule(rule: Any, where: str, problems: list[str]) -> Rule | None:
         problems.append(f"{where}: expected an object with 'free' and 'cost'")
         return None
     cost = rule["cost"]
-    if isinstance(cost, bool) or not isinstance(cost, (int, float)) or math.isnan(cost):
-        problems.append(f"{where}.cost: expected a number, found {cost!r}")
+    if not _is_number(cost):
+        problems.append(f"{where}.cost: expected a finite number, found {cost!r} "
+                        "(leave a motion out when it is impossible)")
         return None
     if cost < 0:
         problems.append(f"{where}.cost: must be >= 0, found {cost}")
@@ -109,15 +110,20 @@ def _rule(rule: Any, where: str, problems: list[str]) -> Rule | None:
         return None
     path = rule.get("path")
     if path is not None:
-        path = tuple(tuple(float(v) for v in q) for q in path)
+        if not isinstance(path, list) or not all(
+                isinstance(q, list) and all(_is_number(x) for x in q) for q in path):
+            problems.append(f"{where}.path: expected a list of waypoints (lists of numbers)")
+            return None
+        path = tuple(tuple(float(x) for x in q) for q in path)
     return Rule(frozenset(free), float(cost), path)
 
 
+def _is_number(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
 def load_costmap(path: Path) -> Costmap:
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as error:
-        raise CostmapError(f"cannot read costmap {path}: {error.strerror}") from None
+    text = read_text(path, "costmap", CostmapError)
     try:
         data = json.loads(text)
     except json.JSONDecodeError as error:

@@ -15,7 +15,7 @@ from typing import Any
 import jsonschema
 import yaml
 
-from symsynth.errors import InputError, LTLfSyntaxError
+from symsynth.errors import InputError, LTLfSyntaxError, read_text
 from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data, load_costmap
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, ObjectSpec, Scene
 from symsynth.scene.yamlpos import KeyPath, line_of, load_with_lines
@@ -60,10 +60,7 @@ class SceneError(InputError):
 
 def load_scene(path: str | Path) -> Scene:
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as error:
-        raise SceneError(f"cannot read scene {path}: {error.strerror}") from None
+    text = read_text(path, "scene", SceneError)
     try:
         data, lines = load_with_lines(text)
     except yaml.YAMLError as error:

@@ -7,6 +7,7 @@ to 1-based line numbers, so validation errors can name file and line.
 
 from __future__ import annotations
 
+from collections.abc import Hashable
 from typing import Any
 
 import yaml
@@ -26,10 +27,13 @@ def load_with_lines(text: str) -> tuple[Any, dict[KeyPath, int]]:
 def _build(node: yaml.Node, path: KeyPath, lines: dict[KeyPath, int], constructor) -> Any:
     lines[path] = node.start_mark.line + 1
     if isinstance(node, yaml.MappingNode):
+        constructor.flatten_mapping(node)  # `<<: *base` merge keys, as safe_load does
         result = {}
         for key_node, value_node in node.value:
             key = constructor.construct_object(key_node, deep=True)
-            lines[path + (key,)] = key_node.start_mark.line + 1
+            if not isinstance(key, Hashable):
+                raise yaml.constructor.ConstructorError(
+                    None, None, "a key must be a name, not a list or mapping", key_node.start_mark)
             result[key] = _build(value_node, path + (key,), lines, constructor)
             lines[path + (key,)] = key_node.start_mark.line + 1
         return result
