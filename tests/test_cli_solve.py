@@ -215,7 +215,7 @@ def _foreign_costmap(tmp_path):
     (lambda d, s: [s, "--task", "F(at(zz, l2))"], r"--task: .*unknown object or tag 'zz'"),
     (lambda d, s: [s, "--costmap", d / "missing.json"], r"cannot read costmap .*missing\.json"),
     (lambda d, s: [s, "--costmap", _bad_costmap(d)], r"bad\.json:1:\d+: not JSON"),
-    (lambda d, s: [s, "--costmap", _foreign_costmap(d)], r"foreign\.json: names unknown to scene 'pick': x9/top"),
+    (lambda d, s: [s, "--costmap", _foreign_costmap(d)], r"foreign\.json: costmap: motion empty home -> x9/top: unknown anchor 'x9/top'"),
     (lambda d, s: [s, "-o", d / "no" / "such" / "dir.json"], r"cannot write strategy file .*dir\.json"),
     (lambda d, s: [write_scene(d, task=None)], r"has no task: give --task"),
 ])
@@ -224,6 +224,20 @@ def test_bad_input_is_one_message(capsys, tmp_path, argv, expected):
     assert code == 2 and out == ""
     assert err.startswith("symsynth solve: ") and re.search(expected, err), err
     assert err.count("symsynth solve:") == 1 and "Traceback" not in err
+
+
+def test_costmap_option_replaces_the_scenes_and_is_checked_like_it(capsys, tmp_path):
+    """--costmap is loaded instead of the scene's own costmap (which need not
+    exist), and a name in the wrong place (a location as a mode, a mode as an
+    anchor) is an error as it would be in the scene."""
+    scene = write_scene(tmp_path)
+    (tmp_path / "pick.costmap.json").unlink()
+    out = solve(capsys, "explicit", scene, "--costmap", write_costmap(tmp_path, PICK))
+    assert value_line(out) == "21"
+    wrong = write_costmap(tmp_path, {("l1/top", "home", "l1/top"): 1, ("empty", "empty", "l1/top"): 1},
+                          "wrong.json")
+    code, out, err = run(capsys, "solve", scene, "--costmap", wrong)
+    assert code == 2 and "unknown mode 'l1/top'" in err and "unknown anchor 'empty'" in err
 
 
 @pytest.mark.parametrize("option, value, expected", [

@@ -3,19 +3,19 @@
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import math
+import os
 from pathlib import Path
 
 from symsynth.errors import InputError
 from symsynth.game.abstraction import State, anchors, initial_state, robot_moves, starts
 from symsynth.game.propositions import interpret_all
-from symsynth.game.solution import Solution, Step
+from symsynth.game.solution import Solution, Step, task_formula
 from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.game.strategy import format_state, write_strategy
 from symsynth.logic import parse_ltlf
-from symsynth.scene import Scene, load_costmap, load_scene
+from symsynth.scene import Scene, load_scene
 from symsynth.scene.model import ELSE, EMPTY, HAND
 
 HELP = "solve a scene's game: the cost the robot can guarantee against the human"
@@ -102,17 +102,25 @@ def _positive(text: str) -> float:
 
 
 def run(args: argparse.Namespace) -> int:
-    scene = _load(args)
-    task = args.task if args.task is not None else scene.task
-    if task is None:
+    if args.output is not None:  # before the solve, which may take minutes
+        folder = args.output.parent
+        if args.output.is_dir() or not folder.is_dir() or not os.access(folder, os.W_OK):
+            raise InputError(f"cannot write strategy file {args.output}: "
+                             + ("it is a directory" if args.output.is_dir()
+                                else f"{folder} is not a writable directory"))
+    scene = load_scene(args.scene, costmap=args.costmap)
+    if args.task is not None:  # the scene's own task was checked by the loader
+        task = args.task
+        formula = parse_ltlf(task, source="--task")
+        try:
+            interpret_all(formula, scene)
+        except InputError as error:
+            raise InputError(f"--task: {error}") from None
+    elif scene.task is not None:
+        task, formula = scene.task, task_formula(scene, None)
+    else:
         raise InputError(f"scene {scene.name!r} has no task: give --task FORMULA "
                          f"or a 'task:' entry in {args.scene}")
-    source = "--task" if args.task is not None else f"{args.scene} (task)"
-    formula = parse_ltlf(task, source=source)
-    try:
-        interpret_all(formula, scene)
-    except InputError as error:
-        raise InputError(f"{source}: {error}") from None
     solution = SOLVERS[args.solver](scene, formula, k=args.k, budget=args.budget,
                                     resolution=args.resolution)
     written = None if args.output is None else write_strategy(args.output, scene, task, solution)
@@ -126,21 +134,6 @@ def run(args: argparse.Namespace) -> int:
     if written is not None:
         print(f"\nwrote {args.output} ({written} positions)")
     return 0
-
-
-def _load(args: argparse.Namespace) -> Scene:
-    scene = load_scene(args.scene)
-    if args.costmap is None:
-        return scene
-    costmap = load_costmap(args.costmap)
-    used = {a for key in costmap.motions for a in key} | {
-        x for rules in costmap.motions.values() for rule in rules for x in rule.free}
-    known = set(scene.modes) | set(scene.anchors) | set(scene.locations) | set(scene.else_samples)
-    unknown = sorted(used - known)
-    if unknown:  # most likely the costmap of another scene
-        raise InputError(f"{args.costmap}: names unknown to scene {scene.name!r}: {', '.join(unknown)}"
-                         f"; its modes are {', '.join(scene.modes)} and anchors {', '.join(scene.anchors)}")
-    return dataclasses.replace(scene, costmap=costmap)
 
 
 # -- the human-readable report -------------------------------------------------

@@ -54,11 +54,17 @@ SCHEMA: dict[str, Any] = {
 }
 
 
+#: Problems listed in one message (a costmap of another scene has hundreds).
+MAX_PROBLEMS = 12
+
+
 class SceneError(InputError):
     """A scene file with problems; the message lists all of them."""
 
 
-def load_scene(path: str | Path) -> Scene:
+def load_scene(path: str | Path, *, costmap: str | Path | None = None) -> Scene:
+    """The scene of a YAML file; `costmap` (a file) replaces the scene's own
+    costmap, which is then not read at all."""
     path = Path(path)
     text = read_text(path, "scene", SceneError)
     try:
@@ -67,12 +73,14 @@ def load_scene(path: str | Path) -> Scene:
         mark = getattr(error, "problem_mark", None)
         where = f"{path}:{mark.line + 1}" if mark else str(path)
         raise SceneError(f"{where}: not valid YAML: {getattr(error, 'problem', error)}") from None
-    return scene_from_data(data, source=path, lines=lines)
+    return scene_from_data(data, source=path, lines=lines, costmap=costmap)
 
 
 def scene_from_data(data: Any, source: Path | None = None,
-                    lines: dict[KeyPath, int] | None = None) -> Scene:
-    """Validate parsed YAML/JSON data and build the `Scene`."""
+                    lines: dict[KeyPath, int] | None = None,
+                    costmap: str | Path | None = None) -> Scene:
+    """Validate parsed YAML/JSON data and build the `Scene`; a `costmap` file
+    replaces the data's costmap and is checked against the scene the same way."""
     report = _Report(str(source) if source else "<scene>", lines or {})
     if not isinstance(data, dict):
         report.add((), "expected a mapping with name, objects, locations, ...")
@@ -112,11 +120,17 @@ def scene_from_data(data: Any, source: Path | None = None,
     )
     if scene.task is not None:
         _check_task(scene, report)
-    costmap = _costmap(data.get("costmap"), source, report)
-    if costmap is not None:
-        _check_costmap(scene, costmap, report)
+    if costmap is None:
+        checks = report
+        loaded = _costmap(data.get("costmap"), source, report)
+    else:  # problems name the given file; a relative path is from where the user stands
+        checks = _Report(str(costmap), {})
+        loaded = _costmap(str(costmap), None, checks)
+    if loaded is not None:
+        _check_costmap(scene, loaded, checks)
     report.raise_if_any()
-    return dataclasses.replace(scene, costmap=costmap)
+    checks.raise_if_any()
+    return dataclasses.replace(scene, costmap=loaded)
 
 
 def _check_task(scene: Scene, report: _Report) -> None:
@@ -186,5 +200,8 @@ class _Report:
     def raise_if_any(self) -> None:
         if self.problems:
             count = len(self.problems)
+            shown = self.problems[:MAX_PROBLEMS]
+            if count > MAX_PROBLEMS:
+                shown.append(f"... and {count - MAX_PROBLEMS} more")
             raise SceneError(f"{count} problem{'s' if count > 1 else ''} in the scene:\n"
-                             + "\n".join(self.problems))
+                             + "\n".join(shown))
