@@ -47,6 +47,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from tqdm import tqdm
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 DEFAULT_OUT = HERE / "results" / "game.md"
@@ -59,11 +61,7 @@ POLL = 0.1  # s between checks of a running child
 
 
 def log(msg):
-    try:
-        from tqdm import tqdm
-        tqdm.write(msg, file=sys.stderr)
-    except ImportError:
-        print(msg, file=sys.stderr, flush=True)
+    tqdm.write(msg, file=sys.stderr)
 
 
 # ---------------------------------------------------------------------------
@@ -90,7 +88,7 @@ def worker(solver: str, n: int, m: int, k: int, seed: int, out: str) -> int:
         result["cost_bound"] = solution.cost_bound
         result["states"] = solution.states
         result["seconds"] = {str(a): _plain(b) for a, b in dict(solution.seconds).items()}
-        result["stats"] = {str(a): _plain(b) for a, b in dict(getattr(solution, "stats", None) or {}).items()}
+        result["stats"] = {str(a): _plain(b) for a, b in solution.stats.items()}
         result["status"] = "ok"
     except BaseException as error:  # noqa: BLE001 - reported to the parent
         import traceback
@@ -245,12 +243,9 @@ def fmt_value(x) -> str:
     return "∞" if x is None else fmt_num(float(x))
 
 
-def report(sizes, solvers, cells, meta, args, missing):
+def report(sizes, solvers, cells, meta, args):
     lines = ["# Game solvers on the pattern family", ""]
     lines += [f"- {key}: {value}" for key, value in meta.items()]
-    if missing:
-        lines.append(f"- **not registered** in `symsynth.game.solvers.SOLVERS`: {', '.join(missing)} "
-                     f"(columns left empty)")
     lines += ["", "Time: the solver call in a fresh child process, s. Memory: the child's peak "
               "resident set, MB (in parentheses: before the solver was called). `TO`/`OOM`: killed "
               "at the limit; `*`: not run, a smaller size failed.", ""]
@@ -305,8 +300,8 @@ def report(sizes, solvers, cells, meta, args, missing):
         lines.append("")
 
     verdicts = []  # (status, message); status PASS, FAIL or SKIP
-    verdicts.append(_target_speedup(sizes, cells, solvers, missing))
-    verdicts.append(_target_size(sizes, cells, solvers, missing, args))
+    verdicts.append(_target_speedup(sizes, cells, solvers))
+    verdicts.append(_target_size(sizes, cells, solvers, args))
     for n, m, values in mismatches:
         verdicts.append(("MISMATCH", f"{n}x{m}: E_p differs: "
                          + ", ".join(f"{s} {fmt_value(v)}" for s, v in values.items())))
@@ -326,10 +321,8 @@ def _ratio(e: Cell | None, y: Cell | None) -> str:
     return ""
 
 
-def _target_speedup(sizes, cells, solvers, missing):
+def _target_speedup(sizes, cells, solvers):
     what = f"(a) symbolic >= {TARGET_SPEEDUP:.0f}x faster than explicit at the largest size explicit finishes"
-    if "symbolic" in missing:
-        return "FAIL", f"{what}: symbolic solver not registered"
     if "explicit" not in solvers or "symbolic" not in solvers:
         return "SKIP", f"{what}: needs --solvers explicit,symbolic"
     done = [(n, m) for (n, m) in sizes if (c := cells.get(("explicit", n, m))) is not None and c.ok]
@@ -344,11 +337,9 @@ def _target_speedup(sizes, cells, solvers, missing):
             f"{what}: at {n}x{m}, explicit {e.solve_s:.2f} s / symbolic {y.solve_s:.3f} s = {ratio:.1f}x")
 
 
-def _target_size(sizes, cells, solvers, missing, args):
+def _target_size(sizes, cells, solvers, args):
     n, m, k = TARGET_SIZE
     what = f"(b) {n} objects x {m} locations x k={k} solved by symbolic in < {TARGET_SECONDS:.0f} s"
-    if "symbolic" in missing:
-        return "FAIL", f"{what}: symbolic solver not registered"
     if "symbolic" not in solvers or (n, m) not in sizes or args.k != k:
         return "SKIP", f"{what}: not in this run (--sizes/--k/--solvers)"
     c = cells.get(("symbolic", n, m))
@@ -421,38 +412,27 @@ def main(argv=None):
             p.error(f"size {n}x{m}: m must be >= n + 1")
     solvers = [s.strip() for s in args.solvers.split(",") if s.strip()]
 
-    sys.path.insert(0, str(HERE))
     from symsynth.game.solvers import SOLVERS
-    missing = [s for s in solvers if s not in SOLVERS]
-    if missing:
-        bar = "=" * 72
-        log(f"{bar}\nNOTE: solver(s) {', '.join(missing)} not registered in symsynth.game.solvers.SOLVERS "
-            f"(registered: {', '.join(SOLVERS)}).\nTheir columns stay empty; running "
-            f"{', '.join(s for s in solvers if s in SOLVERS) or 'nothing'}.\n{bar}")
-    runnable = [s for s in solvers if s in SOLVERS]
+    unknown = [s for s in solvers if s not in SOLVERS]
+    if unknown:
+        p.error(f"unknown solver(s) {', '.join(unknown)}; registered: {', '.join(SOLVERS)}")
+    runnable = solvers
 
     meta = environment(args)
     cells: dict[tuple[str, int, int], Cell] = {}
     failed: dict[str, str] = {}
-    try:
-        from tqdm import tqdm
-        bar = tqdm(total=len(sizes) * len(runnable), file=sys.stderr, unit="run")
-    except ImportError:
-        bar = None
+    bar = tqdm(total=len(sizes) * len(runnable), file=sys.stderr, unit="run")
     try:
         for n, m in sizes:
             for s in runnable:
                 if s in failed and not args.no_skip:
                     cells[(s, n, m)] = Cell(s, n, m, args.k, status=failed[s] + "*")
-                    if bar:
-                        bar.update()
+                    bar.update()
                     continue
-                if bar:
-                    bar.set_description(f"{s} {n}x{m}")
+                bar.set_description(f"{s} {n}x{m}")
                 cell = run_cell(s, n, m, args.k, args.seed, args.timeout, args.mem_limit * 1024)
                 cells[(s, n, m)] = cell
-                if bar:
-                    bar.update()
+                bar.update()
                 if cell.ok:
                     extra = " ".join(f"{a}={fmt_num(b)}" for a, b in cell.stats.items())
                     log(f"{s:>9} {n}x{m}: {cell.solve_s:8.3f} s  {cell.peak_mb:7.0f} MB  "
@@ -466,10 +446,9 @@ def main(argv=None):
                 log(f"!!!!!!!! MISMATCH at {n}x{m}: "
                     + ", ".join(f"{s} E_p = {fmt_value(v)}" for s, v in values.items()) + " !!!!!!!!")
     finally:
-        if bar:
-            bar.close()
+        bar.close()
 
-    text, verdicts = report(sizes, solvers, cells, meta, args, missing)
+    text, verdicts = report(sizes, solvers, cells, meta, args)
     print(text)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text + "\n", encoding="utf-8")

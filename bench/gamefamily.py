@@ -205,7 +205,9 @@ def main(argv=None) -> int:
     p.add_argument("--grasps", default="top", help="comma-separated grasp names")
     args = p.parse_args(argv)
     data = pattern_data(args.n, args.m, args.k, args.seed, grasps=args.grasps.split(","))
-    pattern_scene(args.n, args.m, args.k, args.seed, grasps=args.grasps.split(","))  # validate
+    from symsynth.scene import scene_from_data
+
+    scene_from_data(data)  # validate
     yaml.safe_dump(data, sys.stdout, sort_keys=False, default_flow_style=None, width=120)
     return 0
 

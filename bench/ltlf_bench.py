@@ -844,7 +844,7 @@ def fmt_ms(seconds):
 REPS = 5  # set from the arguments in main()
 
 
-def fmt_time(data, timeout=None):
+def fmt_time(data):
     if data.get("skipped"):
         return "TO*"
     if data.get("timeout"):
@@ -918,8 +918,8 @@ def table(rows, key, timeout, shorten=None):
         text = r.text if shorten is None or len(r.text) <= shorten else r.text[:shorten - 1] + "…"
         s, d, a = fmt_states(r)
         text = text.replace("|", "\\|")  # a table cell, even in a code span
-        out.append(f"| {r.label} | `{text}` | {fmt_time(r.sym, timeout)} | {fmt_time(r.l2d, timeout)} "
-                   f"| {fmt_time(r.mona, timeout)} | {fmt_time(r.mona_now, timeout)} "
+        out.append(f"| {r.label} | `{text}` | {fmt_time(r.sym)} | {fmt_time(r.l2d)} "
+                   f"| {fmt_time(r.mona)} | {fmt_time(r.mona_now)} "
                    f"| {fmt_ratio(ratio(r, 'l2d', timeout))} "
                    f"| {fmt_ratio(ratio(r, 'mona', timeout))} | {s} | {d} | {a} | {fmt_traces(r)} |")
     return out
