@@ -61,7 +61,7 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
     against a human with `k` moves (default: the scene's k)."""
     k = check_parameters(scene, k, resolution)
     clock = time.perf_counter()
-    game = _Game(scene, task_formula(scene, formula), resolution)
+    game = GameGraph(scene, task_formula(scene, formula), resolution)
     seconds = {"dfa": time.perf_counter() - clock}
 
     clock = time.perf_counter()
@@ -89,9 +89,10 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
                     scene.object_names)
 
 
-class _Game:
+class GameGraph:
     """The game graph's successor function, with the DFA and the moves cached
-    (moves depend on `v` only, DFA steps on (q, letter) only)."""
+    (moves depend on `v` only, DFA steps on (q, letter) only).  Also what the
+    strategy file walks (`game.strategy`)."""
 
     def __init__(self, scene: Scene, formula: ast.Formula, resolution: float):
         costmap_of(scene)  # fail early, not at the first motion

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import json
 from collections import deque
-from collections.abc import Hashable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -45,10 +45,9 @@ from typing import Any, NamedTuple
 import jsonschema
 from tqdm import tqdm
 
-from symsynth.automata import compile_ltlf
 from symsynth.errors import InputError, read_text
-from symsynth.game.abstraction import State, human_moves, initial_state, letter, quantize, robot_moves
-from symsynth.game.propositions import interpret_all
+from symsynth.game.abstraction import State, initial_state
+from symsynth.game.explicit import GameGraph, Node
 from symsynth.game.solution import Position, Solution
 from symsynth.logic import ast, parse_ltlf
 from symsynth.scene.model import Scene
@@ -86,26 +85,26 @@ def reachable_positions(scene: Scene, formula: str | ast.Formula,
     """
     if isinstance(formula, str):
         formula = parse_ltlf(formula, source=f"{scene.name} (task)")
-    return _explore(_Walk(scene, formula), solution)
+    return _explore(GameGraph(scene, formula, solution.resolution), solution)
 
 
-def _explore(walk: _Walk, solution: Solution) -> dict[Position, Choice]:
+def _explore(game: GameGraph, solution: Solution) -> dict[Position, Choice]:
     """Breadth-first from the initial position, human first (spec §6)."""
     if solution.cost_bound is None:
         return {}
-    v0 = initial_state(walk.scene)
-    q0 = walk.read(walk.dfa.initial, v0)
-    if walk.dfa.is_accepting(q0):
+    v0 = initial_state(game.scene)
+    q0 = game.read(game.dfa.initial, v0)
+    if game.accepts(q0):
         return {}
     choices: dict[Position, Choice] = {}
-    start = walk.human_turn(v0, q0, solution.k)
+    start = _human_turn(game, Node(v0, q0, solution.k, robot=False))
     queue = deque(start)
     seen = set(start)
     # delay: no bar unless it takes a while; disable=None: none when not a terminal
     with tqdm(desc="strategy positions", unit=" pos", delay=2.0, leave=False, disable=None) as bar:
         while queue:
             position = queue.popleft()
-            choices[position] = choice = walk.follow(position, solution)
+            choices[position] = choice = _follow(game, position, solution)
             for reply in choice.replies:
                 if reply not in seen:
                     seen.add(reply)
@@ -114,47 +113,26 @@ def _explore(walk: _Walk, solution: Solution) -> dict[Position, Choice]:
     return choices
 
 
-class _Walk:
-    """One step of the game at a time, with the DFA steps cached."""
+def _human_turn(game: GameGraph, node: Node) -> tuple[Position, ...]:
+    """The robot positions after the human's pass or any of its moves;
+    moves that make the DFA accept are wins, left out."""
+    return tuple((n.v, n.q, n.h) for _, n, _, _ in game.moves(node) if n is not None)
 
-    def __init__(self, scene: Scene, formula: ast.Formula):
-        self.scene = scene
-        self.props = interpret_all(formula, scene)
-        self.dfa = compile_ltlf(formula)
-        self._steps: dict[tuple[Hashable, State], Hashable] = {}
 
-    def read(self, q: Hashable, v: State) -> Hashable:
-        """The DFA state after reading ρ(v) from q."""
-        if (q, v) not in self._steps:
-            self._steps[q, v] = self.dfa.step(q, letter(self.scene, self.props, v))
-        return self._steps[q, v]
-
-    def human_turn(self, v: State, q: Hashable, h: int) -> tuple[Position, ...]:
-        """The robot positions after the human's pass or any of its moves
-        from (v, q, h); moves that make the DFA accept are wins, left out."""
-        out = [(v, q, h)]
-        for _, w in (human_moves(self.scene, v) if h > 0 else ()):
-            q2 = self.read(q, w)
-            if not self.dfa.is_accepting(q2):
-                out.append((w, q2, h - 1))
-        return tuple(out)
-
-    def follow(self, position: Position, solution: Solution) -> Choice:
-        v, q, h = position
-        try:
-            action = solution.strategy[position]
-        except KeyError:
-            raise InconsistentStrategy(f"the strategy has no action at reachable position "
-                                       f"{format_position(position, solution.objects)}") from None
-        moves = {a: (w, c) for a, w, c in robot_moves(self.scene, v)}
-        if action not in moves:
-            raise InconsistentStrategy(
-                f"the strategy plays {action!r} at {format_position(position, solution.objects)}, "
-                f"where the robot can only {', '.join(moves) or 'do nothing'}")
-        w, cost = moves[action]
-        q2 = self.read(q, w)
-        replies = () if self.dfa.is_accepting(q2) else self.human_turn(w, q2, h)
-        return Choice(action, quantize(cost, solution.resolution), replies)
+def _follow(game: GameGraph, position: Position, solution: Solution) -> Choice:
+    v, q, h = position
+    try:
+        action = solution.strategy[position]
+    except KeyError:
+        raise InconsistentStrategy(f"the strategy has no action at reachable position "
+                                   f"{format_position(position, solution.objects)}") from None
+    moves = {a: (after, units) for a, after, units, _ in game.moves(Node(v, q, h, robot=True))}
+    if action not in moves:
+        raise InconsistentStrategy(
+            f"the strategy plays {action!r} at {format_position(position, solution.objects)}, "
+            f"where the robot can only {', '.join(moves) or 'do nothing'}")
+    after, units = moves[action]
+    return Choice(action, units, () if after is None else _human_turn(game, after))
 
 
 def worst_units(choices: Mapping[Position, Choice]) -> dict[Position, int | None]:
@@ -212,10 +190,11 @@ class StrategyFile:
 def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: Solution) -> int:
     """Write the strategy of `solution` for `formula_text` to `path`;
     returns the number of positions written."""
-    walk = _Walk(scene, parse_ltlf(formula_text, source=f"{scene.name} (task)"))
-    choices = _explore(walk, solution)
+    game = GameGraph(scene, parse_ltlf(formula_text, source=f"{scene.name} (task)"),
+                     solution.resolution)
+    choices = _explore(game, solution)
     worst = worst_units(choices)
-    dfa = walk.dfa
+    dfa = game.dfa
     header = {
         "format": FORMAT, "scene": scene.name, "task": formula_text.strip(), "k": solution.k,
         "resolution": solution.resolution, "units": solution.units, "cost_bound": solution.cost_bound,
