@@ -46,7 +46,7 @@ from __future__ import annotations
 
 import itertools
 from collections import deque
-from collections.abc import Collection, Iterable, Sequence
+from collections.abc import Collection, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 
 from symsynth.logic import ast, holds, parse_ltlf
@@ -64,6 +64,13 @@ def letters(atom_keys: Iterable[str]) -> list[Letter]:
     keys = sorted(set(atom_keys))
     return [frozenset(k for k, bit in zip(keys, bits) if bit)
             for bits in itertools.product((False, True), repeat=len(keys))]
+
+
+def all_traces(atom_keys: Iterable[str], max_length: int) -> Iterator[list[Letter]]:
+    """Every trace of length 1..max_length over the letters of `atom_keys`."""
+    alphabet = letters(atom_keys)
+    for n in range(1, max_length + 1):
+        yield from (list(t) for t in itertools.product(alphabet, repeat=n))
 
 
 def atom_keys(formula: ast.Formula) -> tuple[str, ...]:

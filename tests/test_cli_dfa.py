@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import itertools
 import json
 import re
 
 import pytest
 
-from reference import JsonDFA, distinguishing_trace, letters, minimal_num_states, reference_dfa
+from reference import JsonDFA, all_traces, distinguishing_trace, minimal_num_states, reference_dfa
 from symsynth.cli import main
 from symsynth.logic import atoms, holds, parse_ltlf
 
@@ -17,12 +16,6 @@ def run(capsys, *argv):
     code = main(list(argv))
     out, err = capsys.readouterr()
     return code, out, err
-
-
-def all_traces(atom_keys, max_length):
-    alphabet = letters(atom_keys)
-    for n in range(1, max_length + 1):
-        yield from (list(t) for t in itertools.product(alphabet, repeat=n))
 
 
 def check_json_language(data, formula, max_length=4):
