@@ -9,14 +9,14 @@ import os
 from pathlib import Path
 
 from symsynth.errors import InputError
-from symsynth.game.abstraction import State, anchors, initial_state, robot_moves, starts
+from symsynth.game.abstraction import Motion, State, initial_state, motions, robot_moves
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import Solution, Step, task_formula
 from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.game.strategy import format_state, write_strategy
 from symsynth.logic import parse_ltlf
 from symsynth.scene import Scene, load_scene
-from symsynth.scene.model import ELSE, EMPTY, HAND
+from symsynth.scene.model import ELSE
 
 HELP = "solve a scene's game: the cost the robot can guarantee against the human"
 DESCRIPTION = """\
@@ -216,35 +216,30 @@ def _counter_report(scene: Scene, solution: Solution) -> None:
 
 def stuck_reasons(scene: Scene, v: State) -> list[str]:
     """Why each action the robot could take in `v` is unavailable (spec §4, §5)."""
-    names = scene.object_names
     held = v.held()
+    wanted = motions(scene, v)
     reasons: list[str] = []
-    if held is None:
-        wanted = [(f"transit({o},{g})", EMPTY, v.at[i], g)
-                  for i, o in enumerate(names) if v.at[i] != HAND for g in scene.grasps]
-        if not wanted:
-            reasons.append("there is no object to reach")
-    else:
-        o, g = names[held], v.grip
-        wanted = [(f"transfer({l})", f"{o}/{g}", l, g)
-                  for l in scene.locations if l not in v.at and l != v.ee]
+    if held is None and not wanted:
+        reasons.append("there is no object to reach")
+    if held is not None:
+        o = scene.object_names[held]
         if v.ee == ELSE:  # with ee at a (free) location, drop would be available
             reasons.append(f"drop({o},...): {o} is held but not aligned with a location")
         if not wanted:
             reasons.append(f"transfer: {o} is held and every other location is occupied")
-    return reasons + [_why(scene, v, action, mode, place, g) for action, mode, place, g in wanted]
+    return reasons + [_why(scene, m) for m in wanted]
 
 
-def _why(scene: Scene, v: State, action: str, mode: str, place: str, grasp: str) -> str:
-    sources, targets = starts(scene, v), anchors(scene, place, grasp)
-    if not targets:
+def _why(scene: Scene, m: Motion) -> str:
+    action, mode = m.action, m.mode
+    if not m.goals:
         return f"{action}: the object is at {ELSE} and the scene has no else_samples"
-    if not sources:
+    if not m.starts:
         return f"{action}: the hand is at {ELSE} and the scene has no else_samples"
-    missing = [f"{s} -> {t}" for s in sources for t in targets
+    missing = [f"{s} -> {t}" for s in m.starts for t in m.goals
                if s != t and not scene.costmap.rules(mode, s, t)]
     if not missing:
-        return (f"{action}: the costmap's rules for {mode} to {', '.join(targets)} all need "
+        return (f"{action}: the costmap's rules for {mode} to {', '.join(m.goals)} all need "
                 "a location free that is occupied")
     more = f" (and {len(missing) - _MAX_REASONS} more)" if len(missing) > _MAX_REASONS else ""
     return (f"{action}: the costmap has no motion for mode {mode} from "

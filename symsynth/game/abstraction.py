@@ -62,38 +62,51 @@ def quantize(cost: float, resolution: float) -> int:
 
 # -- robot (spec §4, §5) --------------------------------------------------------
 
+@dataclass(frozen=True)
+class Motion:
+    """A transit or transfer the rules of spec §4 allow from a state, before
+    its cost: it moves in `mode` from the anchors `starts` to `goals`, serving
+    the object with index `serves`, and leads to `after`."""
+
+    action: str
+    mode: str
+    starts: tuple[str, ...]
+    goals: tuple[str, ...]
+    serves: int
+    after: State
+
+
+def motions(scene: Scene, v: State) -> list[Motion]:
+    """The transits (hand empty) or transfers (holding) allowed from `v`."""
+    names = scene.object_names
+    held = v.held()
+    if held is None:
+        return [Motion(f"transit({o},{g})", EMPTY, starts(scene, v), anchors(scene, v.at[i], g), i,
+                       State(v.at, None, (o, g)))
+                for i, o in enumerate(names) if v.at[i] != HAND
+                for g in scene.grasps if v.ee != (o, g)]
+    o, g = names[held], v.grip
+    return [Motion(f"transfer({l})", f"{o}/{g}", starts(scene, v), anchors(scene, l, g), held,
+                   State(v.at, g, l))
+            for l in scene.locations if l not in v.at and v.ee != l]
+
+
 def robot_moves(scene: Scene, v: State) -> list[tuple[str, State, float]]:
     """Every available robot action from `v` as (action, next state, cost).
 
     Actions of infinite cost are not available and are left out.
     """
-    moves: list[tuple[str, State, float]] = []
-    names = scene.object_names
+    moves = [(m.action, m.after, _motion(scene, v, m.mode, m.starts, m.goals, m.serves))
+             for m in motions(scene, v)]
     held = v.held()
-    if held is None:
-        for i, o in enumerate(names):
-            if v.at[i] == HAND:
-                continue
-            for g in scene.grasps:
-                if v.ee == (o, g):
-                    continue
-                cost = _motion(scene, v, EMPTY, starts(scene, v), anchors(scene, v.at[i], g), i)
-                moves.append((f"transit({o},{g})", State(v.at, None, (o, g)), cost))
-        if isinstance(v.ee, tuple):
-            o, g = v.ee
-            i = names.index(o)
-            at = _replace(v.at, i, HAND)
-            moves.append((f"grab({o})", State(at, g, v.at[i]), scene.grab_cost))
-    else:
-        o, g = names[held], v.grip
-        for l in scene.locations:
-            if l in v.at or v.ee == l:
-                continue
-            cost = _motion(scene, v, f"{o}/{g}", starts(scene, v), anchors(scene, l, g), held)
-            moves.append((f"transfer({l})", State(v.at, g, l), cost))
-        if v.ee in scene.locations and v.ee not in v.at:
-            at = _replace(v.at, held, v.ee)
-            moves.append((f"drop({o},{v.ee})", State(at, None, (o, g)), scene.drop_cost))
+    if held is None and isinstance(v.ee, tuple):
+        o, g = v.ee
+        i = scene.object_names.index(o)
+        moves.append((f"grab({o})", State(_replace(v.at, i, HAND), g, v.at[i]), scene.grab_cost))
+    elif held is not None and v.ee in scene.locations and v.ee not in v.at:
+        o = scene.object_names[held]
+        at = _replace(v.at, held, v.ee)
+        moves.append((f"drop({o},{v.ee})", State(at, None, (o, v.grip)), scene.drop_cost))
     return [m for m in moves if m[2] != math.inf]
 
 
