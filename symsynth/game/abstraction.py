@@ -50,6 +50,12 @@ class State:
         return self.at.index(HAND) if HAND in self.at else None
 
 
+def state_json(v: State, objects: tuple[str, ...]) -> dict[str, object]:
+    """`{"at": {object: place}, "grip": g or None, "ee": place or [o, g]}`."""
+    return {"at": dict(zip(objects, v.at)), "grip": v.grip,
+            "ee": list(v.ee) if isinstance(v.ee, tuple) else v.ee}
+
+
 def initial_state(scene: Scene) -> State:
     """Objects where the scene puts them, hand empty, robot at home."""
     return State(tuple(o.at for o in scene.objects), None, ELSE)

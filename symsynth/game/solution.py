@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from symsynth.errors import InputError
-from symsynth.game.abstraction import EPSILON, State
+from symsynth.game.abstraction import EPSILON, State, state_json
 from symsynth.logic import ast, parse_ltlf
 from symsynth.scene.model import Scene
 
@@ -75,10 +75,8 @@ class Solution:
         return out
 
     def _step(self, step: Step) -> dict[str, Any]:
-        v = step.state
-        ee = list(v.ee) if isinstance(v.ee, tuple) else v.ee
-        state = {"at": dict(zip(self.objects, v.at)), "grip": v.grip, "ee": ee}
-        return {"who": step.who, "action": step.action, "cost": step.cost, "state": state}
+        return {"who": step.who, "action": step.action, "cost": step.cost,
+                "state": state_json(step.state, self.objects)}
 
 
 def check_parameters(scene: Scene, k: int | None, resolution: float) -> int:

@@ -46,7 +46,7 @@ import jsonschema
 from tqdm import tqdm
 
 from symsynth.errors import InputError, read_text
-from symsynth.game.abstraction import State, initial_state
+from symsynth.game.abstraction import State, initial_state, state_json
 from symsynth.game.explicit import GameGraph, Node
 from symsynth.game.solution import Position, Solution
 from symsynth.logic import ast, parse_ltlf
@@ -216,10 +216,9 @@ def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: 
 def _position_json(position: Position, action: str, units: int | None,
                    objects: tuple[str, ...], resolution: float) -> dict[str, Any]:
     v, q, h = position
-    return {"at": dict(zip(objects, v.at)), "grip": v.grip,
-            "ee": list(v.ee) if isinstance(v.ee, tuple) else v.ee,
-            "q": [int(b) for b in q], "h": h, "action": action,
-            "budget": None if units is None else units * resolution}
+    return state_json(v, objects) | {
+        "q": [int(b) for b in q], "h": h, "action": action,
+        "budget": None if units is None else units * resolution}
 
 
 _NAME = {"type": "string", "minLength": 1}
