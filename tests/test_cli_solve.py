@@ -92,7 +92,7 @@ def test_principal_play_with_costs_and_running_total(capsys, tmp_path, solver):
 @pytest.mark.parametrize("solver", SOLVER_NAMES)
 def test_human_moves_are_marked_in_the_play(capsys, tmp_path, solver):
     out = solve(capsys, solver, write_scene(tmp_path), "--k", "1")
-    assert value_line(out) == "34"
+    assert value_line(out) == "34" and re.search(r"^human\s+k = 1 move\b", out, re.M)
     assert "no --budget" in out
     assert play_lines(out) == [
         ("robot", "transit(b,top)", 7, 7), ("human", "move(b,Else)", None, None),
@@ -153,12 +153,30 @@ def test_robot_without_any_motion_is_stuck_at_the_start(capsys, tmp_path, solver
 
 
 @pytest.mark.parametrize("solver", SOLVER_NAMES)
+def test_robot_holding_in_else_without_transfers_is_stuck(capsys, tmp_path, solver):
+    """b at Else, motions only into e1/top: the robot can fetch b (transit,
+    grab) but then holds it at Else with no transfer and nothing to drop on."""
+    data = scene_data({"b": "Else"}, ["l1", "l2"], else_samples=["e1"], task="F(at(b, l1))")
+    motions = {("empty", s, "e1/top"): 2 for s in ("home", "l1/top", "l2/top")}
+    (tmp_path / "c.json").write_text(json.dumps(costmap_json(motions)))
+    data["costmap"] = "c.json"
+    path = tmp_path / "stuck.yaml"
+    path.write_text(yaml.safe_dump(data))
+    out = solve(capsys, solver, path)
+    assert [step[1] for step in play_lines(out)] == ["transit(b,top)", "grab(b)"]
+    assert "drop(b,...): b is held but not aligned with a location" in out
+    assert "transfer(l1): the costmap has no motion for mode b/top from e1/top -> l1/top" in out
+
+
+@pytest.mark.parametrize("solver", SOLVER_NAMES)
 def test_overrides(capsys, tmp_path, solver):
     """--task F(holding(b)): transit 7 + grab 5 = 12.  --costmap with
     home -> l1/top at 3: transit max(3, l2/top 3, e1/top 2) = 3, so 17.
     --resolution 2: 4 + 3 + 2 + 3 = 12 units of 2 = 24."""
     scene = write_scene(tmp_path)
     assert value_line(solve(capsys, solver, scene, "--task", "F(holding(b))")) == "12"
+    data = json.loads(solve(capsys, solver, scene, "--task", "F(holding(b))", "--json"))
+    assert (data["task"], data["cost_bound"]) == ("F(holding(b))", 12)
     cheaper = write_costmap(tmp_path, PICK | {("empty", "home", "l1/top"): 3})
     assert value_line(solve(capsys, solver, scene, "--costmap", cheaper)) == "17"
     assert value_line(solve(capsys, solver, scene, "--resolution", "2")).startswith(
@@ -224,6 +242,18 @@ def test_bad_input_is_one_message(capsys, tmp_path, argv, expected):
     assert code == 2 and out == ""
     assert err.startswith("symsynth solve: ") and re.search(expected, err), err
     assert err.count("symsynth solve:") == 1 and "Traceback" not in err
+
+
+def test_unwritable_output_is_refused_before_solving(capsys, tmp_path, monkeypatch):
+    def no_solve(*args, **kwargs):
+        raise AssertionError("solved although the strategy file cannot be written")
+
+    monkeypatch.setitem(SOLVERS, "symbolic", no_solve)
+    scene = write_scene(tmp_path)
+    code, out, err = run(capsys, "solve", scene, "-o", tmp_path)
+    assert code == 2 and "it is a directory" in err
+    code, out, err = run(capsys, "solve", scene, "-o", tmp_path / "no" / "x.json")
+    assert code == 2 and "is not a writable directory" in err
 
 
 def test_costmap_option_replaces_the_scenes_and_is_checked_like_it(capsys, tmp_path):

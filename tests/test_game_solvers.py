@@ -28,6 +28,23 @@ def solve(request):
     return SOLVERS[request.param]
 
 
+def test_every_solver_is_covered():
+    """The tests run once per registered solver: losing one must not go unseen."""
+    assert set(SOLVERS) == {"explicit", "symbolic"}
+
+
+def test_counter_play_takes_the_cheapest_action(solve):
+    """b at l1 must reach l3, but there is no transfer at all.  The robot's
+    cheapest action from the start is transit(c,top) (3, against 7 for b);
+    it grabs c and can only put it back: a circle, and the counter play."""
+    motions = {("empty", s, "l1/top"): 7 for s in ("home", "l2/top", "l3/top")}
+    motions |= {("empty", s, "l2/top"): 3 for s in ("home", "l1/top", "l3/top")}
+    scene = make_scene({"b": "l1", "c": "l2"}, ["l1", "l2", "l3"], motions, task="F(at(b, l3))")
+    solution = solve(scene)
+    assert solution.cost_bound is None
+    assert actions(solution.counter_play) == ["transit(c,top)", "grab(c)", "drop(c,l2)"]
+
+
 # -- hand-solved scenes ------------------------------------------------------------
 
 #: b at l1 must go to l3; a at l2 blocks the cheap transfer (see

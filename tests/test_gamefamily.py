@@ -18,6 +18,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
 from gamefamily import pattern_data, pattern_scene  # noqa: E402
 from symsynth.game.abstraction import initial_state, robot_moves  # noqa: E402
 from symsynth.game.explicit import solve_explicit  # noqa: E402
+from symsynth.scene.costmap import Rule  # noqa: E402
 from symsynth.scene.model import ELSE  # noqa: E402
 
 SIZES = [(1, 2), (2, 3), (2, 4), (3, 4), (3, 5), (4, 6), (5, 7), (6, 8), (7, 10), (8, 12)]
@@ -126,3 +127,12 @@ def test_pattern_is_achievable_against_the_human(n, m):
     values = [solve_explicit(pattern_scene(n, m, k=k)).cost_bound for k in range(3)]
     assert all(v is not None and v > 0 for v in values)
     assert values == sorted(values)
+
+
+def test_costs_are_rounded_distances_with_a_detour_per_place_crossed():
+    """e1 at (-1, -1) to l1 at (0, 0): 10 * sqrt(2) = 14.14, rounded to 14.
+    l1 to l4 in a row of four passes over l2 and l3: base 30, around 30 + 2 * 6."""
+    scene = pattern_scene(1, 3, k=0)
+    assert scene.costmap.rules("empty", "e1/top", "l1/top") == (Rule(frozenset(), 14.0),)
+    rules = pattern_scene(1, 4, k=0).costmap.rules("o1/top", "l1/top", "l4/top")
+    assert sorted((sorted(r.free), r.cost) for r in rules) == [([], 42.0), (["l2", "l3"], 30.0)]

@@ -172,3 +172,20 @@ def test_costmap_infinite_cost_and_bad_path(tmp_path):
     assert "motions[0].rules[0].cost: expected a finite number, found inf" in str(error.value)
     assert "motions[1].rules[0].path: expected a list of waypoints" in str(error.value)
 
+
+def test_defaults_reserved_names_format_and_the_cap_on_problems(tmp_path):
+    bare = load_scene(write(tmp_path, "name: bare\nobjects: {a: {at: l1}}\nlocations: [l1, l2]\n"))
+    assert (bare.grab_cost, bare.drop_cost, bare.grasps, bare.k, bare.costmap) == (5.0, 5.0, ("top",), 0, None)
+    for name in ("home", "Hand"):
+        with pytest.raises(SceneError, match=f"locations.3: '{name}' is reserved"):
+            load_scene(write(tmp_path, GOOD.replace("[l1, l2, l3]", f"[l1, l2, l3, {name}]")))
+    with pytest.raises(InputError, match="format: expected 'symsynth.costmap/1', found 'symsynth.costmap/0'"):
+        load_scene(write(tmp_path, GOOD, dict(COSTMAP, format="symsynth.costmap/0")))
+    foreign = {"format": "symsynth.costmap/1", "motions": [
+        {"mode": "empty", "from": "home", "to": f"x{i}/top", "rules": [{"free": [], "cost": 1}]}
+        for i in range(20)]}
+    with pytest.raises(SceneError) as error:
+        load_scene(write(tmp_path, GOOD, foreign))
+    message = str(error.value)
+    assert message.startswith("20 problems in the scene") and "... and 8 more" in message
+    assert message.count("unknown anchor") == 12

@@ -115,8 +115,8 @@ def start_position(scene):
 def check_file(scene, formula, solution, file):
     """The file is the solution's strategy on exactly the reachable positions,
     and it wins within cost_bound against every human."""
-    assert (file.scene, file.k, file.units, file.cost_bound) == (
-        scene.name, solution.k, solution.units, solution.cost_bound)
+    assert (file.scene, file.k, file.units, file.cost_bound, file.objects) == (
+        scene.name, solution.k, solution.units, solution.cost_bound, scene.object_names)
     dfa = compile_ltlf(formula)
     assert (file.dfa_bits, file.dfa_initial) == (dfa.bits, dfa.initial)
     if solution.cost_bound is None:
@@ -151,6 +151,19 @@ def test_pick_strategy_file_wins_within_its_bound(tmp_path, solver, k, expected)
     first = start_position(scene)
     assert file.lookup(*first) == "transit(b,top)"
     assert file.budgets[first] == expected
+
+
+@pytest.mark.parametrize("solver", SOLVER_NAMES)
+def test_file_keeps_the_given_task_and_k(tmp_path, solver):
+    """Not the scene's: F(holding(b)) costs transit 7 + grab 5 = 12; the
+    scene (k = 0) solved with k = 1 costs 34 (PICK, worked out in test_game_solvers)."""
+    scene = pick(0)
+    solution, file = solve_and_write(tmp_path, solver, scene, task="F(holding(b))")
+    assert (file.task, file.k, file.cost_bound) == ("F(holding(b))", 0, 12)
+    check_file(scene, parse_ltlf("F(holding(b))"), solution, file)
+    solution, file = solve_and_write(tmp_path, solver, scene, k=1)
+    assert (file.k, file.cost_bound) == (1, 34)
+    check_file(scene, parse_ltlf(scene.task), solution, file)
 
 
 @pytest.mark.parametrize("solver", SOLVER_NAMES)
@@ -301,6 +314,7 @@ def _duplicate(data):
     (_set(["positions", 0, "q"], [0, 1]), "positions[0].q: expected 1 bits"),
     (_set(["positions", 0, "q"], [2]), "positions[0].q[0]"),
     (_set(["positions", 0, "at"], {"c": "l1"}), "positions[0].at: expected one place for each of the objects b"),
+    (_set(["positions", 0, "at"], {}), "positions[0].at: expected one place for each of the objects b"),
     (_set(["positions", 0, "h"], 5), "positions[0].h: expected at most k = 1"),
     (_set(["positions", 0, "ee"], ["b"]), "positions[0].ee: expected a location, 'Else' or [object, grasp]"),
     (_set(["positions", 0, "action"], 3), "positions[0].action: expected string, found 3"),
