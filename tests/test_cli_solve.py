@@ -112,8 +112,13 @@ def test_json_has_the_spec_fields(capsys, tmp_path, solver):
     assert data["states"] > 0 and isinstance(data["seconds"], dict)
     assert [s["action"] for s in data["principal_play"]] == [
         "transit(b,top)", "grab(b)", "transfer(l2)", "drop(b,l2)"]
+    assert [s["cost"] for s in data["principal_play"]] == [7, 5, 4, 5]
+    assert data["principal_play"][-1]["state"] == {"at": {"b": "l2"}, "grip": None, "ee": ["b", "top"]}
+    assert (data["units"], data["resolution"], data["counter_play"]) == (21, 1.0, None)
     out = solve(capsys, solver, write_scene(tmp_path), "--json")
     assert json.loads(out)["realizable"] is None
+    over = json.loads(solve(capsys, solver, write_scene(tmp_path), "--json", "--budget", "20"))
+    assert over["realizable"] is False and over["counter_play"] == over["principal_play"]
 
 
 @pytest.mark.parametrize("solver", SOLVER_NAMES)
