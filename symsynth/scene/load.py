@@ -8,6 +8,7 @@ expected`; nothing here raises a traceback for bad input.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from pathlib import Path
 from typing import Any
@@ -17,6 +18,7 @@ import yaml
 
 from symsynth.errors import InputError, LTLfSyntaxError, read_text
 from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data, load_costmap
+from symsynth.scene import physical
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, ObjectSpec, Scene
 from symsynth.scene.yamlpos import KeyPath, line_of, load_with_lines
 
@@ -54,6 +56,29 @@ SCHEMA: dict[str, Any] = {
 }
 
 
+def _physical_schema() -> dict[str, Any]:
+    """The abstract schema, with names turned into named poses and the
+    physical keys added (see `physical.py`)."""
+    schema = copy.deepcopy(SCHEMA)
+    props = schema["properties"]
+    obj = props["objects"]["additionalProperties"]
+    obj["properties"].update(physical.OBJECT_KEYS)
+    obj.update(physical.ONE_SHAPE)
+    named = {"type": "object", "propertyNames": NAME, "additionalProperties": physical.POSE}
+    props["locations"] = named
+    props["else_samples"] = named
+    props["grasps"] = {"type": "object", "propertyNames": NAME, "minProperties": 1,
+                       "additionalProperties": physical.GRASP}
+    props.update(robot=physical.ROBOT, costs=physical.COSTS, planner=physical.PLANNER,
+                 obstacles={"type": "object", "propertyNames": NAME,
+                            "additionalProperties": physical.OBSTACLE},
+                 **{"else": physical.ELSE_REGION})
+    schema["required"] = schema["required"] + ["grasps"]
+    return schema
+
+
+PHYSICAL_SCHEMA = _physical_schema()
+
 #: Problems listed in one message (a costmap of another scene has hundreds).
 MAX_PROBLEMS = 12
 
@@ -85,13 +110,19 @@ def scene_from_data(data: Any, source: Path | None = None,
     if not isinstance(data, dict):
         report.add((), "expected a mapping with name, objects, locations, ...")
         report.raise_if_any()
-    for error in sorted(jsonschema.Draft202012Validator(SCHEMA).iter_errors(data),
+    is_physical = "robot" in data
+    schema = PHYSICAL_SCHEMA if is_physical else SCHEMA
+    for error in sorted(jsonschema.Draft202012Validator(schema).iter_errors(data),
                         key=lambda e: list(map(str, e.absolute_path))):
-        report.add(tuple(error.absolute_path), _schema_message(error))
+        report.add(tuple(error.absolute_path), _schema_message(error, is_physical))
     report.raise_if_any()
+    if "costs" in data and "primitives" in data:
+        report.add(("primitives",), "give grab and drop costs either in costs or in primitives, not both")
 
+    geometry = physical.geometry_from_data(data, source, report) if is_physical else None
     locations = tuple(data["locations"])
-    else_samples = tuple(data.get("else_samples", ()))
+    else_samples = tuple(x for x in geometry.places if x not in locations) if geometry else tuple(
+        data.get("else_samples", ()))
     grasps = tuple(data.get("grasps", ("top",)))
     for i, name in enumerate(locations):
         if name in (ELSE, HAND, HOME):
@@ -111,12 +142,13 @@ def scene_from_data(data: Any, source: Path | None = None,
         elif at != ELSE:
             standing[at] = name
         objects.append(ObjectSpec(name, frozenset(spec.get("tags", ())) | {name}, at))
-    primitives = data.get("primitives", {})
+    primitives = data.get("costs", data.get("primitives", {}))
     scene = Scene(
         name=data["name"], objects=tuple(objects), locations=locations,
         else_samples=else_samples, grasps=grasps,
         grab_cost=float(primitives.get("grab", 5)), drop_cost=float(primitives.get("drop", 5)),
         k=int(data.get("human", {}).get("k", 0)), task=data.get("task"), source=source,
+        geometry=geometry,
     )
     if scene.task is not None:
         _check_task(scene, report)
@@ -177,7 +209,17 @@ def _check_costmap(scene: Scene, costmap: Costmap, report: _Report) -> None:
                 report.add(("costmap",), f"{what}: rule names unknown locations {', '.join(unknown)}")
 
 
-def _schema_message(error: jsonschema.ValidationError) -> str:
+def _schema_message(error: jsonschema.ValidationError, is_physical: bool = False) -> str:
+    if error.validator == "oneOf" and "box" in str(error.schema):
+        return f"expected exactly one shape: {', '.join(physical.SHAPE_KEYS)}"
+    if error.validator == "type" and not is_physical and error.validator_value == "array" \
+            and isinstance(error.instance, dict):
+        return ("expected a list of names; named poses are for physical scenes "
+                "(add a 'robot' key)")
+    if error.validator == "type" and is_physical and error.validator_value == "object" \
+            and isinstance(error.instance, list):
+        return ("expected a mapping from names to poses ({xyz: [x, y, z], rpy: [r, p, y]}): "
+                "this is a physical scene, since it has a 'robot' key")
     if error.validator == "required":
         return error.message.replace("is a required property", "is required")
     if error.validator == "additionalProperties":

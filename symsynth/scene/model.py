@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from symsynth.scene.costmap import Costmap
+from symsynth.scene.geometry import Geometry
 
 ELSE = "Else"
 HAND = "Hand"
@@ -39,6 +40,7 @@ class Scene:
     task: str | None = None
     costmap: Costmap | None = None
     source: Path | None = field(default=None, compare=False)
+    geometry: Geometry | None = field(default=None, compare=False)  # physical scenes only
 
     @property
     def object_names(self) -> tuple[str, ...]:

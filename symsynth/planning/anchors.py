@@ -1,0 +1,90 @@
+"""Anchors (spec §5) as robot configurations, and the motions a mode needs.
+
+`x/g` is the pre-image of grasp `g` for an object standing at `x`, found by
+the planner's inverse kinematics seeded at home.  An anchor that cannot be
+reached, or where the robot collides with a static obstacle or with the
+object standing at `x`, is an error naming it: a scene with a silently
+missing anchor would make the game unrealizable for reasons nobody sees.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from symsynth.planning.protocol import Config, Mode, Planner, PlannerError
+from symsynth.scene.model import HOME, Scene
+
+
+@dataclass(frozen=True)
+class Motion:
+    """One ordered pair of anchors to cost in a mode.
+
+    `always`: places occupied throughout (the object a transit goes to
+    fetch stands at its target); `never`: places that cannot be occupied
+    (a transfer's target must be free; while the hand holds an object over
+    location `l`, nobody can put anything at `l`)."""
+
+    start: str
+    goal: str
+    always: frozenset[str] = frozenset()
+    never: frozenset[str] = frozenset()
+
+
+def place_of(anchor: str) -> str | None:
+    return None if anchor == HOME else anchor.rsplit("/", 1)[0]
+
+
+def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
+    """Every anchor's configuration; all failures are reported together."""
+    geometry = scene.geometry
+    home = tuple(geometry.robot.home)
+    configs: dict[str, Config] = {HOME: home}
+    problems = []
+    if planner.contacts(Mode(), home).static:
+        problems.append(f"{HOME}: the robot collides with itself or a static obstacle")
+    for place, pose in geometry.places.items():
+        for grasp in scene.grasps:
+            name = f"{place}/{grasp}"
+            target = pose @ geometry.grasps[grasp].pre_image()  # world frame
+            config = planner.inverse_kinematics(target, home)
+            if config is None:
+                problems.append(f"{name}: unreachable (no inverse kinematics solution within the joint "
+                                f"limits for the end-effector at {_fmt(target.xyz)})")
+                continue
+            contacts = planner.contacts(Mode(), config)
+            if contacts.static:
+                problems.append(f"{name}: the robot collides with itself or a static obstacle there")
+            elif place in contacts.locations:
+                problems.append(f"{name}: the robot touches the object standing at {place}; "
+                                "increase the grasp's approach distance")
+            else:
+                configs[name] = config
+    if problems:
+        raise PlannerError(f"{len(problems)} anchor{'s' if len(problems) > 1 else ''} cannot be used:\n"
+                           + "\n".join(f"  {p}" for p in problems))
+    return configs
+
+
+def motions(scene: Scene, mode: Mode) -> tuple[Motion, ...]:
+    """The anchor pairs a mode's actions can ask for (spec §4, §5):
+    transits go from any anchor to any `x/g`; transfers holding `o` with `g`
+    go from `x/g` (`x` in L or E) to `l/g` (`l` in L)."""
+    locations = set(scene.locations)
+    places = scene.locations + scene.else_samples
+    if mode.object is None:
+        targets = [f"{x}/{g}" for x in places for g in scene.grasps]
+        return tuple(Motion(s, t, always=frozenset({place_of(t)}))
+                     for s in (HOME,) + tuple(targets) for t in targets if s != t)
+    g = mode.grasp
+    result = []
+    for x in places:
+        for l in scene.locations:
+            if x == l:
+                continue
+            never = {l} | ({x} & locations)
+            result.append(Motion(f"{x}/{g}", f"{l}/{g}", never=frozenset(never)))
+    return tuple(result)
+
+
+def _fmt(xyz) -> str:
+    return "(" + ", ".join(f"{v:.3f}" for v in xyz) + ")"

@@ -1,0 +1,113 @@
+"""The small interface every planner plugin implements.
+
+A planner is built for one physical scene (`Planner(scene)`) and answers
+geometric questions in one *mode*: the hand empty, or holding object `o` with
+grasp `g`.  Static obstacles are the table and the scene's `obstacles`.  A
+*location obstacle* at `x` (a location of interest or an Else sample) stands
+for "some object other than the served one stands at `x`"; its geometry is
+every object's shape but the held one's, placed at `x`'s pose (a sound
+over-approximation when objects differ).
+
+Everything the costmap algorithms need reduces to four calls; the
+conformance suite (`tests/planner_conformance.py`) pins their meaning.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import ClassVar, Protocol, runtime_checkable
+
+import numpy as np
+
+from symsynth.errors import SymsynthError
+from symsynth.scene.geometry import Pose
+from symsynth.scene.model import EMPTY, Scene
+
+Config = tuple[float, ...]  # one value per controlled joint, radians
+
+
+@dataclass(frozen=True)
+class Mode:
+    """`Mode()` is the empty hand; `Mode("w1", "top")` holds w1 by its top grasp."""
+
+    object: str | None = None
+    grasp: str | None = None
+
+    def __str__(self) -> str:
+        return EMPTY if self.object is None else f"{self.object}/{self.grasp}"
+
+    @staticmethod
+    def parse(text: str) -> Mode:
+        if text == EMPTY:
+            return Mode()
+        obj, _, grasp = text.partition("/")
+        return Mode(obj, grasp)
+
+
+@dataclass(frozen=True)
+class Contacts:
+    """What a configuration or a motion touches: `static` is a collision with
+    the robot itself or a static obstacle (the motion is impossible whatever
+    the objects do); `locations` are the location obstacles it touches."""
+
+    static: bool = False
+    locations: frozenset[str] = frozenset()
+
+    def __or__(self, other: Contacts) -> Contacts:
+        return Contacts(self.static or other.static, self.locations | other.locations)
+
+
+@dataclass(frozen=True)
+class Roadmap:
+    """A graph in configuration space, collision-free against static
+    obstacles; `anchors` names the vertices that are anchors."""
+
+    configs: np.ndarray  # (n, d)
+    edges: np.ndarray  # (m, 2) vertex indices, each undirected edge once
+    lengths: np.ndarray  # (m,) joint-space euclidean length, radians
+    anchors: Mapping[str, int] = field(default_factory=dict)
+
+
+class PlannerError(SymsynthError):
+    """A planner could not do what was asked (unreachable anchor, plugin that
+    does not load, ...); the message names what and why."""
+
+
+@runtime_checkable
+class Planner(Protocol):
+    name: ClassVar[str]
+
+    def __init__(self, scene: Scene) -> None: ...
+
+    @property
+    def limits(self) -> np.ndarray:
+        """(d, 2) lower and upper bound of each controlled joint."""
+
+    def inverse_kinematics(self, pose: Pose, seed: Config) -> Config | None:
+        """A configuration placing the end-effector link at `pose` (world),
+        verified by forward kinematics (position within 1 mm, orientation
+        within 0.01 rad), inside the joint limits; None if none was found."""
+
+    def contacts(self, mode: Mode, config: Config) -> Contacts:
+        """Collisions of the robot (and, in a holding mode, the held object)
+        at one configuration: self-collision (adjacent links excluded), static
+        obstacles, and location obstacles."""
+
+    def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
+        """`contacts` along the straight joint-space segment, checked at steps
+        of at most `resolution` radians, both ends included."""
+
+    def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int) -> Roadmap:
+        """A roadmap of about `size` vertices plus the anchors, whose edges are
+        free of static collisions (location obstacles ignored)."""
+
+
+def edge_contacts(planner: Planner, mode: Mode, roadmap: Roadmap, resolution: float,
+                  progress: Sequence | None = None) -> list[frozenset[str]]:
+    """The location obstacles each roadmap edge touches (the "blocked by"
+    sets), computed once per roadmap."""
+    configs = roadmap.configs
+    edges = roadmap.edges if progress is None else progress
+    return [planner.motion_contacts(mode, tuple(configs[i]), tuple(configs[j]), resolution).locations
+            for i, j in edges]

@@ -1,0 +1,226 @@
+"""The physical form of a scene file: robot, obstacles, shapes and poses.
+
+A scene file is physical when it has a `robot` key.  Then `locations`,
+`else_samples` and `grasps` are mappings from names to poses instead of
+lists of names, objects carry a shape, and `costs`, `obstacles`, `else` and
+`planner` are allowed.  This module holds the JSON Schema of those parts and
+turns validated data into `Geometry`; `load.py` reports the problems.
+
+```yaml
+robot:                 # all keys optional; the default is the Franka Panda
+  urdf: franka_panda/panda.urdf   # relative to the scene file, else to pybullet_data
+  base: {xyz: [0, 0, 0], rpy: [0, 0, 0]}
+  home: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]
+  ee_link: panda_hand
+  fixed: {panda_finger_joint1: 0.04, panda_finger_joint2: 0.04}
+obstacles:
+  table: {box: [1.2, 1.6, 0.05], xyz: [0.3, 0, -0.05]}
+objects:
+  w1: {tags: [block, white], box: [0.04, 0.04, 0.08], at: table1}
+locations:
+  table1: {xyz: [0.45, 0.25, 0]}
+else:                  # Else samples: explicit, or drawn in a region
+  samples: 4
+  region: {min: [0.3, -0.4], max: [0.7, 0.4]}
+grasps:
+  top: {xyz: [0, 0, 0.1634], rpy: [3.14159265, 0, 0], approach: 0.05}
+costs: {per_radian: 1, grab: 5, drop: 5}
+planner: {name: ompl-fcl, roadmap_size: 300, resolution: 0.05, seed: 0}
+```
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ElementTree
+from pathlib import Path
+from typing import Any, Protocol
+
+import numpy as np
+
+from symsynth.scene.geometry import Body, Geometry, Grasp, PlannerSettings, Pose, Robot, Shape
+
+NUMBER = {"type": "number"}
+POSITIVE = {"type": "number", "exclusiveMinimum": 0}
+VEC3 = {"type": "array", "items": NUMBER, "minItems": 3, "maxItems": 3}
+VEC2 = {"type": "array", "items": NUMBER, "minItems": 2, "maxItems": 2}
+POSE_KEYS = {"xyz": VEC3, "rpy": VEC3}
+POSE = {"type": "object", "additionalProperties": False, "properties": POSE_KEYS}
+SHAPE_KEYS = {
+    "box": {"type": "array", "items": POSITIVE, "minItems": 3, "maxItems": 3},
+    "cylinder": {"type": "object", "additionalProperties": False, "required": ["radius", "height"],
+                 "properties": {"radius": POSITIVE, "height": POSITIVE}},
+    "mesh": {"type": "object", "additionalProperties": False, "required": ["file"],
+             "properties": {"file": {"type": "string"}, "scale": POSITIVE}},
+}
+ONE_SHAPE = {"oneOf": [{"required": [kind]} for kind in SHAPE_KEYS]}
+
+ROBOT = {
+    "type": "object", "additionalProperties": False,
+    "properties": {
+        "urdf": {"type": "string"},
+        "base": POSE,
+        "home": {"type": "array", "items": NUMBER, "minItems": 1},
+        "ee_link": {"type": "string"},
+        "joints": {"type": "array", "items": {"type": "string"}, "minItems": 1},
+        "fixed": {"type": "object", "additionalProperties": NUMBER},
+    },
+}
+OBSTACLE = {"type": "object", "additionalProperties": False,
+            "properties": {**SHAPE_KEYS, **POSE_KEYS}, **ONE_SHAPE}
+GRASP = {"type": "object", "additionalProperties": False, "required": ["xyz"],
+         "properties": {**POSE_KEYS, "approach": {"type": "number", "minimum": 0}}}
+ELSE_REGION = {
+    "type": "object", "additionalProperties": False, "required": ["samples", "region"],
+    "properties": {
+        "samples": {"type": "integer", "minimum": 1},
+        "region": {"type": "object", "additionalProperties": False, "required": ["min", "max"],
+                   "properties": {"min": VEC2, "max": VEC2, "z": NUMBER}},
+        "clearance": POSITIVE,
+    },
+}
+COSTS = {"type": "object", "additionalProperties": False,
+         "properties": {"per_radian": {"type": "number", "minimum": 0},
+                        "grab": {"type": "number", "minimum": 0},
+                        "drop": {"type": "number", "minimum": 0}}}
+PLANNER = {
+    "type": "object", "additionalProperties": False,
+    "properties": {
+        "name": {"type": "string"},
+        "roadmap_size": {"type": "integer", "minimum": 2},
+        "seconds": POSITIVE,
+        "resolution": POSITIVE,
+        "seed": {"type": "integer", "minimum": 0},
+    },
+}
+#: Keys an object may have in a physical scene besides `tags` and `at`.
+OBJECT_KEYS = {**SHAPE_KEYS, **POSE_KEYS}
+
+PANDA_URDF = "franka_panda/panda.urdf"
+PANDA_HOME = (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785)
+PANDA_FINGERS = {"panda_finger_joint1": 0.04, "panda_finger_joint2": 0.04}
+
+
+class Report(Protocol):
+    def add(self, path: tuple, message: str) -> None: ...
+
+
+def pose_of(spec: dict[str, Any]) -> Pose:
+    return Pose.from_rpy(tuple(spec.get("xyz", (0, 0, 0))), tuple(spec.get("rpy", (0, 0, 0))))
+
+
+def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report) -> Geometry | None:
+    """The geometry of validated physical scene data; problems of meaning
+    (a URDF that is missing, a joint it lacks) go to `report`."""
+    base = source.parent if source else Path.cwd()
+    robot = _robot(data.get("robot") or {}, base, report)
+    obstacles = tuple(Body(name, _shape(spec, base, ("obstacles", name), report), pose_of(spec))
+                      for name, spec in (data.get("obstacles") or {}).items())
+    shapes = {name: _shape(spec, base, ("objects", name), report)
+              for name, spec in data["objects"].items()}
+    places = {name: pose_of(spec) for name, spec in data["locations"].items()}
+    places.update(else_places(data, places, report))
+    grasps = {name: Grasp(name, pose_of(spec), float(spec.get("approach", 0.05)))
+              for name, spec in data["grasps"].items()}
+    initial = {name: pose_of(spec) for name, spec in data["objects"].items()
+               if spec.get("at", "Else") == "Else" and "xyz" in spec}
+    settings = data.get("planner", {})
+    planner = PlannerSettings(
+        name=settings.get("name", PlannerSettings.name),
+        roadmap_size=settings.get("roadmap_size", PlannerSettings.roadmap_size),
+        seconds=settings.get("seconds"),
+        resolution=float(settings.get("resolution", PlannerSettings.resolution)),
+        seed=settings.get("seed", PlannerSettings.seed),
+    )
+    if robot is None:
+        return None
+    return Geometry(robot=robot, obstacles=obstacles, shapes=shapes, places=places, grasps=grasps,
+                    initial=initial, per_radian=float(data.get("costs", {}).get("per_radian", 1.0)),
+                    planner=planner)
+
+
+def else_places(data: dict[str, Any], locations: dict[str, Pose], report: Report) -> dict[str, Pose]:
+    """Else samples: the explicit `else_samples` mapping, or `else.samples`
+    poses drawn uniformly in `else.region` (seeded by the planner seed), each at
+    least `clearance` (default 0.1 m) from every location and earlier sample."""
+    if "else_samples" in data:
+        return {name: pose_of(spec) for name, spec in data["else_samples"].items()}
+    spec = data.get("else")
+    if spec is None:
+        return {}
+    region = spec["region"]
+    low, high = np.array(region["min"], float), np.array(region["max"], float)
+    z, clearance = float(region.get("z", 0.0)), float(spec.get("clearance", 0.1))
+    rng = np.random.default_rng(data.get("planner", {}).get("seed", 0))
+    taken = [np.array(p.xyz[:2]) for p in locations.values()]
+    samples: dict[str, Pose] = {}
+    for _ in range(1000 * spec["samples"]):
+        if len(samples) == spec["samples"]:
+            break
+        xy = rng.uniform(low, high)
+        if all(np.linalg.norm(xy - other) >= clearance for other in taken):
+            taken.append(xy)
+            samples[f"e{len(samples) + 1}"] = Pose((float(xy[0]), float(xy[1]), z))
+    else:
+        report.add(("else", "region"), f"could not place {spec['samples']} samples {clearance} m apart "
+                   "from each other and from the locations; enlarge the region or lower clearance")
+    return samples
+
+
+def _shape(spec: dict[str, Any], base: Path, where: tuple, report: Report) -> Shape:
+    if "box" in spec:
+        return Shape("box", size=tuple(float(v) for v in spec["box"]))
+    if "cylinder" in spec:
+        return Shape("cylinder", radius=float(spec["cylinder"]["radius"]),
+                     height=float(spec["cylinder"]["height"]))
+    mesh = base / spec["mesh"]["file"]
+    if not mesh.is_file():
+        report.add(where + ("mesh", "file"), f"mesh file {str(mesh)!r} not found")
+    return Shape("mesh", mesh=mesh, scale=float(spec["mesh"].get("scale", 1.0)))
+
+
+def _robot(spec: dict[str, Any], base: Path, report: Report) -> Robot | None:
+    urdf = _find_urdf(spec.get("urdf", PANDA_URDF), base)
+    if urdf is None:
+        report.add(("robot", "urdf"), f"URDF {spec.get('urdf')!r} not found next to the scene "
+                   "nor in pybullet_data")
+        return None
+    try:
+        tree = ElementTree.parse(urdf)
+    except ElementTree.ParseError as error:
+        report.add(("robot", "urdf"), f"{urdf}: not a valid URDF: {error}")
+        return None
+    links = {link.get("name") for link in tree.iter("link")}
+    movable = [j.get("name") for j in tree.iter("joint") if j.get("type") in ("revolute", "prismatic",
+                                                                               "continuous")]
+    default = spec.get("urdf", PANDA_URDF) == PANDA_URDF
+    fixed = dict(spec.get("fixed", PANDA_FINGERS if default else {}))
+    joints = tuple(spec.get("joints", [j for j in movable if j not in fixed]))
+    for name in list(joints) + list(fixed):
+        if name not in movable:
+            report.add(("robot",), f"joint {name!r} is not a movable joint of {urdf.name}; "
+                       f"its movable joints: {', '.join(movable)}")
+    ee_link = spec.get("ee_link", "panda_hand" if default else None)
+    if ee_link is None:
+        report.add(("robot",), "ee_link is required for a robot other than the default Panda")
+    elif ee_link not in links:
+        report.add(("robot", "ee_link"), f"link {ee_link!r} not in {urdf.name}; "
+                   f"its links: {', '.join(sorted(links))}")
+    home = tuple(float(v) for v in spec.get("home", PANDA_HOME if default else [0.0] * len(joints)))
+    if len(home) != len(joints):
+        report.add(("robot", "home"), f"expected {len(joints)} joint values ({', '.join(joints)}), "
+                   f"found {len(home)}")
+    if not all(math.isfinite(v) for v in home):
+        report.add(("robot", "home"), "joint values must be finite")
+    return Robot(urdf=urdf, base=pose_of(spec.get("base", {})), home=home, ee_link=ee_link or "",
+                 joints=joints, fixed=tuple(sorted(fixed.items())))
+
+
+def _find_urdf(name: str, base: Path) -> Path | None:
+    local = base / name
+    if local.is_file():
+        return local.resolve()
+    import pybullet_data
+
+    bundled = Path(pybullet_data.getDataPath()) / name
+    return bundled if bundled.is_file() else None
