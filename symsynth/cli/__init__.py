@@ -13,10 +13,10 @@ import sys
 from collections.abc import Sequence
 
 from symsynth import __version__
-from symsynth.cli import dfa, solve
+from symsynth.cli import costmap, dfa, solve
 from symsynth.errors import SymsynthError
 
-COMMANDS = (dfa, solve)
+COMMANDS = (dfa, solve, costmap)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import os
@@ -15,6 +16,8 @@ from symsynth.game.solution import Solution, Step, task_formula
 from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.game.strategy import format_state, write_strategy
 from symsynth.logic import parse_ltlf
+from symsynth.planning.build import Obtained, obtain_costmap
+from symsynth.planning.costmaps import METHODS
 from symsynth.scene import Scene, load_scene
 from symsynth.scene.model import ELSE
 
@@ -57,6 +60,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="cost budget: say whether E_p <= E (costmap units, >= 0)")
     parser.add_argument("--costmap", type=Path, metavar="FILE",
                         help="costmap file (symsynth.costmap/1) instead of the scene's")
+    parser.add_argument("--method", choices=tuple(METHODS), default="recursive",
+                        help="physical scenes: costmap method, sg (Alg. 2) or recursive (Alg. 3; default)")
+    parser.add_argument("--planner", metavar="NAME",
+                        help="physical scenes: planner plugin (default: the scene's planner.name)")
+    parser.add_argument("--seed", type=int, metavar="S",
+                        help="physical scenes: roadmap seed (default: the scene's planner.seed)")
+    parser.add_argument("--no-cache", action="store_true",
+                        help="physical scenes: compute the costmap even if a cached one exists")
     parser.add_argument("--solver", choices=tuple(SOLVERS), default=DEFAULT_SOLVER,
                         help=f"game solver (default: {DEFAULT_SOLVER})")
     parser.add_argument("--resolution", type=_positive, default=1.0, metavar="R",
@@ -109,6 +120,11 @@ def run(args: argparse.Namespace) -> int:
                              + ("it is a directory" if args.output.is_dir()
                                 else f"{folder} is not a writable directory"))
     scene = load_scene(args.scene, costmap=args.costmap)
+    obtained = None
+    if scene.costmap is None and scene.geometry is not None:
+        obtained = obtain_costmap(scene, args.method, args.planner, args.seed,
+                                  use_cache=not args.no_cache, progress=not args.json)
+        scene = dataclasses.replace(scene, costmap=obtained.costmap)
     if args.task is not None:  # the scene's own task was checked by the loader
         task = args.task
         formula = parse_ltlf(task, source="--task")
@@ -126,10 +142,14 @@ def run(args: argparse.Namespace) -> int:
     written = None if args.output is None else write_strategy(args.output, scene, task, solution)
     if args.json:
         out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver}
+        if obtained is not None:
+            out["costmap"] = _costmap_json(obtained)
         if written is not None:
             out["strategy"] = {"file": str(args.output), "positions": written}
         print(json.dumps(out, indent=2))
         return 0
+    if obtained is not None:
+        _costmap_report(obtained)
     _report(scene, task, args.solver, solution)
     if written is not None:
         print(f"\nwrote {args.output} ({written} positions)")
@@ -137,6 +157,24 @@ def run(args: argparse.Namespace) -> int:
 
 
 # -- the human-readable report -------------------------------------------------
+
+def _costmap_json(got: Obtained) -> dict:
+    out = {"method": got.method, "planner": got.planner, "seed": got.seed, "cached": got.cached,
+           "file": None if got.path is None else str(got.path)}
+    if got.stats is not None:
+        out["seconds"] = dict(got.stats.seconds)
+    return out
+
+
+def _costmap_report(got: Obtained) -> None:
+    origin = "reused from the cache" if got.cached else \
+        f"computed in {sum(got.stats.seconds.values()):.1f} s"
+    rules = sum(len(r) for r in got.costmap.motions.values())
+    print(f"costmap    {got.method}, planner {got.planner}, seed {got.seed}: "
+          f"{len(got.costmap.motions)} motions, {rules} rules, {origin}")
+    if got.path is not None:
+        print(f"           {got.path}")
+
 
 def _report(scene: Scene, task: str, solver: str, solution: Solution) -> None:
     where = f" ({scene.source})" if scene.source else ""

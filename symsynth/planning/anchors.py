@@ -9,25 +9,9 @@ missing anchor would make the game unrealizable for reasons nobody sees.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
+from symsynth.planning.costmaps import Query
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError
 from symsynth.scene.model import HOME, Scene
-
-
-@dataclass(frozen=True)
-class Motion:
-    """One ordered pair of anchors to cost in a mode.
-
-    `always`: places occupied throughout (the object a transit goes to
-    fetch stands at its target); `never`: places that cannot be occupied
-    (a transfer's target must be free; while the hand holds an object over
-    location `l`, nobody can put anything at `l`)."""
-
-    start: str
-    goal: str
-    always: frozenset[str] = frozenset()
-    never: frozenset[str] = frozenset()
 
 
 def place_of(anchor: str) -> str | None:
@@ -65,15 +49,21 @@ def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
     return configs
 
 
-def motions(scene: Scene, mode: Mode) -> tuple[Motion, ...]:
+def motions(scene: Scene, mode: Mode) -> tuple[Query, ...]:
     """The anchor pairs a mode's actions can ask for (spec §4, §5):
     transits go from any anchor to any `x/g`; transfers holding `o` with `g`
-    go from `x/g` (`x` in L or E) to `l/g` (`l` in L)."""
+    go from `x/g` (`x` in L or E) to `l/g` (`l` in L).
+
+    `always`: the object a transit goes to fetch stands at its target.
+    `never`: a transfer's target must be free, and while the hand holds an
+    object over a location of interest nobody can put anything there (spec
+    §4: the human's move needs "not (holding and ee = t)"), so a transfer
+    starting over `x ∈ L` has `x` free."""
     locations = set(scene.locations)
     places = scene.locations + scene.else_samples
     if mode.object is None:
         targets = [f"{x}/{g}" for x in places for g in scene.grasps]
-        return tuple(Motion(s, t, always=frozenset({place_of(t)}))
+        return tuple(Query(s, t, always=frozenset({place_of(t)}))
                      for s in (HOME,) + tuple(targets) for t in targets if s != t)
     g = mode.grasp
     result = []
@@ -82,7 +72,7 @@ def motions(scene: Scene, mode: Mode) -> tuple[Motion, ...]:
             if x == l:
                 continue
             never = {l} | ({x} & locations)
-            result.append(Motion(f"{x}/{g}", f"{l}/{g}", never=frozenset(never)))
+            result.append(Query(f"{x}/{g}", f"{l}/{g}", never=frozenset(never)))
     return tuple(result)
 
 

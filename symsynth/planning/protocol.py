@@ -14,7 +14,7 @@ conformance suite (`tests/planner_conformance.py`) pins their meaning.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import ClassVar, Protocol, runtime_checkable
 
@@ -101,13 +101,3 @@ class Planner(Protocol):
     def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int) -> Roadmap:
         """A roadmap of about `size` vertices plus the anchors, whose edges are
         free of static collisions (location obstacles ignored)."""
-
-
-def edge_contacts(planner: Planner, mode: Mode, roadmap: Roadmap, resolution: float,
-                  progress: Sequence | None = None) -> list[frozenset[str]]:
-    """The location obstacles each roadmap edge touches (the "blocked by"
-    sets), computed once per roadmap."""
-    configs = roadmap.configs
-    edges = roadmap.edges if progress is None else progress
-    return [planner.motion_contacts(mode, tuple(configs[i]), tuple(configs[j]), resolution).locations
-            for i, j in edges]

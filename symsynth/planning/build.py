@@ -1,0 +1,156 @@
+"""A physical scene's conditional costmap, computed by a planner plugin.
+
+The steps of the paper's Alg. 1 (lines 4-6): anchors by inverse kinematics;
+one roadmap per *geometric* mode against static obstacles; the location
+obstacles each roadmap edge touches, checked once; then every motion of
+every mode is a graph search (`costmaps`).  Modes that look the same to a
+planner (the same grasp on objects of the same shape, among the same other
+shapes) share one roadmap and its checks.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from tqdm import tqdm
+
+from symsynth.planning import costmaps
+from symsynth.planning.anchors import anchor_configs, motions
+from symsynth.planning.protocol import Mode, Planner, PlannerError, Roadmap
+from symsynth.planning.registry import planner_class
+from symsynth.scene.costmap import Costmap
+from symsynth.scene.model import Scene
+
+
+@dataclass
+class Stats:
+    """Where the time went, for reports and the benchmark."""
+
+    seconds: dict[str, float] = field(default_factory=lambda: {
+        "anchors": 0.0, "roadmaps": 0.0, "edge checks": 0.0, "searches": 0.0})
+    roadmaps: int = 0
+    vertices: int = 0
+    edges: int = 0
+    motions: int = 0
+    rules: int = 0
+    searches: int = 0
+
+    def add(self, phase: str, since: float) -> float:
+        now = time.perf_counter()
+        self.seconds[phase] += now - since
+        return now
+
+
+def _geometric_key(scene: Scene, mode: Mode) -> tuple:
+    """Modes with equal keys see the same static and location geometry."""
+    shapes = scene.geometry.shapes
+    if mode.object is None:
+        return ("empty",)
+    others = sorted(repr(shapes[o]) for o in shapes if o != mode.object)
+    return (mode.grasp, repr(shapes[mode.object]), tuple(others))
+
+
+def mode_anchors(planner: Planner, scene: Scene, mode: Mode, configs: dict) -> dict:
+    """The anchors a mode's roadmap must connect: all in the empty mode; in a
+    holding mode the `x/g` of its grasp where the held object is clear of
+    static obstacles (elsewhere the object cannot be held)."""
+    if mode.object is None:
+        return dict(configs)
+    suffix = f"/{mode.grasp}"
+    return {name: q for name, q in configs.items()
+            if name.endswith(suffix) and not planner.contacts(mode, q).static}
+
+
+def compute_costmap(scene: Scene, method: str, planner_name: str | None = None,
+                    seed: int | None = None, progress: bool = True,
+                    planner_factory: Callable[[Scene], Planner] | None = None) -> tuple[Costmap, Stats]:
+    """The costmap of a physical scene by `method` (`sg` or `recursive`)."""
+    if scene.geometry is None:
+        raise PlannerError(f"scene {scene.name!r} is abstract (no robot): give it a costmap instead")
+    if method not in costmaps.METHODS:
+        raise PlannerError(f"unknown costmap method {method!r}; known: {', '.join(costmaps.METHODS)}")
+    settings = scene.geometry.planner
+    name = planner_name or settings.name
+    seed = settings.seed if seed is None else seed
+    stats = Stats()
+    clock = time.perf_counter()
+    planner = (planner_factory or planner_class(name))(scene)
+    configs = anchor_configs(planner, scene)
+    clock = stats.add("anchors", clock)
+
+    modes = [Mode.parse(m) for m in scene.modes]
+    groups: dict[tuple, list[Mode]] = {}
+    for mode in modes:
+        groups.setdefault(_geometric_key(scene, mode), []).append(mode)
+    places = scene.locations + scene.else_samples
+    result = {}
+    bar = tqdm(total=len(groups), desc=f"costmap ({method}, {name})", unit="mode",
+               disable=not progress, leave=False)
+    for members in groups.values():
+        mode = members[0]
+        bar.set_postfix_str(f"{mode}: roadmap")
+        anchors = mode_anchors(planner, scene, mode, configs)
+        if not anchors:
+            bar.update()
+            continue
+        roadmap = planner.roadmap(mode, anchors, settings.roadmap_size, seed)
+        clock = stats.add("roadmaps", clock)
+        bar.set_postfix_str(f"{mode}: {len(roadmap.edges)} edges")
+        blocked = edge_blockers(planner, mode, roadmap, settings.resolution)
+        clock = stats.add("edge checks", clock)
+        stats.roadmaps += 1
+        stats.vertices += len(roadmap.configs)
+        stats.edges += len(roadmap.edges)
+        for member in members:
+            queries = [q for q in motions(scene, member) if q.start in anchors and q.goal in anchors]
+            rules = costmaps.costmap_for_mode(member, roadmap, blocked, queries, method, places,
+                                              scene.geometry.per_radian)
+            result.update({key: value for key, value in rules.items() if value})
+            stats.motions += len(queries)
+        clock = stats.add("searches", clock)
+        bar.update()
+    bar.close()
+    stats.rules = sum(len(r) for r in result.values())
+    return Costmap(dict(sorted(result.items()))), stats
+
+
+def edge_blockers(planner: Planner, mode: Mode, roadmap: Roadmap, resolution: float) -> list[frozenset[str]]:
+    """The location obstacles each roadmap edge touches (computed once per roadmap)."""
+    configs = roadmap.configs
+    return [planner.motion_contacts(mode, tuple(configs[i]), tuple(configs[j]), resolution).locations
+            for i, j in roadmap.edges]
+
+
+
+@dataclass(frozen=True)
+class Obtained:
+    """A costmap and where it came from (for the report)."""
+
+    costmap: Costmap
+    method: str
+    planner: str
+    seed: int
+    cached: bool
+    path: object  # the cache file, or None when caching is off
+    stats: Stats | None
+
+
+def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | None = None,
+                   seed: int | None = None, *, use_cache: bool = True, progress: bool = True,
+                   planner_factory: Callable[[Scene], Planner] | None = None) -> Obtained:
+    """The cached costmap of a physical scene, or a new one (then cached)."""
+    from symsynth.planning import cache
+
+    name = planner_name or scene.geometry.planner.name
+    seed = scene.geometry.planner.seed if seed is None else seed
+    if planner_factory is None:
+        planner_class(name)  # an unknown planner fails before anything is hashed or computed
+    if use_cache:
+        hit = cache.cached(scene, method, name, seed)
+        if hit is not None:
+            return Obtained(hit, method, name, seed, True, cache.cache_path(scene, method, name, seed), None)
+    costmap, stats = compute_costmap(scene, method, name, seed, progress, planner_factory)
+    path = cache.store(costmap, scene, method, name, seed) if use_cache else None
+    return Obtained(costmap, method, name, seed, False, path, stats)

@@ -1,0 +1,60 @@
+"""Computed costmaps, cached by what determines them.
+
+The key is a hash of the scene's geometry and names (not its task, `k` or
+the objects' initial places, which the costmap does not depend on), the
+bytes of the robot's URDF and of mesh files, the method, the planner, its
+seed and symsynth's version.  Same key, same file: a hit is reused as is.
+The cache lives in `$SYMSYNTH_CACHE`, else `$XDG_CACHE_HOME/symsynth`, else
+`~/.cache/symsynth`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import os
+from pathlib import Path
+
+from symsynth import __version__
+from symsynth.scene.costmap import Costmap, load_costmap, write_costmap
+from symsynth.scene.model import Scene
+
+
+def cache_dir() -> Path:
+    if os.environ.get("SYMSYNTH_CACHE"):
+        return Path(os.environ["SYMSYNTH_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "symsynth"
+
+
+def cache_key(scene: Scene, method: str, planner: str, seed: int) -> str:
+    geometry = dataclasses.replace(scene.geometry, initial={},
+                                   planner=dataclasses.replace(scene.geometry.planner, name="", seed=0))
+    digest = hashlib.sha256()
+    for part in (__version__, method, planner, str(seed), repr(scene.object_names),
+                 repr(sorted((o.name, sorted(o.tags)) for o in scene.objects)),
+                 repr(scene.locations), repr(scene.else_samples), repr(scene.grasps), repr(geometry)):
+        digest.update(part.encode() + b"\0")
+    files = [scene.geometry.robot.urdf] + [s.mesh for s in scene.geometry.shapes.values() if s.mesh] \
+        + [b.shape.mesh for b in scene.geometry.obstacles if b.shape.mesh]
+    for path in files:
+        digest.update(Path(path).read_bytes())
+    return digest.hexdigest()[:24]
+
+
+def cache_path(scene: Scene, method: str, planner: str, seed: int) -> Path:
+    return cache_dir() / f"{scene.name}-{method}-{planner}-s{seed}-{cache_key(scene, method, planner, seed)}.json"
+
+
+def cached(scene: Scene, method: str, planner: str, seed: int) -> Costmap | None:
+    path = cache_path(scene, method, planner, seed)
+    return load_costmap(path) if path.is_file() else None
+
+
+def store(costmap: Costmap, scene: Scene, method: str, planner: str, seed: int) -> Path:
+    path = cache_path(scene, method, planner, seed)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    partial = path.with_suffix(".partial")
+    write_costmap(costmap, partial)
+    partial.replace(path)  # atomic: a crash never leaves half a file under the key
+    return path

@@ -1,0 +1,149 @@
+"""From a physical scene to a costmap and a game, with a planner simple
+enough to solve by hand (tests/planar.py: a point robot in the unit square).
+
+The expected values are worked out here from the geometry: grid distances,
+which place blocks which gap, what the game must conclude."""
+
+import dataclasses
+import math
+
+import pytest
+
+from planar import PlanarPlanner, planar_scene
+from symsynth.game.solvers import SOLVERS
+from symsynth.game.solution import task_formula
+from symsynth.planning.anchors import anchor_configs, motions
+from symsynth.planning.build import compute_costmap, obtain_costmap
+from symsynth.planning.costmaps import Query
+from symsynth.planning.protocol import Mode, PlannerError
+from symsynth.planning.verify import verify_costmap
+from symsynth.scene.costmap import Costmap
+
+# A wall at y = 0.3 with a gap at x in [0.45, 0.55]; place P sits in the gap.
+# South: home (0, 0), l2 (0.8, 0.18), l3 (0.35, 0.12) to park a, Else e1 (0.2, 0.18).  North: l1 (0.5, 0.58).
+# Anchors lie 0.08 south of their place: l1/top at (0.5, 0.5), a grid vertex.
+WALL = {"west": (0.225, 0.3, 0.225, 0.02), "east": (0.775, 0.3, 0.225, 0.02)}
+
+
+def gap_scene(**kw):
+    return planar_scene(places={"P": (0.5, 0.3), "l1": (0.5, 0.58), "l2": (0.8, 0.18), "l3": (0.35, 0.12)},
+                        objects={"a": "P", "b": "l2"}, obstacles=WALL,
+                        else_samples={"e1": (0.2, 0.18)}, task="F(at(b, l1))", **kw)
+
+
+def build(scene, method):
+    return compute_costmap(scene, method, "planar", progress=False, planner_factory=PlanarPlanner)[0]
+
+
+def solve(scene, costmap, k=0):
+    scene = dataclasses.replace(scene, costmap=costmap, k=k)
+    return {name: solver(scene, task_formula(scene, None), k=k).cost_bound for name, solver in SOLVERS.items()}
+
+
+def test_straight_motion_costs_its_grid_distance():
+    scene = planar_scene(places={"l1": (0.5, 0.58), "l2": (0.2, 0.9)}, objects={"a": "l1"})
+    costmap = build(scene, "recursive")
+    # home (0, 0) to l1/top (0.5, 0.5): five grid diagonals of 0.1 * sqrt(2), 10 per radian.
+    rule, = costmap.rules("empty", "home", "l1/top")
+    assert rule.free == frozenset() and rule.cost == pytest.approx(10 * 5 * 0.1 * math.sqrt(2))
+    # Holding a, l1/top to l2/top (0.2, 0.82): three diagonals to (0.2, 0.8), then 0.02.
+    rule, = costmap.rules("a/top", "l1/top", "l2/top")
+    assert rule.free == frozenset() and rule.cost == pytest.approx(10 * (3 * 0.1 * math.sqrt(2) + 0.02))
+    assert rule.path[0] == pytest.approx((0.5, 0.5)) and rule.path[-1] == pytest.approx((0.2, 0.82))
+
+
+def test_the_gap_start_goal_finds_nothing_recursive_asks_for_P_free():
+    scene = gap_scene()
+    sg, rec = build(scene, "sg"), build(scene, "recursive")
+    # Holding b, from l2 (south) to l1 (north): the only way is through the gap at P.
+    assert sg.rules("b/top", "l2/top", "l1/top") == ()
+    rule, = rec.rules("b/top", "l2/top", "l1/top")
+    assert rule.free == {"P"}
+    # South of the wall nothing changes: both methods agree and need nothing free.
+    assert sg.rules("a/top", "P/top", "l2/top") == rec.rules("a/top", "P/top", "l2/top")
+    assert rec.rules("a/top", "P/top", "l2/top")[0].free == frozenset()
+
+
+def test_start_goal_hovers_over_the_gap_recursive_goes_straight():
+    """Start-goal has no motion from l2 to l1 holding b, but one through P
+    holding b over P: while the hand holds over a location nobody can put
+    anything there, so P is free on that leg.  The recursive costmap knows P is
+    free once a is parked, and its bound is lower (never higher)."""
+    scene = gap_scene()
+    sg = solve(scene, build(scene, "sg"))
+    rec = solve(scene, build(scene, "recursive"))
+    assert sg["symbolic"] == sg["explicit"] is not None
+    assert rec["symbolic"] == rec["explicit"] < sg["symbolic"]
+
+
+def test_an_anchor_inside_another_place_defeats_start_goal():
+    """The arch's mechanism: the anchor l1/top lies where an object at P would
+    be.  Start-goal assumes P occupied for every motion leaving l1/top, and
+    the robot starts with ee = Else, i.e. possibly there: no strategy.  The
+    recursive costmap asks for P free and wins."""
+    scene = planar_scene(places={"P": (0.5, 0.3), "l1": (0.5, 0.4), "l2": (0.8, 0.18)},
+                         objects={"b": "l2"}, task="F(at(b, l1))")
+    assert solve(scene, build(scene, "sg")) == {"symbolic": None, "explicit": None}
+    values = solve(scene, build(scene, "recursive"))
+    assert values["symbolic"] == values["explicit"] is not None
+
+
+def test_every_evidence_path_verifies_and_a_tampered_one_fails():
+    scene = gap_scene()
+    costmap = build(scene, "recursive")
+    planner = PlanarPlanner(scene)
+    checked, failures = verify_costmap(costmap, scene, planner, 0.005, progress=False)
+    assert checked == sum(len(r) for r in costmap.motions.values()) > 0 and failures == []
+    key = ("b/top", "l2/top", "l1/top")
+    rule, = costmap.motions[key]
+    lies = {key: (dataclasses.replace(rule, free=frozenset()),  # it does pass through P
+                  dataclasses.replace(rule, cost=rule.cost + 1))}
+    _, failures = verify_costmap(Costmap(lies), scene, planner, 0.005, progress=False)
+    reasons = sorted(f.reason for f in failures)
+    assert any("touches P" in r for r in reasons)
+    assert any(r.startswith("cost ") for r in reasons)
+
+
+def test_motions_follow_the_spec():
+    scene = gap_scene()
+    empty = motions(scene, Mode())
+    anchors = ["P/top", "l1/top", "l2/top", "l3/top", "e1/top"]
+    assert {(q.start, q.goal) for q in empty} == {(s, t) for s in ["home"] + anchors for t in anchors if s != t}
+    assert all(q.always == {q.goal.split("/")[0]} and not q.never for q in empty)
+    held = {(q.start, q.goal): q for q in motions(scene, Mode("a", "top"))}
+    # targets are locations of interest only; a start over a location is free, as is the target
+    assert held[("l2/top", "l1/top")] == Query("l2/top", "l1/top", never=frozenset({"l1", "l2"}))
+    assert held[("e1/top", "P/top")] == Query("e1/top", "P/top", never=frozenset({"P"}))
+    assert ("l1/top", "e1/top") not in held and ("P/top", "P/top") not in held
+
+
+def test_unreachable_and_colliding_anchors_are_named():
+    scene = planar_scene(places={"l1": (0.5, 0.58), "far": (1.5, 0.5), "wall": (0.3, 0.38)},
+                         objects={"a": "l1"}, obstacles={"w": (0.3, 0.3, 0.05, 0.05)})
+    with pytest.raises(PlannerError) as caught:
+        anchor_configs(PlanarPlanner(scene), scene)
+    message = str(caught.value)
+    assert "far/top: unreachable" in message
+    assert "wall/top: the robot collides with itself or a static obstacle" in message
+    assert "l1/top" not in message
+
+
+def test_cache_same_seed_same_file(tmp_path, monkeypatch):
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path))
+    scene = gap_scene()
+    first = obtain_costmap(scene, "recursive", "planar", progress=False, planner_factory=PlanarPlanner)
+    again = obtain_costmap(scene, "recursive", "planar", progress=False, planner_factory=PlanarPlanner)
+    assert not first.cached and again.cached and again.path == first.path
+    assert again.costmap == first.costmap
+    assert [r.path for r in again.costmap.motions[("b/top", "l2/top", "l1/top")]] == \
+        [r.path for r in first.costmap.motions[("b/top", "l2/top", "l1/top")]]
+    other = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+    assert not other.cached and other.path != first.path
+    # the task and k do not change the costmap; geometry does
+    retask = dataclasses.replace(scene, task="F(at(a, l1))", k=3)
+    assert obtain_costmap(retask, "recursive", "planar", progress=False,
+                          planner_factory=PlanarPlanner).cached
+    moved = planar_scene(places={"P": (0.5, 0.3), "l1": (0.5, 0.6), "l2": (0.8, 0.18)},
+                         objects={"a": "P", "b": "l2"}, obstacles=WALL, else_samples={"e1": (0.2, 0.18)})
+    assert not obtain_costmap(moved, "recursive", "planar", progress=False,
+                              planner_factory=PlanarPlanner).cached
