@@ -1,0 +1,98 @@
+"""`BulletPlanner`: the `Planner` protocol answered by PyBullet.
+
+Each planner owns a private physics client (`World`), so several planners,
+for several scenes, can live in one process.  Collision rules are those of
+`world.py` (which bodies meet), `robot.py` (which link pairs may collide)
+and `bodies.py` (collision groups); inverse kinematics is `kinematics.py`.
+Segments are checked at `n + 1` evenly spaced configurations, both ends
+included, with `n` the least number of steps whose euclidean joint-space
+length is at most `resolution`.  Roadmaps (`prm.build_roadmap`) check
+their edges at the scene's `planner.resolution`, for static collisions
+only, with every place body switched off.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator, Mapping
+from typing import ClassVar
+
+import numpy as np
+
+from symsynth.planning.prm import build_roadmap
+from symsynth.planning.protocol import Config, Contacts, Mode, PlannerError, Roadmap
+from symsynth.scene.geometry import Pose
+from symsynth.scene.model import Scene
+
+from symsynth_planners.bullet.kinematics import inverse_kinematics
+from symsynth_planners.bullet.world import World
+
+
+class BulletPlanner:
+    name: ClassVar[str] = "pybullet"
+
+    def __init__(self, scene: Scene) -> None:
+        geometry = scene.geometry
+        if geometry is None:
+            raise PlannerError(f"scene {scene.name!r} has no geometry: the pybullet planner needs a "
+                               "physical scene (a scene file with a 'robot' key)")
+        missing = set(scene.object_names) - set(geometry.shapes)
+        if missing:
+            raise PlannerError(f"objects without a shape: {', '.join(sorted(missing))}")
+        self.scene = scene
+        self.settings = geometry.planner
+        self.world = World(geometry)
+
+    @property
+    def limits(self) -> np.ndarray:
+        return self.world.robot.limits.copy()
+
+    def inverse_kinematics(self, pose: Pose, seed: Config) -> Config | None:
+        return inverse_kinematics(self.world.robot, pose, self._config(seed))
+
+    def contacts(self, mode: Mode, config: Config) -> Contacts:
+        self.world.set_mode(mode)
+        self.world.set_config(self._config(config))
+        return self.world.touching()
+
+    def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
+        self.world.set_mode(mode)
+        found = Contacts()
+        for config in self._segment(start, goal, resolution):
+            self.world.set_config(config)
+            found = found | self.world.touching()
+        return found
+
+    def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int) -> Roadmap:
+        resolution = self.settings.resolution
+
+        def valid(config) -> bool:
+            self.world.set_mode(mode, places=False)
+            self.world.set_config(config)
+            return not self.world.touching().static
+
+        def motion_valid(start, goal) -> bool:
+            self.world.set_mode(mode, places=False)
+            for config in self._segment(start, goal, resolution):
+                self.world.set_config(config)
+                if self.world.touching().static:
+                    return False
+            return True
+
+        anchors = {name: self._config(config) for name, config in anchors.items()}
+        return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, resolution)
+
+    def _segment(self, start: Config, goal: Config, resolution: float) -> Iterator[np.ndarray]:
+        if not resolution > 0:
+            raise PlannerError(f"resolution must be positive, got {resolution}")
+        a, b = np.asarray(self._config(start)), np.asarray(self._config(goal))
+        steps = max(1, math.ceil(float(np.linalg.norm(b - a)) / resolution))
+        for i in range(steps + 1):
+            yield a + (b - a) * (i / steps)
+
+    def _config(self, config) -> tuple[float, ...]:
+        values = tuple(float(v) for v in config)
+        if len(values) != len(self.world.robot.joints):
+            raise PlannerError(f"a configuration has {len(values)} values; the robot has "
+                               f"{len(self.world.robot.joints)} controlled joints")
+        return values

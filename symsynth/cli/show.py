@@ -1,0 +1,55 @@
+"""`symsynth show`: a picture of a physical scene, to author scenes by looking."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from symsynth.errors import InputError
+from symsynth.scene import load_scene
+
+HELP = "render a physical scene to a PNG with its locations labelled"
+DESCRIPTION = """\
+Render a physical scene headless (PyBullet's TinyRenderer, no display
+needed): the robot at home, the static obstacles in grey, every object at
+its initial place, the locations of interest marked green and the Else
+samples orange, each labelled with its name."""
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("show", help=HELP, description=DESCRIPTION,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("scene", type=Path, help="a physical scene file (YAML, with a robot)")
+    parser.add_argument("-o", "--output", type=Path, metavar="FILE", default=None,
+                        help="the picture to write (PNG; default: SCENE with .png)")
+    parser.add_argument("--size", type=_size, default=(800, 600), metavar="WxH",
+                        help="image size in pixels (default: 800x600)")
+    parser.add_argument("--no-labels", action="store_true", help="leave the place names out")
+    parser.set_defaults(run=run)
+
+
+def _size(text: str) -> tuple[int, int]:
+    try:
+        width, height = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT such as 800x600, found {text!r}") from None
+    if not (16 <= width <= 8192 and 16 <= height <= 8192):
+        raise argparse.ArgumentTypeError(f"each side must be 16..8192 pixels, found {text}")
+    return width, height
+
+
+def run(args: argparse.Namespace) -> int:
+    from symsynth.render import render_scene
+
+    scene = load_scene(args.scene)
+    if scene.geometry is None:
+        raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has nothing to show")
+    output = args.output or args.scene.with_suffix(".png")
+    if output.is_dir() or not output.parent.is_dir():
+        raise InputError(f"cannot write {output}: " + ("it is a directory" if output.is_dir()
+                                                       else f"{output.parent} is not a directory"))
+    width, height = args.size
+    render_scene(scene, output, width=width, height=height, labels=not args.no_labels)
+    print(f"wrote {output} ({width}x{height}, {len(scene.locations)} locations, "
+          f"{len(scene.else_samples)} Else samples)")
+    return 0
