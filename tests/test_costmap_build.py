@@ -76,16 +76,21 @@ def test_start_goal_hovers_over_the_gap_recursive_goes_straight():
     assert rec["symbolic"] == rec["explicit"] < sg["symbolic"]
 
 
-def test_an_anchor_inside_another_place_defeats_start_goal():
+def test_an_anchor_inside_another_place():
     """The arch's mechanism: the anchor l1/top lies where an object at P would
-    be.  Start-goal assumes P occupied for every motion leaving l1/top, and
-    the robot starts with ee = Else, i.e. possibly there: no strategy.  The
-    recursive costmap asks for P free and wins."""
+    be.  Arriving there needs P free: start-goal, which assumes P occupied, only
+    arrives from over P itself (holding over P, P is free); recursive asks for P.
+    Leaving it needs nothing of P: while the robot stands there, nothing can."""
     scene = planar_scene(places={"P": (0.5, 0.3), "l1": (0.5, 0.4), "l2": (0.8, 0.18)},
                          objects={"b": "l2"}, task="F(at(b, l1))")
-    assert solve(scene, build(scene, "sg")) == {"symbolic": None, "explicit": None}
-    values = solve(scene, build(scene, "recursive"))
-    assert values["symbolic"] == values["explicit"] is not None
+    sg, rec = build(scene, "sg"), build(scene, "recursive")
+    assert sg.rules("b/top", "l2/top", "l1/top") == ()
+    assert [r.free for r in rec.rules("b/top", "l2/top", "l1/top")] == [{"P"}]
+    assert len(sg.rules("b/top", "P/top", "l1/top")) == 1
+    for costmap in (sg, rec):
+        assert [r.free for r in costmap.rules("empty", "l1/top", "l2/top")] == [frozenset()]
+    values = solve(scene, sg), solve(scene, rec)
+    assert values[1]["symbolic"] == values[1]["explicit"] <= values[0]["symbolic"] == values[0]["explicit"]
 
 
 def test_every_evidence_path_verifies_and_a_tampered_one_fails():

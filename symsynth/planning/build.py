@@ -10,6 +10,7 @@ shapes) share one roadmap and its checks.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -104,7 +105,7 @@ def compute_costmap(scene: Scene, method: str, planner_name: str | None = None,
         stats.vertices += len(roadmap.configs)
         stats.edges += len(roadmap.edges)
         for member in members:
-            queries = [q for q in motions(scene, member) if q.start in anchors and q.goal in anchors]
+            queries = physical_queries(planner, scene, member, anchors)
             rules = costmaps.costmap_for_mode(member, roadmap, blocked, queries, method, places,
                                               scene.geometry.per_radian)
             result.update({key: value for key, value in rules.items() if value})
@@ -114,6 +115,32 @@ def compute_costmap(scene: Scene, method: str, planner_name: str | None = None,
     bar.close()
     stats.rules = sum(len(r) for r in result.values())
     return Costmap(dict(sorted(result.items()))), stats
+
+
+def physical_queries(planner: Planner, scene: Scene, mode: Mode, anchors: dict) -> list:
+    """The mode's motions between anchors it has, with what the robot's own
+    body says about the places: where the start configuration touches the
+    obstacle of a place, no object can stand there (the robot is in the way)
+    when the motion begins, nor arrive before it ends (human moves happen
+    between robot actions).  Such places join `never`.
+
+    A transit whose start touches the place of the object it fetches (its
+    `always`) begins in a situation that cannot happen: the object and the
+    robot would overlap.  The game still asks for it, when the hand is
+    empty at `ee = Else` ("the robot may be anywhere it has been", spec §5),
+    and takes the worst start; leaving the motion out would make it
+    infinite and rule out the action for a position the robot cannot be in.
+    Such a motion is costed as if the place were free, which is what holds
+    whenever the robot really stands at that start."""
+    touched = {name: planner.contacts(mode, q).locations for name, q in anchors.items()}
+    queries = []
+    for query in motions(scene, mode):
+        if query.start not in anchors or query.goal not in anchors:
+            continue
+        free_at_start = touched[query.start]
+        queries.append(dataclasses.replace(query, always=query.always - free_at_start,
+                                           never=query.never | free_at_start))
+    return queries
 
 
 def edge_blockers(planner: Planner, mode: Mode, roadmap: Roadmap, resolution: float) -> list[frozenset[str]]:

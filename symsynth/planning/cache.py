@@ -19,6 +19,10 @@ from symsynth import __version__
 from symsynth.scene.costmap import Costmap, load_costmap, write_costmap
 from symsynth.scene.model import Scene
 
+#: Bumped whenever the way costmaps are computed changes, so that no cached
+#: costmap of an older revision is reused.
+FORMAT_REVISION = 2
+
 
 def cache_dir() -> Path:
     if os.environ.get("SYMSYNTH_CACHE"):
@@ -31,7 +35,7 @@ def cache_key(scene: Scene, method: str, planner: str, seed: int) -> str:
     geometry = dataclasses.replace(scene.geometry, initial={},
                                    planner=dataclasses.replace(scene.geometry.planner, name="", seed=0))
     digest = hashlib.sha256()
-    for part in (__version__, method, planner, str(seed), repr(scene.object_names),
+    for part in (__version__, str(FORMAT_REVISION), method, planner, str(seed), repr(scene.object_names),
                  repr(sorted((o.name, sorted(o.tags)) for o in scene.objects)),
                  repr(scene.locations), repr(scene.else_samples), repr(scene.grasps), repr(geometry)):
         digest.update(part.encode() + b"\0")

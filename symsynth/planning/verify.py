@@ -69,7 +69,8 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
             fail(f"cost {rule.cost} but the path is {path_length(rule.path):.6f} rad "
                  f"x {per_radian} per radian = {per_radian * path_length(rule.path):.6f}")
         mode = Mode.parse(mode_name)
-        allowed = rule.free | query.never
+        # what the start configuration itself touches cannot be occupied (build.physical_queries)
+        allowed = rule.free | query.never | planner.contacts(mode, tuple(rule.path[0])).locations
         for a, b in zip(rule.path, rule.path[1:] or rule.path):
             contacts = planner.motion_contacts(mode, tuple(a), tuple(b), resolution)
             if contacts.static:
