@@ -1,0 +1,92 @@
+"""The `ompl-fcl` planner: yourdfpy kinematics (`kinematics`, `inverse`),
+python-fcl collisions (`collision`, `shapes`, `bounds`), OMPL roadmaps
+(`symsynth.planning.prm`).
+
+Built for one physical scene (`scene.geometry`); see `kinematics` for the
+configuration conventions and `collision` for which pairs are checked.
+A motion is checked at `ceil(|goal - start| / resolution)` equal steps (the
+euclidean norm in joint space), both ends included, and the check stops at
+the first static collision.  Roadmap edges are checked the same way, ends
+first and then by bisection, so that a blocked edge is rejected early.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import ClassVar
+
+import numpy as np
+
+from symsynth.planning.prm import build_roadmap
+from symsynth.planning.protocol import Config, Contacts, Mode, PlannerError, Roadmap
+from symsynth.scene.geometry import Geometry, Pose
+
+from .collision import CollisionWorld
+from .inverse import inverse_kinematics
+from .kinematics import Kinematics
+
+
+class OmplFclPlanner:
+    """The `Planner` protocol for a scene whose `geometry` is a `Geometry`."""
+
+    name: ClassVar[str] = "ompl-fcl"
+
+    def __init__(self, scene) -> None:
+        geometry = getattr(scene, "geometry", None)
+        if not isinstance(geometry, Geometry):
+            raise PlannerError(f"the {self.name} planner needs a physical scene (one with geometry); "
+                               f"{getattr(scene, 'name', scene)!r} has none")
+        self.geometry = geometry
+        self.kinematics = Kinematics(geometry.robot)
+        self.world = CollisionWorld(self.kinematics, geometry)
+
+    @property
+    def limits(self) -> np.ndarray:
+        return self.kinematics.limits.copy()
+
+    def inverse_kinematics(self, pose: Pose, seed: Config) -> Config | None:
+        return inverse_kinematics(self.kinematics, pose, seed)
+
+    def contacts(self, mode: Mode, config: Config) -> Contacts:
+        return self.world.contacts(mode, config)
+
+    def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
+        configs = segment(self.kinematics.check(start), self.kinematics.check(goal), resolution)
+        return self.world.sweep(mode, configs)
+
+    def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int) -> Roadmap:
+        resolution = self.geometry.planner.resolution
+        self.world.held(mode)  # an unknown mode fails here, naming the known objects and grasps
+
+        def valid(config: np.ndarray) -> bool:
+            return not self.world.contacts(mode, config, locations=False).static
+
+        def motion_valid(start: np.ndarray, goal: np.ndarray) -> bool:
+            configs = segment(start, goal, resolution)
+            return not self.world.sweep(mode, configs[bisection(len(configs))], locations=False).static
+
+        return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, resolution)
+
+
+def segment(start: np.ndarray, goal: np.ndarray, resolution: float) -> np.ndarray:
+    """(steps + 1, d) configurations along the straight segment, at most
+    `resolution` apart (euclidean), both ends included."""
+    if resolution <= 0:
+        raise PlannerError(f"resolution must be positive, got {resolution}")
+    steps = max(1, math.ceil(float(np.linalg.norm(goal - start)) / resolution))
+    return start + (goal - start) * (np.arange(steps + 1) / steps)[:, None]
+
+
+def bisection(n: int) -> np.ndarray:
+    """0..n-1 ordered ends first, then midpoints of ever finer halvings:
+    a blocked segment is usually found blocked after a few checks."""
+    order = list(dict.fromkeys([0, n - 1]))
+    seen, step = set(order), n - 1
+    while step > 1:
+        for i in range(step // 2, n, step):
+            if i not in seen:
+                order.append(i)
+                seen.add(i)
+        step = (step + 1) // 2
+    return np.array(order + [i for i in range(n) if i not in seen], dtype=np.int64)

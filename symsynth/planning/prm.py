@@ -1,0 +1,244 @@
+"""Roadmaps grown by OMPL's PRM, shared by every planner plugin.
+
+`build_roadmap` knows nothing of robots or simulators: it takes the joint
+limits and two callables (is a configuration free of static collisions, is
+the straight joint-space motion between two configurations), grows an OMPL
+`PRM` roadmap and reads its graph back into a `Roadmap`.
+
+Conventions, and what OMPL 2.x's Python bindings make us do:
+
+* The anchors are the first milestones, in the order given (anchors with
+  identical configurations share one vertex).  A Python `ValidStateSampler`
+  hands them out before it draws uniform samples, because `PRM` takes start
+  and goal states only inside `solve`, which runs a second thread and stops
+  at the first solution.  `Roadmap.configs` lists the milestones in the order
+  they were added, so anchor vertices come first.
+* Determinism: OMPL's global seed (`ompl.util.RNG.setSeed`) can be set once
+  per process, before the first RNG exists, so it cannot give each call its
+  own seed.  The sampler therefore draws from `numpy.random.default_rng(seed)`,
+  only `growRoadmap` is used (never `expandRoadmap`, whose random walks use
+  OMPL's RNG), and growth stops at a milestone count, never at a time.  Same
+  inputs and seed, same roadmap.
+* `PRM` completes its setup only when it has a problem definition (without
+  one it crashes on its first edge); an empty one with the path-length
+  objective is given.
+* `PlannerData` lists each edge in both directions and leaves isolated
+  milestones out; we keep each undirected edge once, as `(i, j)` with
+  `i < j`, sorted, and compute the euclidean lengths ourselves.
+
+An anchor is connected when it lies in the roadmap's largest connected
+component.  Growth continues, `size // 2` milestones at a time, up to
+`GROWTH * size` sampled milestones; anchors still outside after that raise
+`PlannerError` naming them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+
+import numpy as np
+from ompl import base as ob
+from ompl import geometric as og
+from ompl import util as ou
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from symsynth.planning.protocol import Config, PlannerError, Roadmap
+
+GROWTH = 3  # at most this many times `size` sampled milestones
+ATTEMPTS = 1000  # rejected samples in a row before the free space counts as empty
+NEIGHBOURS = 10  # PRM's k: each new milestone tries its k nearest
+
+Validity = Callable[[np.ndarray], bool]
+MotionValidity = Callable[[np.ndarray, np.ndarray], bool]
+
+
+def build_roadmap(limits: np.ndarray, valid: Validity, motion_valid: MotionValidity,
+                  anchors: Mapping[str, Config], size: int, seed: int, resolution: float) -> Roadmap:
+    """A PRM roadmap of the anchors plus about `size` sampled milestones.
+
+    `limits` is (d, 2), lower and upper bound per joint; `valid(q)` is false
+    for a configuration in static collision; `motion_valid(a, b)` checks the
+    straight segment (its callers step along it at `resolution` radians,
+    which is also given to OMPL as its checking resolution)."""
+    limits = np.asarray(limits, dtype=float)
+    if limits.ndim != 2 or limits.shape[1] != 2 or np.any(limits[:, 0] > limits[:, 1]):
+        raise PlannerError(f"joint limits must be (d, 2) with lower <= upper, got {limits.tolist()}")
+    if size < 1 or resolution <= 0:
+        raise PlannerError(f"roadmap size must be >= 1 and resolution > 0, got {size} and {resolution}")
+    points, index = _anchor_milestones(limits, valid, anchors)
+    draws = _Draws(limits, valid, points, seed)
+    prm, space_info, _alive = _prm(limits, valid, motion_valid, draws, resolution)
+
+    target = len(points) + size
+    while True:
+        _grow(prm, draws, target)
+        roadmap = _read(prm, space_info, draws, index)
+        outside = _unconnected(roadmap)
+        if not outside:
+            return roadmap
+        if target >= len(points) + GROWTH * size:
+            raise PlannerError(
+                f"anchors not connected to the roadmap after {target - len(points)} samples "
+                f"(k = {NEIGHBOURS}, seed {seed}): {', '.join(outside)}")
+        target += max(1, size // 2)
+
+
+def _anchor_milestones(limits: np.ndarray, valid: Validity,
+                       anchors: Mapping[str, Config]) -> tuple[list[np.ndarray], dict[str, int]]:
+    """The distinct anchor configurations, in order, and each anchor's index."""
+    points: list[np.ndarray] = []
+    seen: dict[tuple[float, ...], int] = {}
+    index: dict[str, int] = {}
+    outside, colliding = [], []
+    for name, config in anchors.items():
+        q = np.asarray(config, dtype=float)
+        if q.shape != (len(limits),):
+            raise PlannerError(f"anchor {name} has {q.size} joint values, the robot has {len(limits)}")
+        if np.any(q < limits[:, 0]) or np.any(q > limits[:, 1]):
+            outside.append(name)
+        elif not valid(q):
+            colliding.append(name)
+        key = tuple(q.tolist())
+        if key not in seen:
+            seen[key] = len(points)
+            points.append(q)
+        index[name] = seen[key]
+    if outside or colliding:
+        problems = ([f"outside the joint limits: {', '.join(outside)}"] if outside else []) + \
+                   ([f"in static collision: {', '.join(colliding)}"] if colliding else [])
+        raise PlannerError("anchors cannot be roadmap vertices: " + "; ".join(problems))
+    return points, index
+
+
+class _Draws:
+    """The anchors first, then uniform valid samples from a seeded numpy
+    generator; records every configuration handed out, which is exactly
+    PRM's milestones in order."""
+
+    def __init__(self, limits: np.ndarray, valid: Validity, anchors: list[np.ndarray], seed: int):
+        self.limits, self.valid = limits, valid
+        self.pending = list(anchors)
+        self.rng = np.random.default_rng(seed)
+        self.milestones: list[np.ndarray] = []
+        self.exhausted = False
+        self.samplers: list[_Sampler] = []  # the bindings do not keep Python samplers alive
+
+    def sampler(self, space_info: ob.SpaceInformation) -> _Sampler:
+        """OMPL's allocator callback."""
+        self.samplers.append(_Sampler(space_info, self))
+        return self.samplers[-1]
+
+    def next(self) -> np.ndarray | None:
+        if self.pending:
+            q = self.pending.pop(0)
+        else:
+            q = next((q for q in self._uniform() if self.valid(q)), None)
+            self.exhausted = q is None
+        if q is not None:
+            self.milestones.append(q)
+        return q
+
+    def _uniform(self):
+        for _ in range(ATTEMPTS):
+            yield self.rng.uniform(self.limits[:, 0], self.limits[:, 1])
+
+
+class _Sampler(ob.ValidStateSampler):
+    def __init__(self, space_info: ob.SpaceInformation, draws: _Draws):
+        super().__init__(space_info)
+        self.draws = draws
+
+    def sample(self, state: ob.State) -> bool:
+        q = self.draws.next()
+        if q is None:
+            return False
+        for i, value in enumerate(q.tolist()):
+            state[i] = value
+        return True
+
+    def sampleNear(self, state: ob.State, near: ob.State, distance: float) -> bool:
+        return False  # PRM's growRoadmap never asks
+
+
+class _MotionValidator(ob.MotionValidator):
+    def __init__(self, space_info: ob.SpaceInformation, dimension: int, motion_valid: MotionValidity):
+        super().__init__(space_info)
+        self.dimension, self.motion_valid = dimension, motion_valid
+
+    def checkMotion(self, a: ob.State, b: ob.State) -> bool:
+        return bool(self.motion_valid(_config(a, self.dimension), _config(b, self.dimension)))
+
+
+def _config(state: ob.State, dimension: int) -> np.ndarray:
+    return np.array(state[0:dimension], dtype=float)
+
+
+def _prm(limits: np.ndarray, valid: Validity, motion_valid: MotionValidity, draws: _Draws,
+         resolution: float) -> tuple[og.PRM, ob.SpaceInformation, tuple]:
+    """The PRM, its space information, and the Python objects OMPL holds
+    pointers to (the bindings do not keep them alive for us)."""
+    ou.setLogLevel(ou.LOG_WARN)
+    dimension = len(limits)
+    space = ob.RealVectorStateSpace(dimension)
+    bounds = ob.RealVectorBounds(dimension)
+    for i, (low, high) in enumerate(limits.tolist()):
+        bounds.setLow(i, low)
+        bounds.setHigh(i, high)
+    space.setBounds(bounds)
+    space_info = ob.SpaceInformation(space)
+    space_info.setStateValidityChecker(lambda state: bool(valid(_config(state, dimension))))
+    validator = _MotionValidator(space_info, dimension, motion_valid)
+    space_info.setMotionValidator(validator)
+    space_info.setValidStateSamplerAllocator(draws.sampler)
+    extent = space.getMaximumExtent()
+    space_info.setStateValidityCheckingResolution(min(1.0, resolution / extent) if extent > 0 else 1.0)
+    space_info.setup()
+    problem = ob.ProblemDefinition(space_info)
+    problem.setOptimizationObjective(ob.PathLengthOptimizationObjective(space_info))
+    prm = og.PRM(space_info)
+    prm.setMaxNearestNeighbors(NEIGHBOURS)
+    prm.setProblemDefinition(problem)
+    prm.setup()
+    return prm, space_info, (space, validator, draws, problem)
+
+
+def _grow(prm: og.PRM, draws: _Draws, target: int) -> None:
+    done = ob.PlannerTerminationCondition(lambda: draws.exhausted or prm.milestoneCount() >= target)
+    prm.growRoadmapPtc(done)
+    if draws.exhausted:
+        raise PlannerError(f"no configuration free of static collisions in {ATTEMPTS} uniform samples "
+                           f"(after {prm.milestoneCount()} milestones)")
+    if prm.milestoneCount() != len(draws.milestones):
+        raise PlannerError(f"OMPL's PRM holds {prm.milestoneCount()} milestones, the sampler handed out "
+                           f"{len(draws.milestones)}: the roadmap cannot be read back")
+
+
+def _read(prm: og.PRM, space_info: ob.SpaceInformation, draws: _Draws,
+          anchors: dict[str, int]) -> Roadmap:
+    configs = np.array(draws.milestones, dtype=float)
+    order = {tuple(q.tolist()): i for i, q in enumerate(configs)}
+    data = ob.PlannerData(space_info)
+    prm.getPlannerData(data)
+    dimension = configs.shape[1]
+    vertex = [order[tuple(_config(data.getVertex(v).getState(), dimension).tolist())]
+              for v in range(data.numVertices())]
+    pairs = {tuple(sorted((vertex[v], vertex[w])))
+             for v in range(data.numVertices()) for w in data.getEdges(v)}
+    edges = np.array(sorted(pairs), dtype=np.int64).reshape(-1, 2)
+    lengths = np.linalg.norm(configs[edges[:, 0]] - configs[edges[:, 1]], axis=1)
+    return Roadmap(configs=configs, edges=edges, lengths=lengths, anchors=dict(anchors))
+
+
+def _unconnected(roadmap: Roadmap) -> list[str]:
+    """Anchors outside the largest connected component (ties: the component
+    of the lowest vertex)."""
+    n = len(roadmap.configs)
+    if not roadmap.anchors:
+        return []
+    edges = roadmap.edges
+    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    sizes = np.bincount(label)
+    main = label[int(np.argmax(sizes[label]))]
+    return [name for name, i in roadmap.anchors.items() if label[i] != main]
