@@ -68,10 +68,21 @@ def compute_costmap(scene: Scene, method: str, planner_name: str | None = None,
                     seed: int | None = None, progress: bool = True,
                     planner_factory: Callable[[Scene], Planner] | None = None) -> tuple[Costmap, Stats]:
     """The costmap of a physical scene by `method` (`sg` or `recursive`)."""
+    found, stats = compute_costmaps(scene, (method,), planner_name, seed, progress, planner_factory)
+    return found[method], stats
+
+
+def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str | None = None,
+                     seed: int | None = None, progress: bool = True,
+                     planner_factory: Callable[[Scene], Planner] | None = None
+                     ) -> tuple[dict[str, Costmap], Stats]:
+    """The costmaps of several methods from one set of roadmaps and edge
+    checks (the methods differ only in their graph searches)."""
     if scene.geometry is None:
         raise PlannerError(f"scene {scene.name!r} is abstract (no robot): give it a costmap instead")
-    if method not in costmaps.METHODS:
-        raise PlannerError(f"unknown costmap method {method!r}; known: {', '.join(costmaps.METHODS)}")
+    for method in methods:
+        if method not in costmaps.METHODS:
+            raise PlannerError(f"unknown costmap method {method!r}; known: {', '.join(costmaps.METHODS)}")
     settings = scene.geometry.planner
     name = planner_name or settings.name
     seed = settings.seed if seed is None else seed
@@ -86,8 +97,8 @@ def compute_costmap(scene: Scene, method: str, planner_name: str | None = None,
     for mode in modes:
         groups.setdefault(_geometric_key(scene, mode), []).append(mode)
     places = scene.locations + scene.else_samples
-    result = {}
-    bar = tqdm(total=len(groups), desc=f"costmap ({method}, {name})", unit="mode",
+    result: dict[str, dict] = {method: {} for method in methods}
+    bar = tqdm(total=len(groups), desc=f"costmap ({', '.join(methods)}, {name})", unit="mode",
                disable=not progress, leave=False)
     for members in groups.values():
         mode = members[0]
@@ -106,15 +117,16 @@ def compute_costmap(scene: Scene, method: str, planner_name: str | None = None,
         stats.edges += len(roadmap.edges)
         for member in members:
             queries = physical_queries(planner, scene, member, anchors)
-            rules = costmaps.costmap_for_mode(member, roadmap, blocked, queries, method, places,
-                                              scene.geometry.per_radian)
-            result.update({key: value for key, value in rules.items() if value})
+            for method in methods:
+                rules = costmaps.costmap_for_mode(member, roadmap, blocked, queries, method, places,
+                                                  scene.geometry.per_radian)
+                result[method].update({key: value for key, value in rules.items() if value})
             stats.motions += len(queries)
         clock = stats.add("searches", clock)
         bar.update()
     bar.close()
-    stats.rules = sum(len(r) for r in result.values())
-    return Costmap(dict(sorted(result.items()))), stats
+    stats.rules = sum(len(r) for found in result.values() for r in found.values())
+    return {method: Costmap(dict(sorted(found.items()))) for method, found in result.items()}, stats
 
 
 def physical_queries(planner: Planner, scene: Scene, mode: Mode, anchors: dict) -> list:
