@@ -83,3 +83,14 @@ def test_line_both_methods_win_and_recursive_is_no_dearer(line):
     assert sg is not None and rec is not None and rec <= sg
     for k in (0, 1):
         assert values(scene, costmaps["recursive"], k) <= values(scene, costmaps["sg"], k)
+
+
+def test_roadmaps_on_several_processes_give_the_same_costmap():
+    """Modes are built in worker processes when there are several; the
+    result must not depend on it (the serial path runs in this process)."""
+    scene = small("line")
+    parallel, stats = compute_costmaps(scene, ("sg",), "pybullet", progress=False)
+    serial, one = compute_costmaps(scene, ("sg",), "pybullet", progress=False,
+                                   planner_factory=planner_class("pybullet"))
+    assert one.workers == 1 and stats.roadmaps == one.roadmaps == 2
+    assert parallel["sg"].to_json() == serial["sg"].to_json()

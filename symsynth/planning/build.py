@@ -11,7 +11,10 @@ shapes) share one roadmap and its checks.
 from __future__ import annotations
 
 import dataclasses
+import multiprocessing
+import os
 import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -37,6 +40,7 @@ class Stats:
     motions: int = 0
     rules: int = 0
     searches: int = 0
+    workers: int = 1  # processes that built roadmaps; their seconds are summed
 
     def add(self, phase: str, since: float) -> float:
         now = time.perf_counter()
@@ -100,18 +104,20 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     result: dict[str, dict] = {method: {} for method in methods}
     bar = tqdm(total=len(groups), desc=f"costmap ({', '.join(methods)}, {name})", unit="mode",
                disable=not progress, leave=False)
+    jobs = []
     for members in groups.values():
-        mode = members[0]
-        bar.set_postfix_str(f"{mode}: roadmap")
-        anchors = mode_anchors(planner, scene, mode, configs)
-        if not anchors:
+        anchors = mode_anchors(planner, scene, members[0], configs)
+        if anchors:
+            jobs.append((members, anchors))
+        else:
             bar.update()
-            continue
-        roadmap = planner.roadmap(mode, anchors, settings.roadmap_size, seed)
-        clock = stats.add("roadmaps", clock)
-        bar.set_postfix_str(f"{mode}: {len(roadmap.edges)} edges")
-        blocked = edge_blockers(planner, mode, roadmap, settings.resolution)
-        clock = stats.add("edge checks", clock)
+    workers = 1 if planner_factory is not None else min(len(jobs), os.cpu_count() or 1)
+    stats.workers = max(workers, 1)
+    built = _roadmaps(scene, name, planner, jobs, settings, seed, workers, bar)
+    clock = time.perf_counter()
+    for (members, anchors), (roadmap, blocked, seconds) in zip(jobs, built):
+        stats.seconds["roadmaps"] += seconds[0]
+        stats.seconds["edge checks"] += seconds[1]
         stats.roadmaps += 1
         stats.vertices += len(roadmap.configs)
         stats.edges += len(roadmap.edges)
@@ -122,11 +128,54 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
                                                   scene.geometry.per_radian)
                 result[method].update({key: value for key, value in rules.items() if value})
             stats.motions += len(queries)
-        clock = stats.add("searches", clock)
-        bar.update()
+    clock = stats.add("searches", clock)
     bar.close()
     stats.rules = sum(len(r) for found in result.values() for r in found.values())
     return {method: Costmap(dict(sorted(found.items()))) for method, found in result.items()}, stats
+
+
+def _roadmaps(scene: Scene, name: str, planner: Planner, jobs: list, settings, seed: int, workers: int,
+              bar) -> list:
+    """Roadmap and blocked-by sets of each job's mode, in job order; on
+    several processes when there are several modes and cores (each builds
+    its own planner: the results do not depend on where they are computed)."""
+    args = [(members[0], anchors, settings.roadmap_size, seed, settings.resolution)
+            for members, anchors in jobs]
+    if workers <= 1:
+        results = []
+        for job in args:
+            bar.set_postfix_str(f"{job[0]}: roadmap and edge checks")
+            results.append(_roadmap_job(planner, *job))
+            bar.update()
+        return results
+    context = multiprocessing.get_context("fork")
+    with ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
+                             initargs=(scene, name)) as pool:
+        futures = [pool.submit(_worker_job, *job) for job in args]
+        for future in as_completed(futures):
+            future.result()
+            bar.update()
+        return [future.result() for future in futures]
+
+
+_worker_planner: Planner | None = None
+
+
+def _start_worker(scene: Scene, name: str) -> None:
+    global _worker_planner
+    _worker_planner = planner_class(name)(scene)
+
+
+def _worker_job(*job):
+    return _roadmap_job(_worker_planner, *job)
+
+
+def _roadmap_job(planner: Planner, mode: Mode, anchors: dict, size: int, seed: int, resolution: float):
+    start = time.perf_counter()
+    roadmap = planner.roadmap(mode, anchors, size, seed)
+    middle = time.perf_counter()
+    blocked = edge_blockers(planner, mode, roadmap, resolution)
+    return roadmap, blocked, (middle - start, time.perf_counter() - middle)
 
 
 def physical_queries(planner: Planner, scene: Scene, mode: Mode, anchors: dict) -> list:
