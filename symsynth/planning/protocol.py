@@ -10,6 +10,18 @@ over-approximation when objects differ).
 
 Everything the costmap algorithms need reduces to four calls; the
 conformance suite (`tests/planner_conformance.py`) pins their meaning.
+Conventions both built-in planners follow (and the suite checks):
+
+* touching (zero distance) is not a collision; penetration is;
+* the robot's root link is never checked against static obstacles or
+  places (a base standing on the table touches it);
+* the held object is not checked against the end-effector link and the
+  links below it (the fingers hold it), but against the rest of the robot;
+* when `Contacts.static` is true, `locations` may be incomplete (the check
+  stops early);
+* "at most `resolution` radians" is the euclidean norm in joint space, and
+  the roadmap's edges are checked at `geometry.planner.resolution`;
+* an unknown object or grasp in a mode raises `PlannerError`.
 """
 
 from __future__ import annotations
