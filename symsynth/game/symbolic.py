@@ -2,19 +2,23 @@
 
 1. Encode the game (`symbolic.arena`): state bits, the task DFA in the same
    manager, robot relations with cost bits, the human relation.
-2. Qualitative attractor (costs ignored) until the initial position is
-   won; its rank r bounds the robot actions of some winning strategy, so
-   E_p <= r * c_max and the budget needs bit_length(r * c_max) bits.  When
-   the initial position is never won, E_p is infinite.
+2. Qualitative attractor (costs ignored), one layer of h at a time, until
+   the initial position is won; its ranks bound the robot actions of some
+   winning strategy (`Attractor.action_bound`: the initial position's rank
+   in layer k plus every round of the layers below), so E_p <= bound *
+   c_max and the budget needs bit_length(bound * c_max) bits.  When the
+   initial position is never won, E_p is infinite.
 3. The cost-bounded attractor over (position, budget); E_p is the least e
    with X(v0, q0, k, e).
-4. The strategy, read off the iterates: at a robot position p of value
-   val(p), let i be the first iterate with R_i(p, val(p)); play an action
-   leading into X_{i-1} with budget val(p) - c.  Whatever the human does
-   next, the robot position p' it leads to has (p', val(p) - c) in R_{i-1},
-   so val(p') <= val(p) - c, and when c = 0 and the value stays, p' was
-   won by round i-1.  So (val, i) decreases lexicographically along every
-   play: the strategy wins, and the costs it pays add up to at most val(p).
+4. The strategy, read off the iterates: at a robot position p = (v, q, h)
+   of value val(p), let i be the first iterate of layer h with
+   R_i(p, val(p)); play an action leading into X_{i-1} with budget
+   val(p) - c.  If the human passes, the robot position p' has
+   (p', val(p) - c) in R_{i-1} of the same layer, so val(p') <= val(p) - c,
+   and when c = 0 and the value stays, p' was won by round i-1; if the
+   human moves, p' is in layer h - 1 with val(p') <= val(p) - c.  So
+   (h, val, i) decreases lexicographically along every play: the strategy
+   wins, and the costs it pays add up to at most val(p).
 """
 
 from __future__ import annotations
@@ -61,14 +65,14 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
         qualitative = attractor(arena, with_costs=False, progress=bar,
                                 stop=lambda x: game.contains(x, start))
     seconds["qualitative"] = time.perf_counter() - clock
-    stats["qualitative_iterations"] = len(qualitative.layers)
+    stats["qualitative_iterations"] = sum(qualitative.rounds)
     if qualitative.converged:  # the initial position was never won
         game.attractor = qualitative
         counter = _counter_play(game, start)
         stats["peak_nodes"] = peak_nodes(arena.bdd)
         return _solution(arena, None, budget, seconds, stats, None, (), counter)
 
-    width = (len(qualitative.layers) * arena.max_units).bit_length()
+    width = (qualitative.action_bound * arena.max_units).bit_length()
     arena.declare_budget(width)
     stats["budget_bits"] = width
     del qualitative
@@ -76,7 +80,7 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
     with _rounds("cost-bounded attractor") as bar:
         quantitative = attractor(arena, with_costs=True, progress=bar)
     seconds["attractor"] = time.perf_counter() - clock
-    stats["iterations"] = len(quantitative.layers)
+    stats["iterations"] = sum(quantitative.rounds)
     stats.update({f"seconds_{key}": value for key, value in quantitative.seconds.items()})
     stats["peak_nodes"] = peak_nodes(arena.bdd)
     game.attractor = quantitative

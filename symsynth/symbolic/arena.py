@@ -35,8 +35,9 @@ The relations are not restricted to well-formed states: from a well-formed
 state they lead to well-formed ones only, and conjoining the invariant (an
 all-different constraint) made the transit relation at 8 x 12 grow from
 0.2 to 3.8 million nodes.  The human relation
-H(v, v') is spec §4's `move(o, t)`; the counter `h` is
-decremented by substitution.  The DFA reads ρ(v'): its transition function
+H(v, v') is spec §4's `move(o, t)`; it does not mention the counter `h`:
+the fixpoint (`symbolic.fixpoint`) solves one value of h at a time, and a
+human move leads from layer h to the final layer h - 1.  The DFA reads ρ(v'): its transition function
 delta_b(q, x) becomes D_b(q, v') = delta_b(q, x := P_x(v')).
 """
 
@@ -122,22 +123,13 @@ class Arena:
             sub.update(zip(self.e.bits, subtract(bdd, budget, self.cost_vector())))
         return sub
 
-    def human_substitution(self) -> dict[str, Function]:
-        """v := v', q := D(q, v'), h := h - 1."""
-        bdd = self.bdd
-        sub = self._next_state()
-        if self.h.bits:  # with k = 0 there is no move to count (h > 0 is false)
-            one = constant(bdd, 1, len(self.h.bits))
-            sub.update(zip(self.h.bits, subtract(bdd, self.h.vector(bdd), one)))
-        return sub
+    def move_substitution(self) -> dict[str, Function]:
+        """v := v', q := D(q, v'): after a human move, within a layer of h."""
+        return self._next_state()
 
     def affordable(self) -> Function:
         """c <= e."""
         return less_equal(self.bdd, self.cost_vector(), self.e.vector(self.bdd))
-
-    def can_move(self) -> Function:
-        """h > 0: the human has a move left."""
-        return ~self.h.eq(self.bdd, 0)
 
     # -- costs ---------------------------------------------------------------------
     def units(self, cost: float) -> int:
