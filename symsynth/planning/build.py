@@ -22,7 +22,7 @@ from tqdm import tqdm
 
 from symsynth.planning import costmaps
 from symsynth.planning.anchors import anchor_configs, motions
-from symsynth.planning.protocol import Mode, Planner, PlannerError, Roadmap
+from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
 from symsynth.planning.registry import planner_class
 from symsynth.scene.costmap import Costmap
 from symsynth.scene.model import Scene
@@ -57,15 +57,21 @@ def _geometric_key(scene: Scene, mode: Mode) -> tuple:
     return (mode.grasp, repr(shapes[mode.object]), tuple(others))
 
 
-def mode_anchors(planner: Planner, scene: Scene, mode: Mode, configs: dict) -> dict:
-    """The anchors a mode's roadmap must connect: all in the empty mode; in a
+def mode_anchors(planner: Planner, mode: Mode, configs: dict) -> dict[str, tuple[Config, frozenset[str]]]:
+    """The anchors a mode's roadmap must connect, each with the places its
+    configuration touches in that mode: all anchors in the empty mode; in a
     holding mode the `x/g` of its grasp where the held object is clear of
-    static obstacles (elsewhere the object cannot be held)."""
-    if mode.object is None:
-        return dict(configs)
-    suffix = f"/{mode.grasp}"
-    return {name: q for name, q in configs.items()
-            if name.endswith(suffix) and not planner.contacts(mode, q).static}
+    static obstacles (elsewhere the object cannot be held).  One contact
+    check per anchor serves the whole geometric mode."""
+    suffix = None if mode.object is None else f"/{mode.grasp}"
+    found = {}
+    for name, q in configs.items():
+        if suffix is not None and not name.endswith(suffix):
+            continue
+        contacts = planner.contacts(mode, q)
+        if suffix is None or not contacts.static:
+            found[name] = (q, contacts.locations)
+    return found
 
 
 def compute_costmap(scene: Scene, method: str, planner_name: str | None = None,
@@ -106,7 +112,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
                disable=not progress, leave=False)
     jobs = []
     for members in groups.values():
-        anchors = mode_anchors(planner, scene, members[0], configs)
+        anchors = mode_anchors(planner, members[0], configs)
         if anchors:
             jobs.append((members, anchors))
         else:
@@ -122,7 +128,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
         stats.vertices += len(roadmap.configs)
         stats.edges += len(roadmap.edges)
         for member in members:
-            queries = physical_queries(planner, scene, member, anchors)
+            queries = physical_queries(scene, member, {n: touched for n, (_, touched) in anchors.items()})
             for method in methods:
                 rules = costmaps.costmap_for_mode(member, roadmap, blocked, queries, method, places,
                                                   scene.geometry.per_radian)
@@ -139,8 +145,8 @@ def _roadmaps(scene: Scene, name: str, planner: Planner, jobs: list, settings, s
     """Roadmap and blocked-by sets of each job's mode, in job order; on
     several processes when there are several modes and cores (each builds
     its own planner: the results do not depend on where they are computed)."""
-    args = [(members[0], anchors, settings.roadmap_size, seed, settings.resolution)
-            for members, anchors in jobs]
+    args = [(members[0], {name: q for name, (q, _) in anchors.items()}, settings.roadmap_size, seed,
+             settings.resolution) for members, anchors in jobs]
     if workers <= 1:
         results = []
         for job in args:
@@ -178,7 +184,7 @@ def _roadmap_job(planner: Planner, mode: Mode, anchors: dict, size: int, seed: i
     return roadmap, blocked, (middle - start, time.perf_counter() - middle)
 
 
-def physical_queries(planner: Planner, scene: Scene, mode: Mode, anchors: dict) -> list:
+def physical_queries(scene: Scene, mode: Mode, touched: dict[str, frozenset[str]]) -> list:
     """The mode's motions between anchors it has, with what the robot's own
     body says about the places: where the start configuration touches the
     obstacle of a place, no object can stand there (the robot is in the way)
@@ -192,11 +198,13 @@ def physical_queries(planner: Planner, scene: Scene, mode: Mode, anchors: dict) 
     and takes the worst start; leaving the motion out would make it
     infinite and rule out the action for a position the robot cannot be in.
     Such a motion is costed as if the place were free, which is what holds
-    whenever the robot really stands at that start."""
-    touched = {name: planner.contacts(mode, q).locations for name, q in anchors.items()}
+    whenever the robot really stands at that start.
+
+    `touched` maps the mode's anchors to the places their configurations
+    touch (`mode_anchors`); motions to or from other anchors are left out."""
     queries = []
     for query in motions(scene, mode):
-        if query.start not in anchors or query.goal not in anchors:
+        if query.start not in touched or query.goal not in touched:
             continue
         free_at_start = touched[query.start]
         queries.append(dataclasses.replace(query, always=query.always - free_at_start,

@@ -51,6 +51,7 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
     places = frozenset(scene.locations + scene.else_samples)
     per_radian = scene.geometry.per_radian
     failures: list[Failure] = []
+    at_start: dict[tuple, frozenset[str]] = {}
     checked = 0
     items = [(key, i, rule) for key, rules in costmap.motions.items() for i, rule in enumerate(rules)]
     for (mode_name, start, goal), i, rule in tqdm(items, desc="verify", unit="rule", disable=not progress,
@@ -70,7 +71,10 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
                  f"x {per_radian} per radian = {per_radian * path_length(rule.path):.6f}")
         mode = Mode.parse(mode_name)
         # what the start configuration itself touches cannot be occupied (build.physical_queries)
-        allowed = rule.free | query.never | planner.contacts(mode, tuple(rule.path[0])).locations
+        first = (mode_name, tuple(rule.path[0]))  # many rules start at the same anchor
+        if first not in at_start:
+            at_start[first] = planner.contacts(mode, first[1]).locations
+        allowed = rule.free | query.never | at_start[first]
         for a, b in zip(rule.path, rule.path[1:] or rule.path):
             contacts = planner.motion_contacts(mode, tuple(a), tuple(b), resolution)
             if contacts.static:
