@@ -33,8 +33,6 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import dijkstra
 
 from symsynth.planning.protocol import Mode, PlannerError, Roadmap
 from symsynth.scene.costmap import Key, Rule
@@ -129,6 +127,11 @@ class RoadmapSearch:
         if source != self._source:
             self._source, self._trees = source, {}
         if key not in self._trees:
+            # scipy is imported here, not at the top: every `symsynth` command
+            # imports this module for METHODS, and scipy.sparse costs 0.3 s
+            from scipy.sparse import csr_matrix
+            from scipy.sparse.csgraph import dijkstra
+
             keep = ~removed[self._arc_edge]
             n = len(self._configs)
             indptr = np.concatenate([[0], np.cumsum(np.bincount(self._tails[keep], minlength=n))])
