@@ -127,10 +127,7 @@ class RoadmapSearch:
         if source != self._source:
             self._source, self._trees = source, {}
         if key not in self._trees:
-            # scipy is imported here, not at the top: every `symsynth` command
-            # imports this module for METHODS, and scipy.sparse costs 0.3 s
-            from scipy.sparse import csr_matrix
-            from scipy.sparse.csgraph import dijkstra
+            from scipy.sparse import csr_matrix  # see dijkstra() below
 
             keep = ~removed[self._arc_edge]
             n = len(self._configs)
@@ -141,6 +138,14 @@ class RoadmapSearch:
 
     def rule(self, free: frozenset[str], path: RoadmapPath, per_radian: float) -> Rule:
         return Rule(free, per_radian * path.length, tuple(self.config(v) for v in path.vertices))
+
+
+def dijkstra(graph, **options):
+    """scipy's Dijkstra, imported on first use: every `symsynth` command
+    imports this module (for METHODS) and scipy.sparse costs 0.3 s to load."""
+    from scipy.sparse.csgraph import dijkstra as scipy_dijkstra
+
+    return scipy_dijkstra(graph, **options)
 
 
 def _checked(roadmap: Roadmap, blocked: list[frozenset[str]], places: frozenset[str],
