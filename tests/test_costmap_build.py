@@ -10,6 +10,7 @@ import math
 import pytest
 
 from planar import PlanarPlanner, planar_scene
+from symsynth.errors import InputError
 from symsynth.game.solvers import SOLVERS
 from symsynth.game.solution import task_formula
 from symsynth.planning.anchors import anchor_configs, motions
@@ -152,3 +153,21 @@ def test_cache_same_seed_same_file(tmp_path, monkeypatch):
                          objects={"a": "P", "b": "l2"}, obstacles=WALL, else_samples={"e1": (0.2, 0.18)})
     assert not obtain_costmap(moved, "recursive", "planar", progress=False,
                               planner_factory=PlanarPlanner).cached
+
+
+def test_a_damaged_cache_entry_is_computed_again(tmp_path, monkeypatch):
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path))
+    scene = gap_scene()
+    first = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+    first.path.write_text("{not json")
+    again = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+    assert not again.cached and again.costmap == first.costmap
+    assert obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner).cached
+
+
+def test_an_unwritable_cache_is_one_message(tmp_path, monkeypatch):
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(blocker / "cache"))  # a folder inside a file
+    with pytest.raises(InputError, match="cannot write the costmap cache .*SYMSYNTH_CACHE"):
+        obtain_costmap(gap_scene(), "sg", "planar", progress=False, planner_factory=PlanarPlanner)

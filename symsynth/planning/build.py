@@ -17,10 +17,11 @@ import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from tqdm import tqdm
 
-from symsynth.planning import costmaps
+from symsynth.planning import cache, costmaps
 from symsynth.planning.anchors import anchor_configs, motions
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
 from symsynth.planning.registry import planner_class
@@ -229,7 +230,7 @@ class Obtained:
     planner: str
     seed: int
     cached: bool
-    path: object  # the cache file, or None when caching is off
+    path: Path | None  # the cache file, or None when caching is off
     stats: Stats | None
 
 
@@ -237,16 +238,15 @@ def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | 
                    seed: int | None = None, *, use_cache: bool = True, progress: bool = True,
                    planner_factory: Callable[[Scene], Planner] | None = None) -> Obtained:
     """The cached costmap of a physical scene, or a new one (then cached)."""
-    from symsynth.planning import cache
-
     name = planner_name or scene.geometry.planner.name
     seed = scene.geometry.planner.seed if seed is None else seed
     if planner_factory is None:
         planner_class(name)  # an unknown planner fails before anything is hashed or computed
-    if use_cache:
-        hit = cache.cached(scene, method, name, seed)
-        if hit is not None:
-            return Obtained(hit, method, name, seed, True, cache.cache_path(scene, method, name, seed), None)
+    path = cache.cache_path(scene, method, name, seed) if use_cache else None
+    hit = None if path is None else cache.cached(path)
+    if hit is not None:
+        return Obtained(hit, method, name, seed, True, path, None)
     costmap, stats = compute_costmap(scene, method, name, seed, progress, planner_factory)
-    path = cache.store(costmap, scene, method, name, seed) if use_cache else None
+    if path is not None:
+        cache.store(costmap, path)
     return Obtained(costmap, method, name, seed, False, path, stats)

@@ -16,7 +16,8 @@ import os
 from pathlib import Path
 
 from symsynth import __version__
-from symsynth.scene.costmap import Costmap, load_costmap, write_costmap
+from symsynth.errors import InputError
+from symsynth.scene.costmap import Costmap, CostmapError, load_costmap, write_costmap
 from symsynth.scene.model import Scene
 
 #: Bumped whenever the way costmaps are computed changes, so that no cached
@@ -50,15 +51,23 @@ def cache_path(scene: Scene, method: str, planner: str, seed: int) -> Path:
     return cache_dir() / f"{scene.name}-{method}-{planner}-s{seed}-{cache_key(scene, method, planner, seed)}.json"
 
 
-def cached(scene: Scene, method: str, planner: str, seed: int) -> Costmap | None:
-    path = cache_path(scene, method, planner, seed)
-    return load_costmap(path) if path.is_file() else None
+def cached(path: Path) -> Costmap | None:
+    """The costmap stored at `path`, or None: absent, or unreadable (then it
+    is computed again and overwritten rather than standing in the way)."""
+    if not path.is_file():
+        return None
+    try:
+        return load_costmap(path)
+    except CostmapError:
+        return None
 
 
-def store(costmap: Costmap, scene: Scene, method: str, planner: str, seed: int) -> Path:
-    path = cache_path(scene, method, planner, seed)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    partial = path.with_suffix(".partial")
-    write_costmap(costmap, partial)
-    partial.replace(path)  # atomic: a crash never leaves half a file under the key
-    return path
+def store(costmap: Costmap, path: Path) -> None:
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        partial = path.with_suffix(".partial")
+        write_costmap(costmap, partial)
+        partial.replace(path)  # atomic: a crash never leaves half a file under the key
+    except OSError as error:
+        raise InputError(f"cannot write the costmap cache {path}: {error.strerror}; set SYMSYNTH_CACHE "
+                         "to a writable folder, or pass --no-cache (with -o FILE to keep the result)") from None
