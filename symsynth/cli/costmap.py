@@ -6,6 +6,7 @@ import argparse
 import json
 from pathlib import Path
 
+from symsynth.cli.options import check_writable, count
 from symsynth.errors import InputError
 from symsynth.planning.build import obtain_costmap
 from symsynth.planning.costmaps import METHODS
@@ -51,7 +52,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="start-goal (Alg. 2) or recursive (Alg. 3; default)")
     parser.add_argument("--planner", metavar="NAME",
                         help="planner plugin (default: the scene's planner.name, else ompl-fcl)")
-    parser.add_argument("--seed", type=int, metavar="S", help="roadmap seed (default: the scene's)")
+    parser.add_argument("--seed", type=count, metavar="S", help="roadmap seed (default: the scene's)")
     parser.add_argument("-o", "--output", type=Path, metavar="FILE", help="also write the costmap to FILE")
     parser.add_argument("--no-cache", action="store_true", help="compute even if a cached costmap exists")
     parser.add_argument("--json", action="store_true", help="print a summary as JSON")
@@ -70,12 +71,15 @@ def run(args: argparse.Namespace) -> int:
     if scene.geometry is None:
         raise InputError(f"{args.target[0]}: an abstract scene (no 'robot' key): its costmap is given, "
                          "not computed")
+    if args.output is not None:  # before the planning, which takes a while
+        check_writable(args.output, "costmap file")
     got = obtain_costmap(scene, args.method, args.planner, args.seed, use_cache=not args.no_cache)
     if args.output is not None:
         write_costmap(got.costmap, args.output)
+    written = args.output or got.path
     summary = {
         "scene": scene.name, "method": got.method, "planner": got.planner, "seed": got.seed,
-        "cached": got.cached, "file": str(args.output or got.path),
+        "cached": got.cached, "file": None if written is None else str(written),
         "motions": len(got.costmap.motions), "rules": sum(len(r) for r in got.costmap.motions.values()),
     }
     if got.stats is not None:
@@ -93,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
         phases = ", ".join(f"{k} {v:.2f}" for k, v in s.seconds.items())
         print(f"roadmaps   {s.roadmaps} ({s.vertices} vertices, {s.edges} edges)")
         print(f"seconds    {sum(s.seconds.values()):.2f} ({phases})")
-    print(f"file       {summary['file']}")
+    print(f"file       {summary['file'] or 'none written (--no-cache without -o FILE)'}")
     return 0
 
 

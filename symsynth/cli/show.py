@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from symsynth.cli.options import check_writable
 from symsynth.errors import InputError
 from symsynth.scene import load_scene
 
@@ -45,9 +46,7 @@ def run(args: argparse.Namespace) -> int:
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has nothing to show")
     output = args.output or args.scene.with_suffix(".png")
-    if output.is_dir() or not output.parent.is_dir():
-        raise InputError(f"cannot write {output}: " + ("it is a directory" if output.is_dir()
-                                                       else f"{output.parent} is not a directory"))
+    check_writable(output, "picture")
     width, height = args.size
     render_scene(scene, output, width=width, height=height, labels=not args.no_labels)
     print(f"wrote {output} ({width}x{height}, {len(scene.locations)} locations, "

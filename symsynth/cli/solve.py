@@ -5,10 +5,10 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-import math
-import os
 from pathlib import Path
 
+from symsynth.cli import options
+from symsynth.cli.options import check_writable
 from symsynth.errors import InputError
 from symsynth.game.abstraction import Motion, State, initial_state, motions, robot_moves
 from symsynth.game.propositions import interpret_all
@@ -54,9 +54,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scene", type=Path, help="the scene file (YAML)")
     parser.add_argument("--task", metavar="FORMULA", help="LTLf task instead of the scene's")
-    parser.add_argument("--k", type=_count, metavar="K",
+    parser.add_argument("--k", type=options.count, metavar="K",
                         help="human moves per play instead of the scene's human.k (>= 0)")
-    parser.add_argument("--budget", type=_amount, metavar="E",
+    parser.add_argument("--budget", type=options.amount, metavar="E",
                         help="cost budget: say whether E_p <= E (costmap units, >= 0)")
     parser.add_argument("--costmap", type=Path, metavar="FILE",
                         help="costmap file (symsynth.costmap/1) instead of the scene's")
@@ -64,13 +64,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="physical scenes: costmap method, sg (Alg. 2) or recursive (Alg. 3; default)")
     parser.add_argument("--planner", metavar="NAME",
                         help="physical scenes: planner plugin (default: the scene's planner.name)")
-    parser.add_argument("--seed", type=int, metavar="S",
+    parser.add_argument("--seed", type=options.count, metavar="S",
                         help="physical scenes: roadmap seed (default: the scene's planner.seed)")
     parser.add_argument("--no-cache", action="store_true",
                         help="physical scenes: compute the costmap even if a cached one exists")
     parser.add_argument("--solver", choices=tuple(SOLVERS), default=DEFAULT_SOLVER,
                         help=f"game solver (default: {DEFAULT_SOLVER})")
-    parser.add_argument("--resolution", type=_positive, default=1.0, metavar="R",
+    parser.add_argument("--resolution", type=options.positive, default=1.0, metavar="R",
                         help="round each action's cost up to a multiple of R (default: 1)")
     parser.add_argument("--json", action="store_true", help="print the solution as JSON")
     parser.add_argument("-o", "--output", type=Path, metavar="FILE",
@@ -78,47 +78,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(run=run)
 
 
-def _count(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, found {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0, found {value}")
-    return value
-
-
-def _number(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, found {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"expected a finite number, found {text!r}")
-    return value
-
-
-def _amount(text: str) -> float:
-    value = _number(text)
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0, found {text}")
-    return value
-
-
-def _positive(text: str) -> float:
-    value = _number(text)
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"must be > 0, found {text}")
-    return value
-
-
 def run(args: argparse.Namespace) -> int:
     if args.output is not None:  # before the solve, which may take minutes
-        folder = args.output.parent
-        if args.output.is_dir() or not folder.is_dir() or not os.access(folder, os.W_OK):
-            raise InputError(f"cannot write strategy file {args.output}: "
-                             + ("it is a directory" if args.output.is_dir()
-                                else f"{folder} is not a writable directory"))
+        check_writable(args.output, "strategy file")
     scene = load_scene(args.scene, costmap=args.costmap)
     obtained = None
     if scene.costmap is None and scene.geometry is not None:
