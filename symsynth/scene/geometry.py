@@ -154,6 +154,3 @@ class Geometry:
     initial: dict[str, Pose] = field(default_factory=dict)  # objects at Else -> pose
     per_radian: float = 1.0
     planner: PlannerSettings = PlannerSettings()
-
-    def __hash__(self) -> int:  # dict fields: identity is the content hash of the file
-        return id(self)
