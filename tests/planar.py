@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from pathlib import Path
 
 import numpy as np
 
@@ -89,15 +90,16 @@ class PlanarPlanner:
 
 
 def planar_scene(places: dict[str, tuple[float, float]], objects: dict[str, str],
-                 obstacles: dict[str, tuple[float, float, float, float]] = {},  # noqa: B006 (read only)
-                 else_samples: dict[str, tuple[float, float]] = {},  # noqa: B006
+                 obstacles: dict[str, tuple[float, float, float, float]] | None = None,
+                 else_samples: dict[str, tuple[float, float]] | None = None,
                  grasps: tuple[str, ...] = ("top",), per_radian: float = 10.0, k: int = 0,
                  task: str | None = None, roadmap_size: int = 121) -> Scene:
     """A scene for `PlanarPlanner`: `objects` maps names to their location
     (tag = name), obstacles are (x, y, half-width, half-height) boxes."""
+    obstacles, else_samples = obstacles or {}, else_samples or {}
     all_places = {**places, **else_samples}
     geometry = Geometry(
-        robot=Robot(urdf=__import__("pathlib").Path(__file__), base=Pose(), home=(0.0, 0.0),
+        robot=Robot(urdf=Path(__file__), base=Pose(), home=(0.0, 0.0),
                     ee_link="point"),
         obstacles=tuple(Body(n, Shape("box", size=(2 * hw, 2 * hh, 0.1)), Pose((x, y, 0.0)))
                         for n, (x, y, hw, hh) in obstacles.items()),

@@ -5,6 +5,7 @@ measured here), never read back from what the loader printed."""
 
 import math
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pybullet_data
@@ -59,7 +60,7 @@ def test_physical_scene_is_read(tmp_path):
     assert scene.grasps == ("top",) and (scene.grab_cost, scene.drop_cost, scene.k) == (4, 6, 2)
     assert [o.at for o in scene.objects] == ["l1", "Else", "l2"]
     assert g.per_radian == 10 and g.planner.name == "pybullet" and g.planner.seed == 3
-    assert g.robot.urdf == __import__("pathlib").Path(pybullet_data.getDataPath()) / "franka_panda/panda.urdf"
+    assert g.robot.urdf == Path(pybullet_data.getDataPath()) / "franka_panda/panda.urdf"
     assert g.robot.joints == tuple(f"panda_joint{i}" for i in range(1, 8))
     assert len(g.robot.home) == 7 and g.robot.ee_link == "panda_hand"
     assert g.shapes["c"].kind == "cylinder" and g.shapes["c"].radius == 0.02
