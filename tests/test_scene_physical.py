@@ -73,7 +73,7 @@ def test_else_samples_are_seeded_and_keep_their_distance(tmp_path):
     first, again = load(tmp_path).geometry, load(tmp_path, name="again.yaml").geometry
     assert first.places == again.places  # same seed, same samples
     other = load(tmp_path, BASE.replace("seed: 3", "seed: 4"), "other.yaml").geometry
-    assert other.places["e1"] != first.places["e1"]
+    assert other.places["e2"] != first.places["e2"]
     points = [np.array(p.xyz[:2]) for p in first.places.values()]
     for i, a in enumerate(points):
         for b in points[:i]:
@@ -81,6 +81,19 @@ def test_else_samples_are_seeded_and_keep_their_distance(tmp_path):
     for name in ("e1", "e2", "e3"):
         x, y, _ = first.places[name].xyz
         assert 0.3 <= x <= 0.7 and -0.4 <= y <= 0.4
+
+
+def test_an_object_starting_at_else_stands_on_the_first_sample(tmp_path):
+    """b starts at Else at (0.3, 0.3): that pose is e1, so the costmap has
+    motions to where b really is; the drawn samples keep their distance to it."""
+    g = load(tmp_path).geometry
+    assert g.places["e1"] == g.initial["b"] == Pose((0.3, 0.3, 0.0))
+    for name in ("e2", "e3"):
+        assert np.linalg.norm(np.subtract(g.places[name].xyz[:2], (0.3, 0.3))) >= 0.12 - 1e-12
+    two = load(tmp_path, BASE.replace("at: l2}", "at: Else, xyz: [0.7, -0.3, 0]}"), "two.yaml")
+    assert two.geometry.places["e2"] == Pose((0.7, -0.3, 0.0)) and len(two.else_samples) == 3
+    more = load(tmp_path, BASE.replace("samples: 3", "samples: 1"), "more.yaml")
+    assert more.else_samples == ("e1",) and more.geometry.places["e1"] == Pose((0.3, 0.3, 0.0))
 
 
 def test_too_many_else_samples_is_reported(tmp_path):

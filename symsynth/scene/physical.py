@@ -141,8 +141,17 @@ def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report
 
 def else_places(data: dict[str, Any], locations: dict[str, Pose], report: Report) -> dict[str, Pose]:
     """Else samples: the explicit `else_samples` mapping, or `else.samples`
-    poses drawn uniformly in `else.region` (seeded by the planner seed), each at
-    least `clearance` (default 0.1 m) from every location and earlier sample."""
+    poses in `else.region`.
+
+    Drawn samples start with the initial pose of every object that starts at
+    Else with a pose, in object order: the robot must be able to fetch an
+    object where it really stands, and a costmap only has motions to
+    samples (a pose that is no sample leaves the first transit to it out of
+    E_p; the simulator would have to plan it at run time).  The remaining
+    samples are drawn uniformly in the region (seeded by the planner seed),
+    each at least `clearance` (default 0.1 m) from every location and every
+    earlier sample.  With more such objects than `samples`, each still gets
+    its sample."""
     if "else_samples" in data:
         return {name: pose_of(spec) for name, spec in data["else_samples"].items()}
     spec = data.get("else")
@@ -154,8 +163,12 @@ def else_places(data: dict[str, Any], locations: dict[str, Pose], report: Report
     rng = np.random.default_rng(data.get("planner", {}).get("seed", 0))
     taken = [np.array(p.xyz[:2]) for p in locations.values()]
     samples: dict[str, Pose] = {}
+    for obj in data["objects"].values():
+        if obj.get("at", "Else") == "Else" and "xyz" in obj:
+            samples[f"e{len(samples) + 1}"] = pose = pose_of(obj)
+            taken.append(np.array(pose.xyz[:2]))
     for _ in range(1000 * spec["samples"]):
-        if len(samples) == spec["samples"]:
+        if len(samples) >= spec["samples"]:
             break
         xy = rng.uniform(low, high)
         if all(np.linalg.norm(xy - other) >= clearance for other in taken):
