@@ -41,7 +41,15 @@ with _silenced_stdout():
     from pybullet_utils import bullet_client  # noqa: E402
 
 
-def client() -> bullet_client.BulletClient:
-    """A new headless PyBullet client of its own."""
+def client(gui: bool = False) -> bullet_client.BulletClient:
+    """A new PyBullet client of its own: headless, or with a window
+    (`gui=True`, which needs a display)."""
+    if gui:
+        if not os.environ.get("DISPLAY") and sys.platform.startswith("linux"):
+            from symsynth.errors import SymsynthError
+
+            raise SymsynthError("a window needs a display, and DISPLAY is not set; "
+                                "leave --gui out (the simulation runs headless)")
+        return bullet_client.BulletClient(connection_mode=pybullet.GUI)
     with _silenced_stdout():
         return bullet_client.BulletClient(connection_mode=pybullet.DIRECT)

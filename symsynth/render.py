@@ -24,29 +24,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from symsynth import bullet
-from symsynth.bullet import pybullet as p
 from PIL import Image, ImageDraw, ImageFont
 
+from symsynth.bullet import pybullet as p
 from symsynth.errors import SymsynthError
-from symsynth.scene.geometry import Pose, Shape
-from symsynth.scene.model import ELSE, Scene
-
-RGBA = tuple[float, float, float, float]
-COLOURS: dict[str, RGBA] = {
-    "white": (0.95, 0.95, 0.95, 1), "black": (0.12, 0.12, 0.12, 1), "red": (0.85, 0.15, 0.15, 1),
-    "green": (0.2, 0.7, 0.25, 1), "blue": (0.2, 0.35, 0.85, 1), "yellow": (0.95, 0.85, 0.2, 1),
-    "orange": (0.95, 0.55, 0.1, 1), "purple": (0.55, 0.25, 0.7, 1), "grey": (0.5, 0.5, 0.5, 1),
-    "gray": (0.5, 0.5, 0.5, 1), "brown": (0.55, 0.35, 0.2, 1), "pink": (0.95, 0.55, 0.7, 1),
-}
-PALETTE: tuple[RGBA, ...] = ((0.25, 0.45, 0.85, 1), (0.85, 0.3, 0.3, 1), (0.9, 0.75, 0.2, 1),
-                             (0.55, 0.3, 0.7, 1), (0.3, 0.7, 0.7, 1))
-OBSTACLE: RGBA = (0.62, 0.6, 0.57, 1)
-LOCATION_MARK: RGBA = (0.1, 0.75, 0.2, 1)
-ELSE_MARK: RGBA = (0.95, 0.5, 0.05, 1)
-MARK_SIZE = 0.07  # metres, side of a place's square
-MARK_THICKNESS = 0.002
-BACKGROUND = (255, 255, 255)
+from symsynth.execution.world import SimWorld
+from symsynth.scene.model import Scene
 
 
 @dataclass(frozen=True)
@@ -102,70 +85,30 @@ def render_scene(scene: Scene, path: Path | str, *, width: int = 800, height: in
         raise SymsynthError(f"image size must be positive, got {width}x{height}")
     camera = camera or default_camera(scene, width, height)
     camera = Camera(camera.eye, camera.target, camera.up, camera.fov, width, height, camera.near, camera.far)
-    client = bullet.client()
+    world = SimWorld(scene)
     try:
-        _build(client, scene, config)
-        _, _, rgba, _, _ = client.getCameraImage(width, height, camera.view(), camera.projection(),
-                                                 renderer=p.ER_TINY_RENDERER, shadow=0,
-                                                 lightDirection=(0.4, 0.6, 1.0))
+        if config is not None:
+            world.set_config(config)
+        image = snapshot(world, camera)
     finally:
-        client.disconnect()
-    image = Image.fromarray(np.reshape(np.asarray(rgba, dtype=np.uint8), (height, width, 4))[:, :, :3])
+        world.close()
     if labels:
-        _label(image, scene, camera)
+        label_places(image, scene, camera)
     image.save(path, format="PNG")
     return camera
 
 
-def _build(client, scene: Scene, config: Sequence[float] | None) -> None:
-    geometry = scene.geometry
-    robot = geometry.robot
-    body = client.loadURDF(str(robot.urdf), basePosition=robot.base.xyz, baseOrientation=robot.base.quat,
-                           useFixedBase=True)
-    if body < 0:
-        raise SymsynthError(f"pybullet could not load the robot URDF {robot.urdf}")
-    joints = {client.getJointInfo(body, j)[1].decode(): j for j in range(client.getNumJoints(body))}
-    values = tuple(robot.home if config is None else config)
-    names = robot.joints or tuple(n for n, j in joints.items()
-                                  if client.getJointInfo(body, j)[2] != p.JOINT_FIXED and n not in dict(robot.fixed))
-    if len(values) != len(names):
-        raise SymsynthError(f"a configuration has {len(values)} values; the robot has {len(names)} joints")
-    for name, value in list(zip(names, values)) + list(robot.fixed):
-        client.resetJointState(body, joints[name], float(value))
-    for obstacle in geometry.obstacles:
-        _visual(client, obstacle.shape, obstacle.pose, OBSTACLE)
-    for k, spec in enumerate(scene.objects):
-        pose = geometry.initial.get(spec.name) if spec.at == ELSE else geometry.places.get(spec.at)
-        if pose is not None and spec.name in geometry.shapes:
-            _visual(client, geometry.shapes[spec.name], pose, _colour(spec.tags, k))
-    for name, pose in geometry.places.items():
-        colour = LOCATION_MARK if name in scene.locations else ELSE_MARK
-        mark = Shape("box", size=(MARK_SIZE, MARK_SIZE, MARK_THICKNESS))
-        _visual(client, mark, pose @ Pose((0.0, 0.0, 0.0005)), colour)
+def snapshot(world: SimWorld, camera: Camera) -> Image.Image:
+    """The world as `camera` sees it (TinyRenderer: no display, no GPU)."""
+    _, _, rgba, _, _ = world.client.getCameraImage(camera.width, camera.height, camera.view(),
+                                                   camera.projection(), renderer=p.ER_TINY_RENDERER,
+                                                   shadow=0, lightDirection=(0.4, 0.6, 1.0))
+    pixels = np.reshape(np.asarray(rgba, dtype=np.uint8), (camera.height, camera.width, 4))
+    return Image.fromarray(pixels[:, :, :3])
 
 
-def _visual(client, shape: Shape, pose: Pose, colour: RGBA) -> int:
-    if shape.kind == "box":
-        visual = client.createVisualShape(p.GEOM_BOX, halfExtents=[s / 2 for s in shape.size], rgbaColor=colour)
-    elif shape.kind == "cylinder":
-        visual = client.createVisualShape(p.GEOM_CYLINDER, radius=shape.radius, length=shape.height,
-                                          rgbaColor=colour)
-    else:
-        visual = client.createVisualShape(p.GEOM_MESH, fileName=str(shape.mesh), meshScale=[shape.scale] * 3,
-                                          rgbaColor=colour)
-    centre = pose @ shape.centre_offset()
-    return client.createMultiBody(baseMass=0, baseVisualShapeIndex=visual, basePosition=centre.xyz,
-                                  baseOrientation=centre.quat)
-
-
-def _colour(tags: frozenset[str], index: int) -> RGBA:
-    for tag in sorted(tags):
-        if tag in COLOURS:
-            return COLOURS[tag]
-    return PALETTE[index % len(PALETTE)]
-
-
-def _label(image: Image.Image, scene: Scene, camera: Camera) -> None:
+def label_places(image: Image.Image, scene: Scene, camera: Camera) -> None:
+    """Each place's name in a box above and to its right, with a leader line."""
     draw = ImageDraw.Draw(image)
     font = ImageFont.load_default(size=max(10, image.height // 40))
     for name, pose in scene.geometry.places.items():

@@ -13,10 +13,10 @@ import sys
 from collections.abc import Sequence
 
 from symsynth import __version__
-from symsynth.cli import costmap, dfa, show, solve
+from symsynth.cli import costmap, dfa, show, simulate, solve
 from symsynth.errors import SymsynthError
 
-COMMANDS = (dfa, solve, costmap, show)
+COMMANDS = (dfa, solve, costmap, show, simulate)
 
 
 def build_parser() -> argparse.ArgumentParser:

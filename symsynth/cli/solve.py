@@ -105,13 +105,13 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver}
         if obtained is not None:
-            out["costmap"] = _costmap_json(obtained)
+            out["costmap"] = costmap_json(obtained)
         if written is not None:
             out["strategy"] = {"file": str(args.output), "positions": written}
         print(json.dumps(out, indent=2))
         return 0
     if obtained is not None:
-        _costmap_report(obtained)
+        costmap_report(obtained)
     _report(scene, task, args.solver, solution)
     if written is not None:
         print(f"\nwrote {args.output} ({written} positions)")
@@ -120,7 +120,7 @@ def run(args: argparse.Namespace) -> int:
 
 # -- the human-readable report -------------------------------------------------
 
-def _costmap_json(got: Obtained) -> dict:
+def costmap_json(got: Obtained) -> dict:
     out = {"method": got.method, "planner": got.planner, "seed": got.seed, "cached": got.cached,
            "file": None if got.path is None else str(got.path)}
     if got.stats is not None:
@@ -128,7 +128,7 @@ def _costmap_json(got: Obtained) -> dict:
     return out
 
 
-def _costmap_report(got: Obtained) -> None:
+def costmap_report(got: Obtained) -> None:
     origin = "reused from the cache" if got.cached else \
         f"computed in {sum(got.stats.seconds.values()):.1f} s"
     rules = sum(len(r) for r in got.costmap.motions.values())

@@ -187,6 +187,21 @@ class StrategyFile:
         return self.positions[position]
 
 
+def strategy_table(scene: Scene, formula_text: str, solution: Solution) -> StrategyFile:
+    """The strategy file's content without the file: every position the
+    strategy reaches, its action and budget (what `read_strategy` returns
+    for the file `write_strategy` writes)."""
+    game = GameGraph(scene, parse_ltlf(formula_text, source=f"{scene.name} (task)"), solution.resolution)
+    choices = _explore(game, solution)
+    worst = worst_units(choices)
+    return StrategyFile(
+        scene=scene.name, task=formula_text.strip(), k=solution.k, resolution=solution.resolution,
+        units=solution.units, cost_bound=solution.cost_bound, objects=scene.object_names,
+        dfa_bits=tuple(game.dfa.bits), dfa_initial=tuple(bool(b) for b in game.dfa.initial),
+        positions={p: c.action for p, c in choices.items()},
+        budgets={p: None if worst[p] is None else worst[p] * solution.resolution for p in choices})
+
+
 def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: Solution) -> int:
     """Write the strategy of `solution` for `formula_text` to `path`;
     returns the number of positions written."""

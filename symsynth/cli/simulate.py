@@ -1,0 +1,293 @@
+"""`symsynth simulate`: run a strategy in a PyBullet world against a simulated human."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+from pathlib import Path
+
+from tqdm import tqdm
+
+from symsynth.cli import options
+from symsynth.cli.options import check_writable
+from symsynth.cli.solve import costmap_json, costmap_report
+from symsynth.errors import InputError
+from symsynth.game.propositions import interpret_all
+from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
+from symsynth.game.strategy import StrategyFile, format_state, read_strategy, strategy_table
+from symsynth.logic import parse_ltlf
+from symsynth.planning.build import obtain_costmap
+from symsynth.planning.costmaps import METHODS
+from symsynth.scene import Scene, load_scene
+
+HELP = "run a strategy in a PyBullet world against a simulated human"
+DESCRIPTION = """\
+Execute a strategy in simulation (paper Sec. V-B): the robot follows the
+strategy while a simulated human moves objects, and each run shows whether
+the task was completed within the bound E_p.
+
+The world is the scene in PyBullet (headless; --gui opens a window).  The
+abstract state is read from it as a vision system would (object poses to
+locations or Else, end-effector to anchors), and the strategy is asked for
+its action whenever that state changes.  Transits and transfers follow
+their costmap rule's evidence path when its assumptions hold in the world,
+and are planned at run time otherwise; grab and drop are primitives (a
+Cartesian approach by inverse kinematics).  Measured cost: radians
+travelled x per_radian, plus the fixed grab and drop costs.
+
+Humans (--human): none; random (on each of its turns, a random legal move
+with probability --move-probability, at most k moves); adversarial (the
+solver's worst case: the move after which the strategy may have to spend
+the most); or a script file (YAML: which object, where, after which robot
+action; see symsynth/execution/human.py).  Moves the world forbids (a
+block where the hand is) are not made; a scripted one is reported.
+
+Without --strategy the game is solved first, reusing the cached costmap
+(--method, --planner, --costmap-seed, --no-cache as for solve).  When E_p
+is infinite or above --budget, no guarantee holds: the command says so and
+stops, unless --best-effort, which runs anyway (where the strategy has no
+action, it plays the explicit solver's action for the same state with
+fewer human moves left, as if the human had fewer moves left).
+
+Each run reports completed or not, the measured cost, E_p, the trace of
+abstract states and actions, and every divergence between the abstraction
+and the world.  A measured cost above the abstract cost of its action, or
+an evidence path that collides although its rule held, is a SOUNDNESS BUG
+and is reported as one.
+
+Exit status: 0 when every run completed within E_p without a soundness
+divergence; 1 otherwise (or when no guarantee holds and --best-effort was
+not given); 2 on bad input."""
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("simulate", help=HELP, description=DESCRIPTION,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("scene", type=Path, help="a physical scene file (YAML, with a robot)")
+    parser.add_argument("--strategy", type=Path, metavar="FILE",
+                        help="strategy file from 'solve -o' (default: solve now)")
+    parser.add_argument("--human", default="none", metavar="none|random|adversarial|SCRIPT",
+                        help="the simulated human (default: none)")
+    parser.add_argument("--seed", type=options.count, default=0, metavar="S",
+                        help="seed of the first run (human, run-time planning); run i uses S+i (default: 0)")
+    parser.add_argument("--runs", type=_runs, default=1, metavar="N", help="number of runs (default: 1)")
+    parser.add_argument("--move-probability", type=_probability, default=0.3, metavar="P",
+                        help="random human: chance of a move on each of its turns (default: 0.3)")
+    parser.add_argument("--k", type=options.count, metavar="K",
+                        help="human moves per run instead of the scene's human.k (solving here only)")
+    parser.add_argument("--budget", type=options.amount, metavar="E",
+                        help="energy budget: a guarantee holds only if E_p <= E")
+    parser.add_argument("--best-effort", action="store_true",
+                        help="run even when no guarantee holds (E_p infinite or above --budget)")
+    parser.add_argument("--record", type=Path, metavar="OUT.gif",
+                        help="write an animated GIF of the first run (headless rendering)")
+    parser.add_argument("--trace", action="store_true",
+                        help="print every run's trace (the default for a single run)")
+    parser.add_argument("--gui", action="store_true", help="show the world in a window (needs a display)")
+    parser.add_argument("--json", action="store_true", help="print the runs as JSON")
+    parser.add_argument("--method", choices=tuple(METHODS), default="recursive",
+                        help="costmap method (default: recursive)")
+    parser.add_argument("--planner", metavar="NAME", help="planner plugin (default: the scene's)")
+    parser.add_argument("--costmap-seed", type=options.count, metavar="S",
+                        help="roadmap seed (default: the scene's planner.seed)")
+    parser.add_argument("--no-cache", action="store_true", help="compute the costmap even if one is cached")
+    parser.add_argument("--solver", choices=tuple(SOLVERS), default=DEFAULT_SOLVER,
+                        help=f"game solver when solving here (default: {DEFAULT_SOLVER})")
+    parser.set_defaults(run=run)
+
+
+def _runs(text: str) -> int:
+    value = options.count(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError("must be >= 1")
+    return value
+
+
+def _probability(text: str) -> float:
+    value = options.number(text)
+    if not 0 <= value <= 1:
+        raise argparse.ArgumentTypeError(f"must be within 0..1, found {text}")
+    return value
+
+
+def run(args: argparse.Namespace) -> int:
+    from symsynth.execution.human import AdversarialHuman, NoHuman, RandomHuman, read_script
+    from symsynth.execution.record import Recorder
+    from symsynth.execution.simulate import Policy, Simulator
+    from symsynth.planning.registry import planner_class
+
+    if args.record is not None:
+        check_writable(args.record, "recording")
+    scene = load_scene(args.scene)
+    if scene.geometry is None:
+        raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world to simulate")
+    script = None
+    if args.human not in ("none", "random", "adversarial"):
+        if not Path(args.human).is_file():
+            raise InputError(f"--human: expected none, random, adversarial or a script file, "
+                             f"found {args.human!r} (no such file)")
+    progress = not args.json
+    obtained = obtain_costmap(scene, args.method, args.planner, args.costmap_seed,
+                              use_cache=not args.no_cache, progress=progress)
+    scene = dataclasses.replace(scene, costmap=obtained.costmap)
+    if args.strategy is not None:
+        table = _read_strategy(args.strategy, scene)
+        scene = dataclasses.replace(scene, k=table.k)
+    else:
+        if scene.task is None:
+            raise InputError(f"scene {scene.name!r} has no task: give one (task: FORMULA)")
+        k = scene.k if args.k is None else args.k
+        scene = dataclasses.replace(scene, k=k)
+        solution = SOLVERS[args.solver](scene, scene.task, k=k, budget=args.budget)
+        table = strategy_table(scene, scene.task, solution)
+    if args.human not in ("none", "random", "adversarial"):
+        script = read_script(args.human, scene)
+    formula = parse_ltlf(table.task, source=f"{args.strategy or args.scene} (task)")
+    bound = table.cost_bound
+    guarantee = bound is not None and (args.budget is None or bound <= args.budget + 1e-9)
+    if not guarantee and not args.best_effort:
+        print(_no_guarantee(bound, args.budget) + "; add --best-effort to run anyway")
+        return 1
+    fallback = None
+    if not guarantee:
+        # The explicit solver's strategy covers every reachable position of
+        # finite value, also when the initial one has none (the symbolic
+        # solver stops early then).
+        fallback = SOLVERS["explicit"](scene, formula, k=table.k).strategy
+    policy = Policy(table.positions, table.budgets, bound, fallback)
+    planner = planner_class(obtained.planner)(scene)
+    simulator = Simulator(scene, formula, policy, planner, k=table.k, resolution=table.resolution)
+
+    runs, made = [], []
+
+    def recorder(world):
+        made.append(Recorder(world, args.record))
+        return made[-1]
+
+    bar = tqdm(range(args.runs), desc="runs", unit=" run", disable=None if progress and args.runs > 1 else True)
+    for i in bar:
+        seed = args.seed + i
+        if args.human == "none":
+            human = NoHuman()
+        elif args.human == "random":
+            human = RandomHuman(seed, args.move_probability)
+        elif args.human == "adversarial":
+            human = AdversarialHuman(seed, policy.budget)
+        else:
+            human = read_script(args.human, scene) if i else script
+        record = recorder if args.record is not None and i == 0 else None
+        runs.append(simulator.run(human, seed, recorder=record, gui=args.gui))
+    bar.close()
+    frames = made[0].save() if made else 0
+
+    if args.json:
+        print(json.dumps({
+            "scene": scene.name, "task": table.task, "k": table.k, "cost_bound": bound, "budget": args.budget,
+            "guarantee": guarantee, "human": args.human,
+            "strategy": {"file": None if args.strategy is None else str(args.strategy),
+                         "positions": len(table.positions), "solver": None if args.strategy else args.solver},
+            "costmap": costmap_json(obtained),
+            "recording": None if args.record is None else str(args.record),
+            "runs": [r.to_json(scene.object_names) for r in runs],
+        }, indent=2))
+    else:
+        costmap_report(obtained)
+        _report(scene, args, table, bound, guarantee, runs)
+        if frames:
+            print(f"\nwrote {args.record} ({frames} frames, run 1)")
+    ok = all(r.completed and r.sound and r.within_bound is not False
+             and (args.budget is None or r.cost <= args.budget + 1e-9) for r in runs)
+    return 0 if ok else 1
+
+
+def _read_strategy(path: Path, scene: Scene) -> StrategyFile:
+    table = read_strategy(path)
+    problems = []
+    if table.objects != scene.object_names:
+        problems.append(f"its objects {', '.join(table.objects)} are not the scene's "
+                        f"{', '.join(scene.object_names)}")
+    formula = parse_ltlf(table.task, source=f"{path} (task)")
+    try:
+        interpret_all(formula, scene)
+    except InputError as error:
+        problems.append(f"its task does not fit the scene: {error}")
+    else:
+        from symsynth.automata import compile_ltlf
+
+        dfa = compile_ltlf(formula)
+        if tuple(dfa.bits) != table.dfa_bits or tuple(dfa.initial) != table.dfa_initial:
+            problems.append("its DFA (dfa.bits, dfa.initial) is not the one its task compiles to")
+    if problems:
+        raise InputError(f"{path}: not a strategy for scene {scene.name!r}: " + "; ".join(problems))
+    return table
+
+
+def _no_guarantee(bound: float | None, budget: float | None) -> str:
+    if bound is None:
+        return "No guarantee: no strategy wins against every human (E_p is infinite)"
+    return f"No guarantee: E_p = {bound:g} exceeds the budget {budget:g}"
+
+
+def _report(scene: Scene, args: argparse.Namespace, table: StrategyFile, bound: float | None,
+            guarantee: bool, runs: list) -> None:
+    source = f"from {args.strategy}" if args.strategy else f"solved by {args.solver}"
+    print(f"scene      {scene.name} ({args.scene})")
+    print(f"strategy   {source}: {len(table.positions)} positions, k = {table.k}, "
+          + (f"E_p = {bound:g}" if bound is not None else "E_p infinite"))
+    if not guarantee:
+        print(f"guarantee  NONE. {_no_guarantee(bound, args.budget)}; running best effort")
+    print(f"human      {args.human}" + (f", move probability {args.move_probability:g}"
+                                        if args.human == "random" else ""))
+    for i, r in enumerate(runs, 1):
+        print()
+        print(f"run {i} (seed {r.seed}): {_verdict(r)}")
+        if args.budget is not None:
+            over = r.cost > args.budget + 1e-9
+            print(f"           budget {args.budget:g}: " + ("EXCEEDED" if over else "kept"))
+        if args.trace or len(runs) == 1:
+            _trace(r, scene)
+        _divergences(r)
+    if len(runs) > 1:
+        done = sum(r.completed for r in runs)
+        worst = max(r.cost for r in runs)
+        print()
+        print(f"summary    {done}/{len(runs)} completed; measured cost max {worst:.1f}, "
+              f"mean {sum(r.cost for r in runs) / len(runs):.1f}"
+              + ("" if bound is None else f"; E_p {bound:g}; within E_p: "
+                 f"{sum(bool(r.within_bound) for r in runs)}/{len(runs)}"))
+        unsound = [i for i, r in enumerate(runs, 1) if not r.sound]
+        if unsound:
+            print(f"SOUNDNESS  runs {', '.join(map(str, unsound))} diverged: see above")
+
+
+def _verdict(r) -> str:
+    robot = sum(s.who == "robot" for s in r.steps)
+    human = sum(s.who == "human" for s in r.steps)
+    status = "completed" if r.completed else f"NOT completed ({r.reason})"
+    bound = "" if r.bound is None else (f" <= E_p {r.bound:g}" if r.within_bound else
+                                        f" > E_p {r.bound:g} (OVER THE BOUND)")
+    extra = f", {r.best_effort} best-effort actions" if r.best_effort else ""
+    return (f"{status}; measured cost {r.cost:.2f}{bound} (abstract {r.abstract_cost:.2f}); "
+            f"{robot} robot actions, {human} human moves{extra}; {r.seconds:.1f} s")
+
+
+def _trace(r, scene: Scene) -> None:
+    width = max((len(s.action) for s in r.steps), default=6)
+    print(f"  {'#':>3}  who    {'action':<{width}}  {'abstract':>8}  {'measured':>8}  {'how':<9}  state")
+    for n, s in enumerate(r.steps, 1):
+        abstract = "" if s.abstract is None else f"{s.abstract:8.2f}"
+        measured = "" if s.measured is None else f"{s.measured:8.2f}"
+        print(f"  {n:>3}  {s.who:<5}  {s.action:<{width}}  {abstract:>8}  {measured:>8}  {s.source:<9}  "
+              f"{format_state(s.state, scene.object_names)}")
+    for refused in r.refused:
+        print(f"  refused: {refused}")
+
+
+def _divergences(r) -> None:
+    sound = [d for d in r.divergences if not d.soundness]
+    unsound = [d for d in r.divergences if d.soundness]
+    for d in unsound:
+        print(f"  !!! SOUNDNESS BUG at step {d.step} ({d.kind}): {d.message}")
+    for d in sound:
+        print(f"  divergence at step {d.step} ({d.kind}): {d.message}")

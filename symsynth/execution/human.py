@@ -1,0 +1,241 @@
+"""The simulated human: instantaneous moves of objects between the robot's
+actions (paper Sec. IV-B), at most `k` in a run.
+
+On each human turn the simulator offers a `Turn`: the position if the human
+passes, and every move that is legal in the abstraction (spec §4) *and*
+possible in the world, one `Option` per physical target (a location's
+pose, or each free Else sample for a move to Else).  A move is impossible
+in the world when the object would penetrate the robot, the held object or
+another object there (the hand hovering over a location, say).  A human
+answers with an option, a `Request` (a scripted move, which the simulator
+checks the same way), or None to pass.
+
+- `NoHuman` always passes.
+- `RandomHuman` moves with probability `p` on each turn, uniformly among
+  the options, from its own seeded generator.
+- `AdversarialHuman` follows the solver's worst case: it takes the option
+  (or the pass) after which the strategy may still have to spend the most
+  (the strategy's `budget` of the position it leads to), ties broken by
+  its generator.  Against it the run's abstract cost is E_p itself, unless
+  the world forbids a move the abstraction allows.
+- `ScriptedHuman` plays a script file (`read_script`).
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Callable, Hashable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Protocol
+
+import jsonschema
+import yaml
+
+from symsynth.errors import InputError, read_text
+from symsynth.game.solution import Position
+from symsynth.scene.geometry import Pose
+from symsynth.scene.model import ELSE, Scene
+from symsynth.scene.yamlpos import line_of, load_with_lines
+
+
+@dataclass(frozen=True)
+class Option:
+    """A possible human move: the abstract action, the object and where it
+    goes (`place`: a location or Else sample, None for a free pose), and the
+    robot position after it (None when the move completes the task)."""
+
+    action: str
+    obj: str
+    place: str | None
+    pose: Pose
+    after: Position | None
+
+
+@dataclass(frozen=True)
+class Request:
+    """A scripted move: object `obj` to `to` (a location, `Else`, an Else
+    sample, or a pose)."""
+
+    obj: str
+    to: str | Pose
+    entry: int  # index in the script, for messages
+
+
+@dataclass(frozen=True)
+class Turn:
+    position: Position  # the robot's position if the human passes
+    actions: int  # robot actions done so far
+    last: str | None  # the robot's last action
+    options: tuple[Option, ...]
+
+
+class Human(Protocol):
+    name: str
+
+    def choose(self, turn: Turn) -> Option | Request | None: ...
+
+
+class NoHuman:
+    name = "none"
+
+    def choose(self, turn: Turn) -> None:
+        return None
+
+
+class RandomHuman:
+    name = "random"
+
+    def __init__(self, seed: int, probability: float = 0.3) -> None:
+        self.rng = random.Random(f"human/random/{seed}")
+        self.probability = probability
+
+    def choose(self, turn: Turn) -> Option | None:
+        if turn.options and self.rng.random() < self.probability:
+            return self.rng.choice(turn.options)
+        return None
+
+
+class AdversarialHuman:
+    name = "adversarial"
+
+    def __init__(self, seed: int, budget: Callable[[Position], float | None]) -> None:
+        self.rng = random.Random(f"human/adversarial/{seed}")
+        self.budget = budget
+
+    def choose(self, turn: Turn) -> Option | None:
+        def worth(after: Position | None) -> float:
+            if after is None:
+                return -1.0  # completes the task for the robot
+            value = self.budget(after)
+            return float("inf") if value is None else value
+
+        candidates: list[Option | None] = [None, *turn.options]
+        values = [worth(turn.position)] + [worth(o.after) for o in turn.options]
+        best = max(values)
+        return self.rng.choice([c for c, v in zip(candidates, values) if v == best])
+
+
+class ScriptedHuman:
+    """Entries fire in order, one per human turn: an entry fires on the
+    first human turn at which its `after` holds and every earlier entry has
+    fired (`after: N`: N robot actions are done, 0 = before the first;
+    `after: ACTION`: the robot's last action was ACTION)."""
+
+    name = "script"
+
+    def __init__(self, entries: Sequence[dict[str, Any]], source: str = "script") -> None:
+        self.entries = list(entries)
+        self.source = source
+        self.next = 0
+
+    def choose(self, turn: Turn) -> Request | None:
+        if self.next >= len(self.entries):
+            return None
+        entry = self.entries[self.next]
+        after = entry["after"]
+        due = turn.actions >= after if isinstance(after, int) else turn.last == after
+        if not due:
+            return None
+        self.next += 1
+        return Request(entry["move"], entry["to"], self.next - 1)
+
+    @property
+    def pending(self) -> list[dict[str, Any]]:
+        return self.entries[self.next:]
+
+
+# -- script files --------------------------------------------------------------
+
+SCRIPT_SCHEMA: dict[str, Any] = {
+    "type": "object", "additionalProperties": False, "required": ["moves"],
+    "properties": {
+        "moves": {"type": "array", "items": {
+            "type": "object", "additionalProperties": False, "required": ["after", "move", "to"],
+            "properties": {
+                "after": {"oneOf": [{"type": "integer", "minimum": 0}, {"type": "string", "minLength": 1}]},
+                "move": {"type": "string", "minLength": 1},
+                "to": {"oneOf": [{"type": "string", "minLength": 1},
+                                 {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 3}]},
+            }}},
+    },
+}
+
+
+def read_script(path: str | Path, scene: Scene) -> ScriptedHuman:
+    """A human script (YAML)::
+
+        moves:
+          - {after: 0, move: b, to: support1}              # before the robot's first action
+          - {after: "drop(w1,support1)", move: w1, to: Else}
+          - {after: 6, move: w2, to: [0.62, 0.1]}          # a pose: between places, it is Else
+
+    `to` is a location, `Else` (the first free Else sample), an Else sample
+    by name, or `[x, y]` / `[x, y, z]` on the table.  Every problem is an
+    `InputError` naming the file, the line and what was expected.
+    """
+    text = read_text(path, "human script")
+    try:
+        data, lines = load_with_lines(text)
+    except yaml.YAMLError as error:
+        mark = getattr(error, "problem_mark", None)
+        where = f"{path}:{mark.line + 1}" if mark else str(path)
+        raise InputError(f"{where}: not valid YAML: {getattr(error, 'problem', error)}") from None
+    problems: list[str] = []
+
+    def add(key: tuple[Hashable, ...], message: str) -> None:
+        line = line_of(lines, key)
+        where = ".".join(str(k) if not isinstance(k, int) else f"[{k}]" for k in key).replace(".[", "[")
+        problems.append(f"{path}:{line}: {where or '(top)'}: {message}" if line else f"{path}: {message}")
+
+    for error in jsonschema.Draft202012Validator(SCRIPT_SCHEMA).iter_errors(data):
+        add(tuple(error.absolute_path), _schema_message(error))
+    entries = []
+    if not problems:
+        targets = scene.locations + (ELSE,) + scene.else_samples
+        actions = _action_names(scene)
+        for i, entry in enumerate(data["moves"]):
+            where = ("moves", i)
+            if entry["move"] not in scene.object_names:
+                add(where + ("move",), f"unknown object {entry['move']!r}; the objects: "
+                    f"{', '.join(scene.object_names)}")
+            to = entry["to"]
+            if isinstance(to, str) and to not in targets:
+                add(where + ("to",), f"unknown place {to!r}; expected one of {', '.join(targets)} "
+                    "or [x, y] / [x, y, z]")
+            if isinstance(entry["after"], str) and not actions(entry["after"]):
+                add(where + ("after",), f"{entry['after']!r} is no robot action of this scene; expected "
+                    "a number of robot actions, or transit(o,g), grab(o), transfer(l) or drop(o,l) "
+                    "with the scene's names")
+            if isinstance(to, list):
+                xyz = tuple(float(v) for v in to) + ((0.0,) if len(to) == 2 else ())
+                to = Pose(xyz)
+            after = entry["after"].replace(" ", "") if isinstance(entry["after"], str) else entry["after"]
+            entries.append({"after": after, "move": entry["move"], "to": to})
+        if len(entries) > scene.k:
+            add(("moves",), f"{len(entries)} moves, but the human has only k = {scene.k}; "
+                "the moves beyond k would be refused")
+    if problems:
+        raise InputError(f"{path}: not a valid human script:\n" + "\n".join(f"  {p}" for p in problems))
+    return ScriptedHuman(entries, str(path))
+
+
+def _action_names(scene: Scene) -> Callable[[str], bool]:
+    objects, grasps, locations = scene.object_names, scene.grasps, scene.locations
+    names = ({f"transit({o},{g})" for o in objects for g in grasps} | {f"grab({o})" for o in objects}
+             | {f"transfer({l})" for l in locations} | {f"drop({o},{l})" for o in objects for l in locations})
+    return lambda text: text.replace(" ", "") in names
+
+
+def _schema_message(error: jsonschema.ValidationError) -> str:
+    if error.validator == "required":
+        return error.message.replace("is a required property", "is required")
+    if error.validator == "additionalProperties":
+        return f"{error.message}; allowed keys: {', '.join(sorted(error.schema.get('properties', {})))}"
+    if error.validator == "oneOf" and error.absolute_path and error.absolute_path[-1] == "after":
+        return f"expected a number of robot actions (>= 0) or a robot action, found {error.instance!r}"
+    if error.validator == "oneOf":
+        return f"expected a place name or [x, y] / [x, y, z], found {error.instance!r}"
+    if error.validator == "type":
+        return f"expected {error.validator_value}, found {error.instance!r}"
+    return error.message

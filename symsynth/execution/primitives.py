@@ -1,0 +1,96 @@
+"""Grab and drop, the two primitives of the abstraction (spec §4), as motions
+in the world.
+
+Both are a Cartesian approach along the grasp's approach direction, from
+the anchor (the grasp's pre-image) to the grasp pose, by inverse kinematics
+at `APPROACH_STEPS` evenly spaced poses, each solution seeding the next; the
+gripper closes (the object is attached to the hand: `SimWorld.attach`) or
+opens (the object is set down exactly on the location's pose); then the
+same path back, so the robot ends on the anchor it started from.  Their
+cost is the scene's fixed `grab` / `drop` cost, as in the paper; the
+radians they travel are reported, not charged.
+
+Each configuration of the approach is checked in the world: the fingers
+may meet the object they close around, nothing else.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from symsynth.errors import SymsynthError
+from symsynth.execution.motion import steps
+from symsynth.execution.world import SimWorld
+from symsynth.planning.protocol import Config, Planner
+from symsynth.planning.verify import path_length
+from symsynth.scene.geometry import Pose
+
+APPROACH_STEPS = 6
+WALK = 0.01  # radians between the configurations checked along the approach
+
+
+class PrimitiveFailed(SymsynthError):
+    """A grab or drop that cannot be carried out in the world."""
+
+
+@dataclass(frozen=True)
+class Primitive:
+    path: tuple[Config, ...]  # down and back up
+    touched: frozenset[str]  # what the approach penetrated (should be nothing)
+
+    @property
+    def radians(self) -> float:
+        return path_length(self.path)
+
+
+def grab(world: SimWorld, planner: Planner, name: str, grasp: str) -> Primitive:
+    """Close the hand on object `name` with `grasp`, from its pre-image."""
+    g = world.geometry.grasps[grasp]
+    target = world.poses[name]
+    down = _approach(world, planner, target @ g.pre_image(), target @ g.pose, f"grab({name})")
+    hits = _walk(world, down, ignore={name})
+    world.attach(name, grasp)
+    up = down[::-1]
+    hits |= _walk(world, up, ignore={name})
+    return Primitive(tuple(down) + tuple(up[1:]), frozenset(hits))
+
+
+def drop(world: SimWorld, planner: Planner, location: str) -> Primitive:
+    """Open the hand over `location` and leave the held object on its pose."""
+    name, grasp = world.held, world.grasp
+    if name is None:
+        raise PrimitiveFailed(f"drop at {location}: the hand is empty")
+    g = world.geometry.grasps[grasp]
+    place = world.geometry.places[location]
+    down = _approach(world, planner, place @ g.pre_image(), place @ g.pose, f"drop({name},{location})")
+    hits = _walk(world, down)
+    world.detach()
+    world.place(name, place)
+    up = down[::-1]
+    hits |= _walk(world, up, ignore={name})
+    return Primitive(tuple(down) + tuple(up[1:]), frozenset(hits))
+
+
+def _approach(world: SimWorld, planner: Planner, start: Pose, end: Pose, what: str) -> list[Config]:
+    path = [world.config]
+    for i in range(1, APPROACH_STEPS + 1):
+        t = i / APPROACH_STEPS
+        xyz = tuple(a + (b - a) * t for a, b in zip(start.xyz, end.xyz))
+        config = planner.inverse_kinematics(Pose(xyz, end.quat), path[-1])
+        if config is None:
+            raise PrimitiveFailed(f"{what}: no inverse kinematics solution {t:.0%} of the way "
+                                  f"down the approach (end-effector at {_fmt(xyz)})")
+        path.append(tuple(config))
+    return path
+
+
+def _walk(world: SimWorld, path: list[Config], ignore: set[str] = frozenset()) -> set[str]:
+    hits: set[str] = set()
+    for config in steps(path, WALK):
+        world.set_config(config)
+        hits |= world.touching(ignore)
+    return hits
+
+
+def _fmt(xyz) -> str:
+    return "(" + ", ".join(f"{v:.3f}" for v in xyz) + ")"

@@ -1,0 +1,56 @@
+"""An animated GIF of a run, rendered headless (PyBullet's TinyRenderer).
+
+Frames are taken by the simulator at every waypoint of a motion (and
+between waypoints at most `STRIDE` radians apart), at both ends of a
+primitive and after every human move; each carries the places' names and
+a caption: the step, who acts and what, and the running measured cost
+against E_p.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PIL import Image, ImageDraw, ImageFont
+
+from symsynth.errors import InputError
+from symsynth.execution.world import SimWorld
+from symsynth.render import Camera, default_camera, label_places, snapshot
+
+STRIDE = 0.25  # radians between frames along a motion
+FRAME_MS = 90  # milliseconds each frame is shown
+HOLD_MS = 600  # ... the frames after a human move and the last one
+
+
+class Recorder:
+    def __init__(self, world: SimWorld, path: Path, *, width: int = 480, height: int = 360,
+                 camera: Camera | None = None) -> None:
+        self.world = world
+        self.path = Path(path)
+        self.camera = camera or default_camera(world.scene, width, height)
+        self.frames: list[Image.Image] = []
+        self.durations: list[int] = []
+
+    def frame(self, caption: str, hold: bool = False) -> None:
+        image = snapshot(self.world, self.camera)
+        label_places(image, self.world.scene, self.camera)
+        draw = ImageDraw.Draw(image)
+        font = ImageFont.load_default(size=max(11, image.height // 30))
+        left, top, right, bottom = draw.textbbox((0, 0), caption, font=font)
+        draw.rectangle((0, 0, image.width, bottom - top + 10), fill=(255, 255, 255))
+        draw.text((6 - left, 5 - top), caption, fill=(0, 0, 0), font=font)
+        self.frames.append(image)
+        self.durations.append(HOLD_MS if hold else FRAME_MS)
+
+    def save(self) -> int:
+        """Write the GIF; returns the number of frames."""
+        if not self.frames:
+            return 0
+        self.durations[-1] = max(self.durations[-1], 4 * HOLD_MS)
+        palette = [frame.convert("P", palette=Image.Palette.ADAPTIVE, colors=128) for frame in self.frames]
+        try:
+            palette[0].save(self.path, format="GIF", save_all=True, append_images=palette[1:],
+                            duration=self.durations, loop=0, optimize=False)
+        except OSError as error:
+            raise InputError(f"cannot write {self.path}: {error.strerror or error}") from None
+        return len(self.frames)

@@ -1,0 +1,459 @@
+"""Running a strategy in the world against a simulated human (paper Sec.
+V-B, the continuous counterpart of its Theorem 8).
+
+A run alternates turns as the game does (spec §6), human first:
+
+1. **Human turn.**  The human passes or moves one object (at most `k`
+   moves).  The abstract state is then read from the world through γ
+   (`observe.py`) and the DFA reads its letter.
+2. **Robot turn.**  The strategy is asked for its action at the observed
+   position (abstract state, DFA state, human moves left).  Transits and
+   transfers follow an evidence path or a path planned at run time
+   (`motion.py`); grab and drop are primitives (`primitives.py`).  The
+   world is observed again and the DFA reads the new letter.
+
+The run ends when the DFA accepts (completed), when the strategy has no
+action for the observed position, or when an action cannot be carried out.
+
+**What is measured.**  A motion costs `per_radian` x the radians its path
+travels (the costmap's own metric, joint-space euclidean length); a
+primitive costs the scene's fixed grab / drop cost.  Every robot step is
+compared with the abstraction:
+
+- `cost` (soundness): the measured cost exceeds the abstract cost of the
+  action (spec §5, the worst case over the states the abstract state stands
+  for).  With every object on a place and the robot on an anchor this
+  cannot happen unless the costmap or the solver is wrong;
+- `evidence` (soundness): an evidence path whose rule held touched
+  something in the world (the run falls back to planning);
+- `state`: γ of the world after the step differs from the abstraction's
+  successor state;
+- `outside`: the step started where the abstraction has no motion (an
+  object off every place, the robot off every anchor), so the abstract cost
+  is no bound for it;
+- `contact`: a primitive's approach penetrated something other than the
+  object the fingers close around.
+
+The first two are soundness bugs; `Run.sound` is false when one occurred.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from symsynth.errors import SymsynthError
+from symsynth.execution import motion as motions
+from symsynth.execution import primitives
+from symsynth.execution.human import Human, Option, Request, Turn
+from symsynth.execution.observe import observe, place_at
+from symsynth.execution.record import STRIDE, Recorder
+from symsynth.execution.world import SimWorld
+from symsynth.game.abstraction import State, human_moves, robot_moves, state_json
+from symsynth.game.explicit import GameGraph
+from symsynth.game.solution import Position
+from symsynth.game.strategy import format_position, format_state
+from symsynth.logic import ast
+from symsynth.planning.anchors import anchor_configs
+from symsynth.planning.protocol import Mode, Planner
+from symsynth.scene.geometry import Pose
+from symsynth.scene.model import ELSE, HOME, Scene
+
+SLACK = 1e-6  # costmap units: float noise allowed between measured and abstract costs
+MAX_ACTIONS = 500
+SOUNDNESS = ("cost", "evidence")
+_ACTION = re.compile(r"^(transit|grab|transfer|drop)\((.*)\)$")
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step of a run.  Robot steps carry the abstract cost of the action
+    in the state it was chosen in and the measured cost; `source` says how
+    it moved: evidence, runtime, none (already there), primitive; human
+    steps have source `human` and no costs."""
+
+    who: str
+    action: str
+    state: State  # γ of the world after the step
+    abstract: float | None = None
+    measured: float | None = None
+    radians: float = 0.0
+    source: str = "human"
+
+
+@dataclass(frozen=True)
+class Divergence:
+    step: int  # 1-based index into Run.steps
+    kind: str  # cost, evidence, state, outside, contact
+    message: str
+
+    @property
+    def soundness(self) -> bool:
+        return self.kind in SOUNDNESS
+
+
+@dataclass
+class Run:
+    seed: int
+    human: str
+    bound: float | None  # E_p of the strategy followed, None when it does not win
+    completed: bool = False
+    reason: str = ""
+    steps: list[Step] = field(default_factory=list)
+    divergences: list[Divergence] = field(default_factory=list)
+    refused: list[str] = field(default_factory=list)  # human moves the world or k did not allow
+    best_effort: int = 0  # robot actions taken outside the strategy (best effort)
+    seconds: float = 0.0
+
+    @property
+    def cost(self) -> float:
+        return sum(s.measured or 0.0 for s in self.steps)
+
+    @property
+    def abstract_cost(self) -> float:
+        return sum(s.abstract or 0.0 for s in self.steps)
+
+    @property
+    def sound(self) -> bool:
+        return not any(d.soundness for d in self.divergences)
+
+    @property
+    def within_bound(self) -> bool | None:
+        if self.bound is None:
+            return None
+        return self.cost <= self.bound + SLACK
+
+    def to_json(self, objects: tuple[str, ...]) -> dict[str, Any]:
+        return {
+            "seed": self.seed, "human": self.human, "completed": self.completed, "reason": self.reason,
+            "cost": self.cost, "abstract_cost": self.abstract_cost, "cost_bound": self.bound,
+            "within_bound": self.within_bound, "sound": self.sound, "best_effort_actions": self.best_effort,
+            "robot_actions": sum(s.who == "robot" for s in self.steps),
+            "human_moves": sum(s.who == "human" for s in self.steps),
+            "seconds": self.seconds, "refused_human_moves": list(self.refused),
+            "divergences": [{"step": d.step, "kind": d.kind, "soundness": d.soundness, "message": d.message}
+                            for d in self.divergences],
+            "trace": [{"who": s.who, "action": s.action, "abstract_cost": s.abstract,
+                       "measured_cost": s.measured, "radians": s.radians, "source": s.source,
+                       "state": state_json(s.state, objects)} for s in self.steps],
+        }
+
+
+class Policy:
+    """The robot's action at a position: the strategy's, or -- best effort,
+    where the strategy has none -- the action of a strategy for fewer human
+    moves left (`fallback`, e.g. a full `Solution.strategy`), as if the
+    human had only h' < h moves left."""
+
+    def __init__(self, actions: Mapping[Position, str], budgets: Mapping[Position, float | None],
+                 bound: float | None, fallback: Mapping[Position, str] | None = None) -> None:
+        self.actions, self.budgets, self.bound, self.fallback = actions, budgets, bound, fallback
+
+    def action(self, position: Position) -> tuple[str, bool] | None:
+        """(action, best effort?) or None."""
+        if position in self.actions:
+            return self.actions[position], False
+        if self.fallback is None:
+            return None
+        v, q, h = position
+        for fewer in range(h, -1, -1):
+            try:
+                return self.fallback[(v, q, fewer)], True
+            except KeyError:
+                continue
+        return None
+
+    def budget(self, position: Position) -> float | None:
+        return self.budgets.get(position)
+
+
+class ActionFailed(SymsynthError):
+    pass
+
+
+class Simulator:
+    """Runs of one scene, task and policy; the planner (for inverse
+    kinematics, self- and static collisions) and the anchors are made once."""
+
+    def __init__(self, scene: Scene, formula: ast.Formula, policy: Policy, planner: Planner, *,
+                 k: int | None = None, resolution: float = 1.0) -> None:
+        if scene.geometry is None:
+            raise SymsynthError(f"scene {scene.name!r} is abstract (no 'robot' key): "
+                                "there is no world to simulate")
+        self.scene = scene
+        self.game = GameGraph(scene, formula, resolution)
+        self.policy = policy
+        self.planner = planner
+        self.k = scene.k if k is None else k
+        self.anchors = anchor_configs(planner, scene)
+        self.per_radian = scene.geometry.per_radian
+        self.resolution = scene.geometry.planner.resolution
+
+    def run(self, human: Human, seed: int = 0, *, recorder: Callable[[SimWorld], Recorder] | None = None,
+            gui: bool = False, max_actions: int = MAX_ACTIONS) -> Run:
+        clock = time.perf_counter()
+        world = SimWorld(self.scene, gui=gui)
+        try:
+            episode = _Episode(self, world, human, seed, recorder(world) if recorder else None, max_actions)
+            run = episode.play()
+        finally:
+            world.close()
+        run.seconds = time.perf_counter() - clock
+        return run
+
+
+class _Episode:
+    """One run: the world, the position, the robot's anchor."""
+
+    def __init__(self, sim: Simulator, world: SimWorld, human: Human, seed: int,
+                 recorder: Recorder | None, max_actions: int) -> None:
+        self.sim, self.scene, self.game, self.world = sim, sim.scene, sim.game, world
+        self.human, self.seed, self.recorder, self.max_actions = human, seed, recorder, max_actions
+        self.run = Run(seed, human.name, sim.policy.bound)
+        self.anchor: str | None = HOME  # the anchor the robot stands on, None when off every anchor
+        self.actions = 0
+        self.last: str | None = None
+
+    # -- the loop -------------------------------------------------------------
+
+    def play(self) -> Run:
+        run = self.run
+        v = observe(self.scene, self.world)
+        q = self.game.read(self.game.dfa.initial, v)
+        h = self.sim.k
+        self._frame("start", hold=True)
+        if self.game.accepts(q):
+            return self._end(True, "the task holds in the initial state")
+        while True:
+            move = self._human_turn(v, q, h)
+            if move is not None:
+                v, q, h = move
+                if self.game.accepts(q):
+                    return self._end(True, "completed (by a human move)")
+            if self.actions >= self.max_actions:
+                return self._end(False, f"gave up after {self.actions} robot actions")
+            chosen = self.sim.policy.action((v, q, h))
+            if chosen is None:
+                return self._end(False, "the strategy has no action at the observed position "
+                                 f"{format_position((v, q, h), self.scene.object_names)}")
+            action, best_effort = chosen
+            run.best_effort += best_effort
+            try:
+                v = self._robot_turn(v, action)
+            except ActionFailed as error:
+                return self._end(False, f"{action} failed: {error}")
+            q = self.game.read(q, v)
+            if self.game.accepts(q):
+                return self._end(True, "completed")
+
+    def _end(self, completed: bool, reason: str) -> Run:
+        self.run.completed, self.run.reason = completed, reason
+        self._frame(("done: " if completed else "stopped: ") + reason, hold=True)
+        return self.run
+
+    # -- the human --------------------------------------------------------------
+
+    def _human_turn(self, v: State, q, h: int) -> tuple[State, Any, int] | None:
+        options = self._options(v, q, h) if h > 0 else ()
+        choice = self.human.choose(Turn((v, q, h), self.actions, self.last, options))
+        if isinstance(choice, Request):
+            choice = self._resolve(choice, v, q, h)
+        if choice is None:
+            return None
+        self.world.place(choice.obj, choice.pose)
+        observed = observe(self.scene, self.world)
+        self.run.steps.append(Step("human", choice.action, observed))
+        if choice.after is not None and observed != choice.after[0]:
+            self._diverge("state", f"after {choice.action} the world reads "
+                          f"{format_state(observed, self.scene.object_names)}, the abstraction "
+                          f"{format_state(choice.after[0], self.scene.object_names)}")
+        self._frame(f"{len(self.run.steps)}. human {choice.action}", hold=True)
+        return observed, self.game.read(q, observed), h - 1
+
+    def _options(self, v: State, q, h: int) -> tuple[Option, ...]:
+        """Every abstract human move, once per physical target it can have."""
+        options = []
+        for action, w in human_moves(self.scene, v):
+            obj, target = action[len("move("):-1].split(",")
+            if target == ELSE:
+                here = place_at(self.scene, self.world.poses[obj])
+                places = [e for e in self.scene.else_samples if e != here]
+            else:
+                places = [target]
+            for place in places:
+                pose = self.scene.geometry.places[place]
+                if not self.world.blocked(obj, pose):
+                    options.append(Option(action, obj, place, pose, self._after(w, q, h - 1)))
+        return tuple(options)
+
+    def _after(self, w: State, q, h: int) -> Position | None:
+        q2 = self.game.read(q, w)
+        return None if self.game.accepts(q2) else (w, q2, h)
+
+    def _resolve(self, request: Request, v: State, q, h: int) -> Option | None:
+        """A scripted move as an option, or None (refused, with the reason)."""
+        what = f"script move {request.entry + 1} ({request.obj} to {_where(request.to)})"
+        if h <= 0:
+            self.run.refused.append(f"{what}: the human has no moves left (k = {self.sim.k})")
+            return None
+        if isinstance(request.to, Pose):
+            pose, place = request.to, place_at(self.scene, request.to)
+        elif request.to == ELSE:
+            here = place_at(self.scene, self.world.poses[request.obj])
+            free = [e for e in self.scene.else_samples if e != here
+                    and not self.world.blocked(request.obj, self.scene.geometry.places[e])]
+            if not free:
+                self.run.refused.append(f"{what}: no free Else sample")
+                return None
+            place = free[0]
+            pose = self.scene.geometry.places[place]
+        else:
+            place, pose = request.to, self.scene.geometry.places[request.to]
+        target = place if place in self.scene.locations else ELSE
+        action = f"move({request.obj},{target})"
+        legal = {a: w for a, w in human_moves(self.scene, v)}
+        if action not in legal:
+            self.run.refused.append(f"{what}: {action} is not a legal human move in "
+                                    f"{format_state(v, self.scene.object_names)}")
+            return None
+        blocked = self.world.blocked(request.obj, pose)
+        if blocked:
+            self.run.refused.append(f"{what}: it would penetrate {', '.join(sorted(blocked))}")
+            return None
+        return Option(action, request.obj, place, pose, self._after(legal[action], q, h - 1))
+
+    # -- the robot --------------------------------------------------------------
+
+    def _robot_turn(self, v: State, action: str) -> State:
+        moves = {a: (w, c) for a, w, c in robot_moves(self.scene, v)}
+        if action not in moves:
+            raise ActionFailed(f"not available in {format_state(v, self.scene.object_names)}")
+        expected, abstract = moves[action]
+        kind, args = _parse(action)
+        index = len(self.run.steps) + 1
+        caption = f"{index}. robot {action}"
+        if kind in ("grab", "drop"):
+            if kind == "grab":
+                done = primitives.grab(self.world, self.sim.planner, args[0], expected.grip)
+            else:
+                done = primitives.drop(self.world, self.sim.planner, args[1])
+            measured = self.scene.grab_cost if kind == "grab" else self.scene.drop_cost
+            self._follow(done.path, caption, measured)
+            if done.touched:
+                self._diverge("contact", f"{action}: the approach penetrates {', '.join(sorted(done.touched))}",
+                              index)
+            step = Step("robot", action, observe(self.scene, self.world), abstract, measured, done.radians,
+                        "primitive")
+        else:
+            step = self._move(kind, args, v, action, abstract, index, caption)
+        self.run.steps.append(step)
+        self.actions += 1
+        self.last = action
+        if step.state != expected:
+            self._diverge("state", f"after {action} the world reads "
+                          f"{format_state(step.state, self.scene.object_names)}, the abstraction "
+                          f"{format_state(expected, self.scene.object_names)}")
+        return step.state
+
+    def _move(self, kind: str, args: list[str], v: State, action: str, abstract: float, index: int,
+              caption: str) -> Step:
+        world, scene = self.world, self.scene
+        if kind == "transit":
+            obj, grasp = args
+            mode = Mode()
+            place = place_at(scene, world.poses[obj])
+            target = world.poses[obj] @ scene.geometry.grasps[grasp].pre_image()
+        else:
+            obj, grasp = world.held, world.grasp
+            mode = Mode(obj, grasp)
+            place = args[0]
+            target = scene.geometry.places[place] @ scene.geometry.grasps[grasp].pre_image()
+        goal = None if place is None else f"{place}/{grasp}"
+        outside = self._outside(obj, goal)
+        found = None
+        if self.anchor is not None and goal is not None:
+            free = self._free(obj)
+            found = motions.evidence_motion(world, scene.costmap, mode, self.anchor, goal, free,
+                                            self.sim.resolution)
+            if found is not None and found.rejected:
+                for message in found.rejected:
+                    self._diverge("evidence", f"{action}: the evidence path of {message}", index)
+            if found is not None and found.source == "rejected":
+                found = None
+        if found is None and self.anchor == goal:
+            found = motions.Motion((world.config,), "none")
+        if found is None:
+            goal_config = self.sim.anchors.get(goal) if goal else None
+            if goal_config is None:
+                goal_config = self.sim.planner.inverse_kinematics(target, world.config)
+                if goal_config is None:
+                    raise ActionFailed(f"no inverse kinematics solution for the end-effector at "
+                                       f"{tuple(round(x, 3) for x in target.xyz)}")
+            try:
+                found = motions.runtime_motion(world, self.sim.planner, mode, tuple(goal_config),
+                                               self.sim.resolution, self.seed + self.actions)
+            except motions.MotionFailed as error:
+                raise ActionFailed(str(error)) from None
+        measured = self.sim.per_radian * found.radians
+        self._follow(found.path, caption, measured)
+        self.anchor = goal
+        if measured > abstract + SLACK:
+            if outside:
+                self._diverge("outside", f"{action}: measured {measured:.6g} > abstract {abstract:.6g}, "
+                              f"but {outside}", index)
+            else:
+                self._diverge("cost", f"{action}: measured {measured:.6g} > abstract {abstract:.6g} "
+                              f"({found.source} path, {found.radians:.4f} rad x {self.sim.per_radian:g})", index)
+        return Step("robot", action, observe(scene, world), abstract, measured, found.radians, found.source)
+
+    def _outside(self, obj: str, goal: str | None) -> str | None:
+        """Why the abstraction's cost does not bound this motion, if it does not."""
+        if goal is None:
+            return f"{obj} stands on no place (the costmap has no motion to it)"
+        if self.anchor is None:
+            return "the robot stands on no anchor (an earlier motion was planned off the anchors)"
+        off = [o for o in self.scene.object_names
+               if o != self.world.held and place_at(self.scene, self.world.poses[o]) is None]
+        if off:
+            return f"{', '.join(off)} stand{'s' if len(off) == 1 else ''} on no place"
+        return None
+
+    def _free(self, serves: str) -> frozenset[str]:
+        """Places on which no object other than `serves` stands."""
+        taken = {place_at(self.scene, pose) for name, pose in self.world.poses.items()
+                 if name != serves and name != self.world.held}
+        return frozenset(x for x in self.scene.locations + self.scene.else_samples if x not in taken)
+
+    def _follow(self, path, caption: str, cost: float) -> None:
+        """Move along `path` (frames on the way when recording)."""
+        if self.recorder is None:
+            if path:
+                self.world.set_config(path[-1])
+            return
+        total = self.run.cost + cost
+        text = f"{caption}   cost {total:.0f}" + ("" if self.run.bound is None else f" / E_p {self.run.bound:g}")
+        for config in motions.steps(path, STRIDE):
+            self.world.set_config(config)
+            self.recorder.frame(text)
+
+    def _frame(self, caption: str, hold: bool = False) -> None:
+        if self.recorder is not None:
+            self.recorder.frame(caption, hold)
+
+    def _diverge(self, kind: str, message: str, step: int | None = None) -> None:
+        self.run.divergences.append(Divergence(step or len(self.run.steps), kind, message))
+
+
+def _parse(action: str) -> tuple[str, list[str]]:
+    match = _ACTION.match(action)
+    if match is None:
+        raise ActionFailed(f"unknown action {action!r}")
+    return match.group(1), match.group(2).split(",")
+
+
+def _where(to) -> str:
+    return f"({', '.join(f'{v:g}' for v in to.xyz)})" if isinstance(to, Pose) else to
+
