@@ -12,22 +12,13 @@ Both solvers must agree on every value.
 import dataclasses
 
 import pytest
+from conftest import small
 
 from symsynth.game.solution import task_formula
 from symsynth.game.solvers import SOLVERS
 from symsynth.planning.build import compute_costmaps
 from symsynth.planning.registry import planner_class
 from symsynth.planning.verify import verify_costmap
-from symsynth.scene import load_scene
-
-ROADMAP = 60  # vertices per mode: the findings hold from here on (measured up to 150)
-
-
-def small(name):
-    scene = load_scene(f"scenes/{name}.yaml")
-    settings = dataclasses.replace(scene.geometry.planner, roadmap_size=ROADMAP)
-    return dataclasses.replace(scene, geometry=dataclasses.replace(scene.geometry, planner=settings))
-
 
 def values(scene, costmap, k):
     scene = dataclasses.replace(scene, costmap=costmap, k=k)
@@ -37,17 +28,13 @@ def values(scene, costmap, k):
 
 
 @pytest.fixture(scope="module")
-def arch():
-    scene = small("arch")
-    costmaps, _ = compute_costmaps(scene, ("sg", "recursive"), "pybullet", progress=False)
-    return scene, costmaps
+def arch(paper_arch):
+    return paper_arch
 
 
 @pytest.fixture(scope="module")
-def line():
-    scene = small("line")
-    costmaps, _ = compute_costmaps(scene, ("sg", "recursive"), "ompl-fcl", progress=False)
-    return scene, costmaps
+def line(paper_line):
+    return paper_line
 
 
 def test_arch_start_goal_has_no_strategy_recursive_has_one(arch):

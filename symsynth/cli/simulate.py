@@ -128,9 +128,11 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--human: expected none, random, adversarial or a script file, "
                              f"found {args.human!r} (no such file)")
     progress = not args.json
-    obtained = obtain_costmap(scene, args.method, args.planner, args.costmap_seed,
-                              use_cache=not args.no_cache, progress=progress)
-    scene = dataclasses.replace(scene, costmap=obtained.costmap)
+    obtained = None
+    if scene.costmap is None:
+        obtained = obtain_costmap(scene, args.method, args.planner, args.costmap_seed,
+                                  use_cache=not args.no_cache, progress=progress)
+        scene = dataclasses.replace(scene, costmap=obtained.costmap)
     if args.strategy is not None:
         table = _read_strategy(args.strategy, scene)
         scene = dataclasses.replace(scene, k=table.k)
@@ -156,7 +158,7 @@ def run(args: argparse.Namespace) -> int:
         # solver stops early then).
         fallback = SOLVERS["explicit"](scene, formula, k=table.k).strategy
     policy = Policy(table.positions, table.budgets, bound, fallback)
-    planner = planner_class(obtained.planner)(scene)
+    planner = planner_class(obtained.planner if obtained else args.planner or scene.geometry.planner.name)(scene)
     simulator = Simulator(scene, formula, policy, planner, k=table.k, resolution=table.resolution)
 
     runs, made = [], []
@@ -187,12 +189,13 @@ def run(args: argparse.Namespace) -> int:
             "guarantee": guarantee, "human": args.human,
             "strategy": {"file": None if args.strategy is None else str(args.strategy),
                          "positions": len(table.positions), "solver": None if args.strategy else args.solver},
-            "costmap": costmap_json(obtained),
+            "costmap": None if obtained is None else costmap_json(obtained),
             "recording": None if args.record is None else str(args.record),
             "runs": [r.to_json(scene.object_names) for r in runs],
         }, indent=2))
     else:
-        costmap_report(obtained)
+        if obtained is not None:
+            costmap_report(obtained)
         _report(scene, args, table, bound, guarantee, runs)
         if frames:
             print(f"\nwrote {args.record} ({frames} frames, run 1)")
