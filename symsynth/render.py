@@ -61,14 +61,14 @@ class Camera:
         return (x + 1) / 2 * self.width, (1 - y) / 2 * self.height
 
 
-def default_camera(scene: Scene, width: int, height: int) -> Camera:
+def default_camera(scene: Scene, width: int, height: int, distance: float = 1.9) -> Camera:
     """Looking at the centre of the places (or 40 cm in front of the robot)
-    from the front-right and above, 1.9 m away."""
+    from the front-right and above, `distance` metres away."""
     geometry = scene.geometry
     places = [pose.xyz for pose in geometry.places.values()]
     centre = np.mean(places, axis=0) if places else np.array(geometry.robot.base.xyz) + [0.4, 0.0, 0.0]
     target = (float(centre[0]) - 0.1, float(centre[1]), 0.2)
-    yaw, pitch, distance = math.radians(35.0), math.radians(40.0), 1.9
+    yaw, pitch = math.radians(35.0), math.radians(40.0)
     eye = (target[0] + distance * math.cos(pitch) * math.cos(yaw),
            target[1] + distance * math.cos(pitch) * math.sin(yaw),
            target[2] + distance * math.sin(pitch))

@@ -347,3 +347,19 @@ def test_a_strategy_for_another_scene_is_refused(line_files, tmp_path, capsys):
     capsys.readouterr()
     assert main(["simulate", str(line_files), "--strategy", str(strategy)]) == 2
     assert "not a strategy for scene 'line'" in capsys.readouterr().err
+
+
+def test_command_records_a_gif_of_the_first_run(line_files, tmp_path, capsys):
+    path = tmp_path / "line.gif"
+    assert main(["simulate", str(line_files), "--record", str(path), "--size", "80x60", "--runs", "2"]) == 0
+    out = capsys.readouterr().out
+    with Image.open(path) as gif:
+        assert gif.size == (80, 60) and f"wrote {path} ({gif.n_frames} frames, run 1)" in out
+    assert main(["simulate", str(line_files), "--record", str(tmp_path / "no" / "x.gif")]) == 2
+    assert "not a writable directory" in capsys.readouterr().err
+
+
+def test_gui_without_a_display_is_one_message(line_files, capsys, monkeypatch):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    assert main(["simulate", str(line_files), "--gui"]) == 2
+    assert "needs a display" in capsys.readouterr().err

@@ -53,3 +53,14 @@ def check_writable(path: Path, what: str) -> None:
     if path.is_dir() or not folder.is_dir() or not os.access(folder, os.W_OK):
         raise InputError(f"cannot write {what} {path}: "
                          + ("it is a directory" if path.is_dir() else f"{folder} is not a writable directory"))
+
+
+def size(text: str) -> tuple[int, int]:
+    """`WIDTHxHEIGHT` in pixels, each side 16..8192."""
+    try:
+        width, height = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT such as 800x600, found {text!r}") from None
+    if not (16 <= width <= 8192 and 16 <= height <= 8192):
+        raise argparse.ArgumentTypeError(f"each side must be 16..8192 pixels, found {text}")
+    return width, height

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from symsynth.cli import options
 from symsynth.cli.options import check_writable
 from symsynth.errors import InputError
 from symsynth.scene import load_scene
@@ -23,20 +24,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("scene", type=Path, help="a physical scene file (YAML, with a robot)")
     parser.add_argument("-o", "--output", type=Path, metavar="FILE", default=None,
                         help="the picture to write (PNG; default: SCENE with .png)")
-    parser.add_argument("--size", type=_size, default=(800, 600), metavar="WxH",
+    parser.add_argument("--size", type=options.size, default=(800, 600), metavar="WxH",
                         help="image size in pixels (default: 800x600)")
     parser.add_argument("--no-labels", action="store_true", help="leave the place names out")
     parser.set_defaults(run=run)
-
-
-def _size(text: str) -> tuple[int, int]:
-    try:
-        width, height = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT such as 800x600, found {text!r}") from None
-    if not (16 <= width <= 8192 and 16 <= height <= 8192):
-        raise argparse.ArgumentTypeError(f"each side must be 16..8192 pixels, found {text}")
-    return width, height
 
 
 def run(args: argparse.Namespace) -> int:

@@ -82,6 +82,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="run even when no guarantee holds (E_p infinite or above --budget)")
     parser.add_argument("--record", type=Path, metavar="OUT.gif",
                         help="write an animated GIF of the first run (headless rendering)")
+    parser.add_argument("--size", type=options.size, default=(480, 360), metavar="WxH",
+                        help="size of the recording's frames in pixels (default: 480x360)")
     parser.add_argument("--trace", action="store_true",
                         help="print every run's trace (the default for a single run)")
     parser.add_argument("--gui", action="store_true", help="show the world in a window (needs a display)")
@@ -164,7 +166,7 @@ def run(args: argparse.Namespace) -> int:
     runs, made = [], []
 
     def recorder(world):
-        made.append(Recorder(world, args.record))
+        made.append(Recorder(world, args.record, width=args.size[0], height=args.size[1]))
         return made[-1]
 
     bar = tqdm(range(args.runs), desc="runs", unit=" run", disable=None if progress and args.runs > 1 else True)

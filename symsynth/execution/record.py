@@ -17,6 +17,7 @@ from symsynth.errors import InputError
 from symsynth.execution.world import SimWorld
 from symsynth.render import Camera, default_camera, label_places, snapshot
 
+CAMERA_DISTANCE = 1.3  # metres: closer than the scene picture's, the robot at work fills the frame
 STRIDE = 0.25  # radians between frames along a motion
 FRAME_MS = 90  # milliseconds each frame is shown
 HOLD_MS = 600  # ... the frames after a human move and the last one
@@ -27,7 +28,7 @@ class Recorder:
                  camera: Camera | None = None) -> None:
         self.world = world
         self.path = Path(path)
-        self.camera = camera or default_camera(world.scene, width, height)
+        self.camera = camera or default_camera(world.scene, width, height, distance=CAMERA_DISTANCE)
         self.frames: list[Image.Image] = []
         self.durations: list[int] = []
 
