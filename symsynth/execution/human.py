@@ -30,13 +30,12 @@ from pathlib import Path
 from typing import Any, Protocol
 
 import jsonschema
-import yaml
 
-from symsynth.errors import InputError, read_text
+from symsynth.errors import InputError
 from symsynth.game.solution import Position
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import ELSE, Scene
-from symsynth.scene.yamlpos import line_of, load_with_lines
+from symsynth.scene.yamlpos import line_of, read_yaml
 
 
 @dataclass(frozen=True)
@@ -174,13 +173,7 @@ def read_script(path: str | Path, scene: Scene) -> ScriptedHuman:
     by name, or `[x, y]` / `[x, y, z]` on the table.  Every problem is an
     `InputError` naming the file, the line and what was expected.
     """
-    text = read_text(path, "human script")
-    try:
-        data, lines = load_with_lines(text)
-    except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        where = f"{path}:{mark.line + 1}" if mark else str(path)
-        raise InputError(f"{where}: not valid YAML: {getattr(error, 'problem', error)}") from None
+    data, lines = read_yaml(path, "human script")
     problems: list[str] = []
 
     def add(key: tuple[Hashable, ...], message: str) -> None:

@@ -14,13 +14,12 @@ from pathlib import Path
 from typing import Any
 
 import jsonschema
-import yaml
 
-from symsynth.errors import InputError, LTLfSyntaxError, read_text
+from symsynth.errors import InputError, LTLfSyntaxError
 from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data, load_costmap
 from symsynth.scene import physical
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, ObjectSpec, Scene
-from symsynth.scene.yamlpos import KeyPath, line_of, load_with_lines
+from symsynth.scene.yamlpos import KeyPath, line_of, read_yaml
 
 NAME = {"type": "string", "pattern": "^[A-Za-z0-9_]+$"}
 NONNEG = {"type": "number", "minimum": 0}
@@ -91,13 +90,7 @@ def load_scene(path: str | Path, *, costmap: str | Path | None = None) -> Scene:
     """The scene of a YAML file; `costmap` (a file) replaces the scene's own
     costmap, which is then not read at all."""
     path = Path(path)
-    text = read_text(path, "scene", SceneError)
-    try:
-        data, lines = load_with_lines(text)
-    except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        where = f"{path}:{mark.line + 1}" if mark else str(path)
-        raise SceneError(f"{where}: not valid YAML: {getattr(error, 'problem', error)}") from None
+    data, lines = read_yaml(path, "scene", SceneError)
     return scene_from_data(data, source=path, lines=lines, costmap=costmap)
 
 

@@ -8,9 +8,12 @@ to 1-based line numbers, so validation errors can name file and line.
 from __future__ import annotations
 
 from collections.abc import Hashable
+from pathlib import Path
 from typing import Any
 
 import yaml
+
+from symsynth.errors import InputError, read_text
 
 KeyPath = tuple[Any, ...]
 
@@ -48,3 +51,16 @@ def line_of(lines: dict[KeyPath, int], path: KeyPath) -> int | None:
     while path not in lines and path:
         path = path[:-1]
     return lines.get(path)
+
+
+def read_yaml(path: str | Path, what: str,
+              error: type[InputError] = InputError) -> tuple[Any, dict[KeyPath, int]]:
+    """`load_with_lines` of the file `path`; unreadable text or invalid YAML
+    raises `error` naming the file, the line and `what` it is."""
+    text = read_text(Path(path), what, error)
+    try:
+        return load_with_lines(text)
+    except yaml.YAMLError as problem:
+        mark = getattr(problem, "problem_mark", None)
+        where = f"{path}:{mark.line + 1}" if mark else str(path)
+        raise error(f"{where}: not valid YAML: {getattr(problem, 'problem', problem)}") from None
