@@ -124,11 +124,14 @@ def run(args: argparse.Namespace) -> int:
     scene = load_scene(args.scene)
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world to simulate")
+    if args.k is not None:
+        scene = dataclasses.replace(scene, k=args.k)
     script = None
     if args.human not in ("none", "random", "adversarial"):
         if not Path(args.human).is_file():
             raise InputError(f"--human: expected none, random, adversarial or a script file, "
                              f"found {args.human!r} (no such file)")
+        script = read_script(args.human, scene)  # before the costmap and the solve
     progress = not args.json
     obtained = None
     if scene.costmap is None:
@@ -141,12 +144,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         if scene.task is None:
             raise InputError(f"scene {scene.name!r} has no task: give one (task: FORMULA)")
-        k = scene.k if args.k is None else args.k
-        scene = dataclasses.replace(scene, k=k)
-        solution = SOLVERS[args.solver](scene, scene.task, k=k, budget=args.budget)
+        solution = SOLVERS[args.solver](scene, scene.task, k=scene.k, budget=args.budget)
         table = strategy_table(scene, scene.task, solution)
-    if args.human not in ("none", "random", "adversarial"):
-        script = read_script(args.human, scene)
     formula = parse_ltlf(table.task, source=f"{args.strategy or args.scene} (task)")
     bound = table.cost_bound
     guarantee = bound is not None and (args.budget is None or bound <= args.budget + 1e-9)
