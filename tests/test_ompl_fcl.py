@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import functools
 import math
+import time
 from pathlib import Path
 
 import fcl
@@ -470,6 +471,39 @@ def test_square_roadmap_is_reproducible_per_seed():
                            for seed in (2, 2, 3))
     assert np.array_equal(first.configs, again.configs) and np.array_equal(first.edges, again.edges)
     assert not np.array_equal(first.configs, other.configs)
+
+
+def test_square_roadmap_with_a_time_limit_grows_until_the_time_is_up():
+    """With `seconds`, `size` is not used: the roadmap grows for that long.
+    Its milestones are still the seed's sequence, so the size-limited
+    roadmap of the same seed is a prefix of it."""
+    anchors = {"west": (0.1, 0.1), "east": (0.9, 0.1)}
+    start = time.perf_counter()
+    timed = build_roadmap(LIMITS, wall_free, clear_of_wall, anchors, 5, 4, STEP, seconds=0.3)
+    took = time.perf_counter() - start
+    sized = build_roadmap(LIMITS, wall_free, clear_of_wall, anchors, 5, 4, STEP)
+    assert 0.3 <= took < 0.3 * 3 + 2.0  # GROWTH = 3 times the limit at most, plus set-up
+    assert len(timed.configs) > max(50, len(sized.configs))
+    assert np.array_equal(timed.configs[:len(sized.configs)], sized.configs)
+    assert not any(crosses_wall(timed.configs[i], timed.configs[j]) for i, j in timed.edges)
+    labels = components(len(timed.configs), timed.edges)
+    assert labels[timed.anchors["west"]] == labels[timed.anchors["east"]]
+
+
+def test_unconnectable_anchors_with_a_time_limit_are_named_after_three_times_the_limit():
+    def split(q):
+        return not 0.2 <= q[0] <= 0.3
+
+    def same_side(a, b):
+        return (a[0] < 0.2) == (b[0] < 0.2) and split(a) and split(b)
+
+    start = time.perf_counter()
+    with pytest.raises(PlannerError, match=r"not connected to the roadmap after 0.3 s of growth \(\d+ samples"):
+        build_roadmap(LIMITS, split, same_side, {"west": (0.1, 0.5), "east": (0.9, 0.5)}, 30, 0, STEP,
+                      seconds=0.1)
+    assert time.perf_counter() - start >= 0.3
+    with pytest.raises(PlannerError, match="time limit must be positive"):
+        build_roadmap(LIMITS, wall_free, clear_of_wall, {"ok": (0.1, 0.1)}, 5, 0, STEP, seconds=0.0)
 
 
 def test_unconnectable_anchors_are_named():

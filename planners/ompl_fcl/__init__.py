@@ -65,7 +65,8 @@ class OmplFclPlanner:
         known = (mode, start.tobytes(), goal.tobytes(), resolution) in self._free
         return self.world.sweep(mode, configs, static=not known)
 
-    def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int) -> Roadmap:
+    def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int,
+                seconds: float | None = None) -> Roadmap:
         resolution = self.geometry.planner.resolution
         self.world.held(mode)  # an unknown mode fails here, naming the known objects and grasps
 
@@ -79,7 +80,7 @@ class OmplFclPlanner:
             self._free.add((mode, start.tobytes(), goal.tobytes(), resolution))
             return True
 
-        return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, resolution)
+        return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, resolution, seconds)
 
 
 def segment(start: np.ndarray, goal: np.ndarray, resolution: float) -> np.ndarray:
