@@ -34,7 +34,7 @@ def overlapping(pose_a: np.ndarray, half_a: np.ndarray, pose_b: np.ndarray, half
 
 
 def axes_overlap(pose_a: np.ndarray, half_a: np.ndarray, pose_b: np.ndarray,
-                  half_b: np.ndarray) -> np.ndarray:
+                 half_b: np.ndarray) -> np.ndarray:
     """The separating-axis test on (n, 4, 4) poses and (n, 3) half extents."""
     rot_a_t = np.swapaxes(pose_a[:, :3, :3], 1, 2)
     r = rot_a_t @ pose_b[:, :3, :3]  # r[i, j] = A_i . B_j

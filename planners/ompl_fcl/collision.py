@@ -220,7 +220,7 @@ class CollisionWorld:
         gap = centres[:, table.second] - centres[:, table.first]
         near_b, near_r = np.nonzero(np.einsum("brk,brk->br", gap, gap) <= table.reach2)
         hit = axes_overlap(boxes[near_b, table.first[near_r]], table.half_first[near_r],
-                            boxes[near_b, table.second[near_r]], table.half_second[near_r])
+                           boxes[near_b, table.second[near_r]], table.half_second[near_r])
         moving = len(movers.halves)
         current = -1
         for b, row in zip(near_b[hit].tolist(), near_r[hit].tolist()):  # by configuration, then row
