@@ -7,7 +7,8 @@ For N = 0..4 (`scenes/line.yaml`, then `scenes/line-obstacles-N.yaml`) and
 each roadmap seed: the start-goal and the recursive costmap, each computed
 from scratch on its own (roadmaps included, no cache, so each method's time
 is its whole abstraction time, as in the paper), then the game solved at the
-scene's k by the symbolic solver.  Each row is one seed; the per-N summary
+scene's k by the symbolic solver.  Runs go seed by seed, N = 0..4 within each,
+so that a change in the machine's load falls on every N alike.  Each row is one seed; the per-N summary
 gives the mean over the seeds.  The paper (He et al., RA-L 2019, Sec. VI-B)
 ran 10 trials per N with MoveIt on a UR5.
 """
@@ -65,17 +66,17 @@ def main() -> int:
     parser.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "line_obstacles.md")
     args = parser.parse_args()
 
-    rows, results = [], {}
-    for n in COUNTS:
-        scene = load(n, args.roadmap)
-        for seed in args.seeds:
-            found = {method: run(scene, method, args.planner, seed) for method in METHODS}
+    rows, results = {}, {}
+    scenes = {n: load(n, args.roadmap) for n in COUNTS}
+    for seed in args.seeds:  # N varies fastest: a change of the machine's load spreads over every N
+        for n in COUNTS:
+            found = {method: run(scenes[n], method, args.planner, seed) for method in METHODS}
             results[n, seed] = found
             sg, rec = found["sg"], found["recursive"]
-            rows.append(f"| {n} | {seed} | {sg['seconds']:.1f} | {rec['seconds']:.1f} | {fmt(sg['bound'])} | "
-                        f"{fmt(rec['bound'])} | {'yes' if sg['bound'] is not None else 'no'} | "
-                        f"{'yes' if rec['bound'] is not None else 'no'} | {_no_dearer(sg, rec)} |")
-            print(rows[-1], flush=True)
+            rows[n, seed] = (f"| {n} | {seed} | {sg['seconds']:.1f} | {rec['seconds']:.1f} | {fmt(sg['bound'])} | "
+                             f"{fmt(rec['bound'])} | {'yes' if sg['bound'] is not None else 'no'} | "
+                             f"{'yes' if rec['bound'] is not None else 'no'} | {_no_dearer(sg, rec)} |")
+            print(rows[n, seed], flush=True)
 
     summary = []
     for n in COUNTS:
@@ -104,7 +105,7 @@ def main() -> int:
         *summary, "",
         "Every run:", "",
         "| N | seed | sg s | recursive s | sg E_p | recursive E_p | sg wins | recursive wins | recursive <= sg |",
-        "|---:|---:|---:|---:|---:|---:|---|---|---|", *rows, "",
+        "|---:|---:|---:|---:|---:|---:|---|---|---|", *(rows[key] for key in sorted(rows)), "",
         f"Load average at the end (1, 5, 15 min): {', '.join(f'{v:.2f}' for v in load_average)} on "
         f"{os.cpu_count()} cores (a shared machine: the seconds are indicative, E_p is exact).", "",
         *comparison(results, args.seeds), ""]
