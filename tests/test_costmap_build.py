@@ -13,6 +13,7 @@ from planar import PlanarPlanner, planar_scene
 from symsynth.errors import InputError
 from symsynth.game.solvers import SOLVERS
 from symsynth.game.solution import task_formula
+from symsynth.planning import cache
 from symsynth.planning.anchors import anchor_configs, motions
 from symsynth.planning.build import compute_costmap, obtain_costmap
 from symsynth.planning.costmaps import Query
@@ -171,3 +172,36 @@ def test_an_unwritable_cache_is_one_message(tmp_path, monkeypatch):
     monkeypatch.setenv("SYMSYNTH_CACHE", str(blocker / "cache"))  # a folder inside a file
     with pytest.raises(InputError, match="cannot write the costmap cache .*SYMSYNTH_CACHE"):
         obtain_costmap(gap_scene(), "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+
+
+class TimedPlanar(PlanarPlanner):
+    """The planar planner, recording the time limit it is given."""
+
+    seen: list = []
+
+    def roadmap(self, mode, anchors, size, seed, seconds=None):
+        TimedPlanar.seen.append(seconds)
+        return super().roadmap(mode, anchors, size, seed)
+
+
+def timed_scene(seconds):
+    scene = gap_scene()
+    settings = dataclasses.replace(scene.geometry.planner, seconds=seconds)
+    return dataclasses.replace(scene, geometry=dataclasses.replace(scene.geometry, planner=settings))
+
+
+def test_a_roadmap_time_limit_reaches_the_planner_and_the_cache_key(tmp_path, monkeypatch):
+    TimedPlanar.seen.clear()
+    compute_costmap(timed_scene(1.5), "sg", "planar", progress=False, planner_factory=TimedPlanar)
+    assert TimedPlanar.seen and set(TimedPlanar.seen) == {1.5}
+    TimedPlanar.seen.clear()
+    compute_costmap(timed_scene(None), "sg", "planar", progress=False, planner_factory=TimedPlanar)
+    assert TimedPlanar.seen and set(TimedPlanar.seen) == {None}
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path))
+    paths = {cache.cache_path(timed_scene(s), "sg", "planar", 0) for s in (None, 1.5, 2.0)}
+    assert len(paths) == 3
+
+
+def test_a_time_limit_with_a_planner_that_has_none_is_one_message():
+    with pytest.raises(PlannerError, match="the planar planner has no roadmap time limit"):
+        compute_costmap(timed_scene(1.5), "sg", "planar", progress=False, planner_factory=PlanarPlanner)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import functools
 import math
+import time
 from pathlib import Path
 
 import fcl
@@ -348,8 +349,72 @@ def test_panda_roadmap_edges_are_collision_free_and_anchors_connected():
     assert len({tuple(e) for e in roadmap.edges.tolist()}) == len(roadmap.edges)
     assert np.allclose(roadmap.lengths,
                        [math.dist(roadmap.configs[i], roadmap.configs[j]) for i, j in roadmap.edges])
+    fresh = OmplFclPlanner(SCENES["two places"]())  # checks every pair: it did not build the roadmap
     for i, j in roadmap.edges:
-        assert not planner.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], resolution).static
+        assert not fresh.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], resolution).static
+
+
+def test_edge_checks_of_the_planner_that_built_the_roadmap_match_a_fresh_one():
+    """The planner that grew a roadmap skips the self and static pairs on its
+    edges (it found them free); a fresh planner checks every pair."""
+    planner, _, roadmap = panda_roadmap(seed=2)
+    resolution = planner.geometry.planner.resolution
+    fresh = OmplFclPlanner(SCENES["two places"]())
+    found = [planner.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], resolution)
+             for i, j in roadmap.edges]
+    expected = [fresh.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], resolution)
+                for i, j in roadmap.edges]
+    assert found == expected
+    assert any(c.locations for c in expected) and not any(c.static for c in expected)
+
+
+def every_pair_contacts(planner: OmplFclPlanner, mode: Mode, config) -> Contacts:
+    """`contacts` without culling: fcl on every candidate pair, in order."""
+    world = planner.world
+    table = world._table(mode, True)
+    poses = world.kinematics.poses(np.asarray(config, dtype=float)[None])[0]
+    objects = list(world.objects)
+    placed = [poses[i] @ o for i, o in zip(world.owner_index, world.offsets)]
+    held = world.held(mode)
+    if held is not None:
+        objects.append(held.object)
+        placed.append(poses[world.ee_index] @ held.in_hand @ held.solid.offset)
+    for obj, pose in zip(objects, placed):
+        obj.setTransform(fcl.Transform(pose[:3, :3], pose[:3, 3]))
+    moving, static, touched = len(objects), False, set()
+    for kind, k, other in table.rows:
+        second = objects[other] if other < moving else table.fixed.objects[other - moving]
+        if fcl.collide(objects[k], second):
+            if kind == 2:
+                touched.add(table.fixed.tags[other - moving])
+            else:
+                static = True
+    return static, frozenset(touched)
+
+
+def test_culled_contacts_equal_every_pair_checked():
+    """Bounding-sphere and separating-axis culling never hide a contact nor
+    invent one: random configurations (many of them in contact) give what
+    fcl says on every pair."""
+    scene = physical({"a": ("A", BLOCK), "b": ("B", BLOCK)},
+                     {"A": Pose((0.5, -0.2, 0.0)), "B": Pose((0.5, 0.2, 0.0)), "C": Pose((0.3, 0.0, 0.0))})
+    planner = OmplFclPlanner(scene)
+    rng = np.random.default_rng(3)
+    limits = planner.limits
+    anchors = [planner.inverse_kinematics(pose @ TOP.pre_image(), HOME) for pose in scene.geometry.places.values()]
+    near = np.clip(np.repeat(anchors, 50, axis=0) + rng.normal(0.0, 0.2, (150, 7)), limits[:, 0], limits[:, 1])
+    configs = np.vstack([rng.uniform(limits[:, 0], limits[:, 1], (100, 7)), near])
+    kinds = {"static": 0, "places": 0}
+    for mode in (Mode(), Mode("a", "top")):
+        for config in configs:
+            static, touched = every_pair_contacts(planner, mode, config)
+            found = planner.world.sweep(mode, config[None])
+            assert found.static == static, (mode, config.tolist())
+            if not static:  # when static, the check may stop before all places are seen
+                assert found.locations == touched, (mode, config.tolist())
+            kinds["static"] += static
+            kinds["places"] += bool(touched) and not static
+    assert kinds["static"] > 10 and kinds["places"] > 3, kinds
 
 
 def test_panda_roadmap_same_seed_same_roadmap():
@@ -406,6 +471,39 @@ def test_square_roadmap_is_reproducible_per_seed():
                            for seed in (2, 2, 3))
     assert np.array_equal(first.configs, again.configs) and np.array_equal(first.edges, again.edges)
     assert not np.array_equal(first.configs, other.configs)
+
+
+def test_square_roadmap_with_a_time_limit_grows_until_the_time_is_up():
+    """With `seconds`, `size` is not used: the roadmap grows for that long.
+    Its milestones are still the seed's sequence, so the size-limited
+    roadmap of the same seed is a prefix of it."""
+    anchors = {"west": (0.1, 0.1), "east": (0.9, 0.1)}
+    start = time.perf_counter()
+    timed = build_roadmap(LIMITS, wall_free, clear_of_wall, anchors, 5, 4, STEP, seconds=0.3)
+    took = time.perf_counter() - start
+    sized = build_roadmap(LIMITS, wall_free, clear_of_wall, anchors, 5, 4, STEP)
+    assert 0.3 <= took < 0.3 * 3 + 2.0  # GROWTH = 3 times the limit at most, plus set-up
+    assert len(timed.configs) > max(50, len(sized.configs))
+    assert np.array_equal(timed.configs[:len(sized.configs)], sized.configs)
+    assert not any(crosses_wall(timed.configs[i], timed.configs[j]) for i, j in timed.edges)
+    labels = components(len(timed.configs), timed.edges)
+    assert labels[timed.anchors["west"]] == labels[timed.anchors["east"]]
+
+
+def test_unconnectable_anchors_with_a_time_limit_are_named_after_three_times_the_limit():
+    def split(q):
+        return not 0.2 <= q[0] <= 0.3
+
+    def same_side(a, b):
+        return (a[0] < 0.2) == (b[0] < 0.2) and split(a) and split(b)
+
+    start = time.perf_counter()
+    with pytest.raises(PlannerError, match=r"not connected to the roadmap after 0.3 s of growth \(\d+ samples"):
+        build_roadmap(LIMITS, split, same_side, {"west": (0.1, 0.5), "east": (0.9, 0.5)}, 30, 0, STEP,
+                      seconds=0.1)
+    assert time.perf_counter() - start >= 0.3
+    with pytest.raises(PlannerError, match="time limit must be positive"):
+        build_roadmap(LIMITS, wall_free, clear_of_wall, {"ok": (0.1, 0.1)}, 5, 0, STEP, seconds=0.0)
 
 
 def test_unconnectable_anchors_are_named():

@@ -140,6 +140,8 @@ def test_bundled_physical_scenes_load():
      "scene.yaml:10: locations.l1.xyz: [0.5, 0.1] is too short"),
     (("top: {xyz", "top: {xz"), "grasps.top: Additional properties are not allowed"),
     (("resolution: 0.1", "resolution: 0"), "planner.resolution: 0 is less than or equal"),
+    (("roadmap_size: 50,", "roadmap_size: 50, seconds: 2,"),
+     "scene.yaml:19: planner.seconds: give the roadmap either a size (roadmap_size) or a time limit (seconds), not both"),
     (("costs: {per_radian: 10, grab: 4, drop: 6}", "costs: {per_radian: -1}"),
      "costs.per_radian: -1 is less than the minimum of 0"),
     (("w: {tags: [block, white], box", "w: {tags: [block, white], mesh: {file: no.obj}, box"),

@@ -63,7 +63,8 @@ class BulletPlanner:
             found = found | self.world.touching()
         return found
 
-    def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int) -> Roadmap:
+    def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int,
+                seconds: float | None = None) -> Roadmap:
         resolution = self.settings.resolution
 
         def valid(config) -> bool:
@@ -80,7 +81,7 @@ class BulletPlanner:
             return True
 
         anchors = {name: self._config(config) for name, config in anchors.items()}
-        return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, resolution)
+        return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, resolution, seconds)
 
     def _segment(self, start: Config, goal: Config, resolution: float) -> Iterator[np.ndarray]:
         if not resolution > 0:

@@ -29,12 +29,12 @@ def overlapping(pose_a: np.ndarray, half_a: np.ndarray, pose_b: np.ndarray, half
     reach = np.sqrt(np.einsum("ij,ij->i", half_a, half_a)) + np.sqrt(np.einsum("ij,ij->i", half_b, half_b))
     near = np.flatnonzero(np.einsum("ij,ij->i", gap, gap) <= reach * reach)
     result = np.zeros(len(gap), dtype=bool)
-    result[near] = _axes_overlap(pose_a[near], half_a[near], pose_b[near], half_b[near])
+    result[near] = axes_overlap(pose_a[near], half_a[near], pose_b[near], half_b[near])
     return result.reshape(shape)
 
 
-def _axes_overlap(pose_a: np.ndarray, half_a: np.ndarray, pose_b: np.ndarray,
-                  half_b: np.ndarray) -> np.ndarray:
+def axes_overlap(pose_a: np.ndarray, half_a: np.ndarray, pose_b: np.ndarray,
+                 half_b: np.ndarray) -> np.ndarray:
     """The separating-axis test on (n, 4, 4) poses and (n, 3) half extents."""
     rot_a_t = np.swapaxes(pose_a[:, :3, :3], 1, 2)
     r = rot_a_t @ pose_b[:, :3, :3]  # r[i, j] = A_i . B_j

@@ -31,11 +31,11 @@ import numpy as np
 from symsynth.planning.protocol import Config, Contacts, Mode, PlannerError
 from symsynth.scene.geometry import Geometry
 
-from .bounds import overlapping
+from .bounds import axes_overlap
 from .kinematics import Kinematics
 from .shapes import Solid, link_solids, scene_solid
 
-FIRST_BATCH = 8  # configurations culled together at first
+CHUNK = 256  # configurations placed and culled together (a whole segment, usually)
 SELF, STATIC, PLACE = 0, 1, 2  # kinds of candidate pair, in the order they are checked
 
 
@@ -67,12 +67,17 @@ class _Placed:
 @dataclass(frozen=True)
 class _Table:
     """Candidate pairs as rows (kind, first, second): `first` a mover,
-    `second` a mover or (numbered after the movers) a fixed solid."""
+    `second` a mover or (numbered after the movers) a fixed solid; with
+    each row's bounding-box half extents and the square of the sum of its
+    two bounding spheres' radii (the first, cheapest cull)."""
 
     rows: list[tuple[int, int, int]]
     first: np.ndarray
     second: np.ndarray
     fixed: _Placed
+    half_first: np.ndarray  # (rows, 3)
+    half_second: np.ndarray  # (rows, 3)
+    reach2: np.ndarray  # (rows,)
 
 
 @dataclass(frozen=True)
@@ -106,7 +111,7 @@ class CollisionWorld:
         self._object_solids = {name: scene_solid(shape) for name, shape in geometry.shapes.items()}
         self._locations: dict[str | None, _Placed] = {}
         self._held: dict[Mode, _Held] = {}
-        self._tables: dict[tuple[Mode, bool], _Table] = {}
+        self._tables: dict[tuple[Mode, bool, bool], _Table] = {}
 
         self.adjacent = self._adjacent_pairs()
         self.home_contacts = self._touching(kinematics.home, self._pairs(self.adjacent))
@@ -181,35 +186,44 @@ class CollisionWorld:
         held object at `config`."""
         return self.sweep(mode, self.kinematics.check(config)[None], locations)
 
-    def sweep(self, mode: Mode, configs: np.ndarray, locations: bool = True) -> Contacts:
+    def sweep(self, mode: Mode, configs: np.ndarray, locations: bool = True, static: bool = True) -> Contacts:
         """The union of `contacts` over `configs` (B, d), taken in order and
-        stopped at the first static contact.  They are culled in batches of
-        `FIRST_BATCH`, then twice as many each time: an early contact spares
-        the work on the rest, a long free motion pays little overhead."""
+        stopped at the first static contact.  Forward kinematics and culling
+        run on `CHUNK` configurations at once; only fcl's narrow phase stops
+        early.  (Culling in small first batches, to spare the work after an
+        early contact, was slower: numpy's cost per call is most of it.)
+
+        `static=False` leaves out the self and static pairs: only for
+        configurations already known free of them (a roadmap edge checked
+        when the roadmap was built), where it gives the same answer."""
         configs = np.asarray(configs, dtype=float)
         touched: set[str] = set()
-        start, size = 0, FIRST_BATCH
-        while start < len(configs):
-            if self._batch(mode, configs[start:start + size], locations, touched):
+        for start in range(0, len(configs), CHUNK):
+            if self._batch(mode, configs[start:start + CHUNK], locations, static, touched):
                 return Contacts(True, frozenset(touched))
-            start, size = start + size, 2 * size
         return Contacts(False, frozenset(touched))
 
-    def _batch(self, mode: Mode, configs: np.ndarray, locations: bool, touched: set[str]) -> bool:
+    def _batch(self, mode: Mode, configs: np.ndarray, locations: bool, static: bool, touched: set[str]) -> bool:
         """Adds the location contacts along `configs` to `touched`; true at the
-        first static contact."""
-        held = self.held(mode)
-        movers = self._movers(configs, held)
-        table = self._table(mode, locations)
+        first static contact.  Pairs are culled by bounding spheres (centres
+        only, for every row), then by the separating-axis test on the pairs
+        the spheres let through; fcl's narrow phase runs on the rest, by
+        configuration, then row."""
+        table = self._table(mode, locations, static)
+        if not table.rows:
+            return False
+        movers = self._movers(configs, self.held(mode))
         fixed = table.fixed
-        still = np.broadcast_to(fixed.boxes, (len(configs), *fixed.boxes.shape))
-        boxes = np.concatenate([movers.boxes, still], axis=1)
-        halves = np.concatenate([movers.halves, fixed.halves])
-        first, second = table.first, table.second
-        near = overlapping(boxes[:, first], halves[first], boxes[:, second], halves[second])
+        boxes = np.concatenate([movers.boxes, np.broadcast_to(fixed.boxes, (len(configs), *fixed.boxes.shape))],
+                               axis=1)  # (B, movers + fixed, 4, 4)
+        centres = boxes[:, :, :3, 3]
+        gap = centres[:, table.second] - centres[:, table.first]
+        near_b, near_r = np.nonzero(np.einsum("brk,brk->br", gap, gap) <= table.reach2)
+        hit = axes_overlap(boxes[near_b, table.first[near_r]], table.half_first[near_r],
+                           boxes[near_b, table.second[near_r]], table.half_second[near_r])
         moving = len(movers.halves)
         current = -1
-        for b, row in zip(*(axis.tolist() for axis in np.nonzero(near))):  # by configuration, then row
+        for b, row in zip(near_b[hit].tolist(), near_r[hit].tolist()):  # by configuration, then row
             if b != current:
                 movers.at(b)
                 current = b
@@ -225,10 +239,11 @@ class CollisionWorld:
                 touched.add(fixed.tags[other - moving])
         return False
 
-    def _table(self, mode: Mode, locations: bool) -> _Table:
+    def _table(self, mode: Mode, locations: bool, static: bool = True) -> _Table:
         """The candidate pairs of a mode: self pairs first, then static, then
-        location pairs; movers are numbered first, fixed solids after them."""
-        key = (mode, locations)
+        location pairs (self and static ones only if `static`); movers are
+        numbered first, fixed solids after them."""
+        key = (mode, locations, static)
         if key not in self._tables:
             held = self.held(mode)
             pairs = self.self_pairs if held is None else self.held_pairs
@@ -236,11 +251,16 @@ class CollisionWorld:
             places = self.locations(mode.object) if locations else _Placed.of([])
             fixed = _Placed.concatenate(self.static, places)
             moving, statics = len(self.solids) + (held is not None), len(self.static.tags)
-            rows = [(SELF, i, j) for i, j in pairs.tolist()]
+            rows = [(SELF, i, j) for i, j in pairs.tolist()] if static else []
             rows += [(STATIC if f < statics else PLACE, k, moving + f)
-                     for f in range(len(fixed.tags)) for k in grounded]
-            self._tables[key] = _Table(rows, np.array([r[1] for r in rows], dtype=np.int64),
-                                       np.array([r[2] for r in rows], dtype=np.int64), fixed)
+                     for f in range(len(fixed.tags)) for k in grounded if static or f >= statics]
+            first = np.array([r[1] for r in rows], dtype=np.int64)
+            second = np.array([r[2] for r in rows], dtype=np.int64)
+            halves = np.concatenate([self.halves if held is None else np.vstack([self.halves, held.solid.half]),
+                                     fixed.halves])
+            radius = np.sqrt(np.einsum("ij,ij->i", halves, halves))
+            reach = radius[first] + radius[second]
+            self._tables[key] = _Table(rows, first, second, fixed, halves[first], halves[second], reach * reach)
         return self._tables[key]
 
     def _movers(self, configs: np.ndarray, held: _Held | None) -> _Movers:

@@ -11,6 +11,7 @@ shapes) share one roadmap and its checks.
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import multiprocessing
 import os
 import time
@@ -100,6 +101,9 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     stats = Stats()
     clock = time.perf_counter()
     planner = (planner_factory or planner_class(name))(scene)
+    if settings.seconds is not None and "seconds" not in inspect.signature(planner.roadmap).parameters:
+        raise PlannerError(f"the {name} planner has no roadmap time limit: give the scene's planner a "
+                           f"roadmap_size instead of seconds")
     configs = anchor_configs(planner, scene)
     clock = stats.add("anchors", clock)
 
@@ -147,7 +151,7 @@ def _roadmaps(scene: Scene, name: str, planner: Planner, jobs: list, settings, s
     several processes when there are several modes and cores (each builds
     its own planner: the results do not depend on where they are computed)."""
     args = [(members[0], {name: q for name, (q, _) in anchors.items()}, settings.roadmap_size, seed,
-             settings.resolution) for members, anchors in jobs]
+             settings.resolution, settings.seconds) for members, anchors in jobs]
     if workers <= 1:
         results = []
         for job in args:
@@ -177,9 +181,13 @@ def _worker_job(*job):
     return _roadmap_job(_worker_planner, *job)
 
 
-def _roadmap_job(planner: Planner, mode: Mode, anchors: dict, size: int, seed: int, resolution: float):
+def _roadmap_job(planner: Planner, mode: Mode, anchors: dict, size: int, seed: int, resolution: float,
+                 seconds: float | None):
     start = time.perf_counter()
-    roadmap = planner.roadmap(mode, anchors, size, seed)
+    if seconds is None:  # planners without a time limit need not take the parameter
+        roadmap = planner.roadmap(mode, anchors, size, seed)
+    else:
+        roadmap = planner.roadmap(mode, anchors, size, seed, seconds=seconds)
     middle = time.perf_counter()
     blocked = edge_blockers(planner, mode, roadmap, resolution)
     return roadmap, blocked, (middle - start, time.perf_counter() - middle)

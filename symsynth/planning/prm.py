@@ -17,8 +17,12 @@ Conventions, and what OMPL 2.x's Python bindings make us do:
   per process, before the first RNG exists, so it cannot give each call its
   own seed.  The sampler therefore draws from `numpy.random.default_rng(seed)`,
   only `growRoadmap` is used (never `expandRoadmap`, whose random walks use
-  OMPL's RNG), and growth stops at a milestone count, never at a time.  Same
-  inputs and seed, same roadmap.
+  OMPL's RNG), and growth stops at a milestone count.  Same inputs and
+  seed, same roadmap.  The exception is a time limit (`seconds`, the scene's
+  `planner: {seconds: S}`): growth then stops when the time is up, so the
+  roadmap depends on the machine and its load, and the same seed no longer
+  gives the same roadmap (the milestones are still the seed's sequence,
+  only where it stops varies).
 * `PRM` completes its setup only when it has a problem definition (without
   one it crashes on its first edge); an empty one with the path-length
   objective is given.
@@ -28,12 +32,14 @@ Conventions, and what OMPL 2.x's Python bindings make us do:
 
 An anchor is connected when it lies in the roadmap's largest connected
 component.  Growth continues, `size // 2` milestones at a time, up to
-`GROWTH * size` sampled milestones; anchors still outside after that raise
+`GROWTH * size` sampled milestones (with a time limit: `seconds / 2` at a
+time, up to `GROWTH * seconds`); anchors still outside after that raise
 `PlannerError` naming them.
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Mapping
 
 import numpy as np
@@ -54,8 +60,11 @@ MotionValidity = Callable[[np.ndarray, np.ndarray], bool]
 
 
 def build_roadmap(limits: np.ndarray, valid: Validity, motion_valid: MotionValidity,
-                  anchors: Mapping[str, Config], size: int, seed: int, resolution: float) -> Roadmap:
-    """A PRM roadmap of the anchors plus about `size` sampled milestones.
+                  anchors: Mapping[str, Config], size: int, seed: int, resolution: float,
+                  seconds: float | None = None) -> Roadmap:
+    """A PRM roadmap of the anchors plus about `size` sampled milestones, or
+    (when `seconds` is given, and then `size` is not used) the milestones
+    added in `seconds` of growth.
 
     `limits` is (d, 2), lower and upper bound per joint; `valid(q)` is false
     for a configuration in static collision; `motion_valid(a, b)` checks the
@@ -66,22 +75,65 @@ def build_roadmap(limits: np.ndarray, valid: Validity, motion_valid: MotionValid
         raise PlannerError(f"joint limits must be (d, 2) with lower <= upper, got {limits.tolist()}")
     if size < 1 or resolution <= 0:
         raise PlannerError(f"roadmap size must be >= 1 and resolution > 0, got {size} and {resolution}")
+    if seconds is not None and not seconds > 0:
+        raise PlannerError(f"a roadmap time limit must be positive, got {seconds} s")
     points, index = _anchor_milestones(limits, valid, anchors)
     draws = _Draws(limits, valid, points, seed)
     prm, space_info, _alive = _prm(limits, valid, motion_valid, draws, resolution)
 
-    target = len(points) + size
+    budget = _Budget(len(points), size, seconds)
     while True:
-        _grow(prm, draws, target)
+        _grow(prm, draws, budget.done(prm))
         roadmap = _read(prm, space_info, draws, index)
         outside = _unconnected(roadmap)
         if not outside:
             return roadmap
-        if target >= len(points) + GROWTH * size:
+        if budget.spent():
             raise PlannerError(
-                f"anchors not connected to the roadmap after {target - len(points)} samples "
+                f"anchors not connected to the roadmap after {budget.describe(prm)} "
                 f"(k = {NEIGHBOURS}, seed {seed}): {', '.join(outside)}")
-        target += max(1, size // 2)
+        budget.extend()
+
+
+class _Budget:
+    """When growth stops: at a milestone count (`size` sampled milestones,
+    then `size // 2` more at a time, up to `GROWTH * size`), or at a time
+    (`seconds` of growth, then `seconds / 2` more at a time, up to
+    `GROWTH * seconds`)."""
+
+    def __init__(self, anchors: int, size: int, seconds: float | None):
+        self.anchors, self.size, self.seconds = anchors, size, seconds
+        self.target = anchors + size  # milestones
+        self.halves = 2  # the growth time allowed so far, in halves of `seconds`
+        self.used = 0.0  # seconds of growth so far
+
+    def done(self, prm: og.PRM) -> Callable[[], bool]:
+        if self.seconds is None:
+            return lambda: prm.milestoneCount() >= self.target
+        start = time.monotonic()
+        deadline = start + self.seconds * self.halves / 2 - self.used
+
+        def over() -> bool:
+            now = time.monotonic()
+            if now < deadline:
+                return False
+            self.used += now - start
+            return True
+        return over
+
+    def spent(self) -> bool:
+        if self.seconds is None:
+            return self.target >= self.anchors + GROWTH * self.size
+        return self.halves >= 2 * GROWTH
+
+    def extend(self) -> None:
+        self.target += max(1, self.size // 2)
+        self.halves += 1
+
+    def describe(self, prm: og.PRM) -> str:
+        if self.seconds is None:
+            return f"{self.target - self.anchors} samples"
+        return f"{self.seconds * self.halves / 2:g} s of growth ({prm.milestoneCount() - self.anchors} samples)"
 
 
 def _anchor_milestones(limits: np.ndarray, valid: Validity,
@@ -203,8 +255,8 @@ def _prm(limits: np.ndarray, valid: Validity, motion_valid: MotionValidity, draw
     return prm, space_info, (space, validator, draws, problem)
 
 
-def _grow(prm: og.PRM, draws: _Draws, target: int) -> None:
-    done = ob.PlannerTerminationCondition(lambda: draws.exhausted or prm.milestoneCount() >= target)
+def _grow(prm: og.PRM, draws: _Draws, stop: Callable[[], bool]) -> None:
+    done = ob.PlannerTerminationCondition(lambda: draws.exhausted or stop())
     prm.growRoadmapPtc(done)
     if draws.exhausted:
         raise PlannerError(f"no configuration free of static collisions in {ATTEMPTS} uniform samples "

@@ -110,6 +110,10 @@ class Planner(Protocol):
         """`contacts` along the straight joint-space segment, checked at steps
         of at most `resolution` radians, both ends included."""
 
-    def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int) -> Roadmap:
+    def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int,
+                seconds: float | None = None) -> Roadmap:
         """A roadmap of about `size` vertices plus the anchors, whose edges are
-        free of static collisions (location obstacles ignored)."""
+        free of static collisions (location obstacles ignored).  With
+        `seconds`, the vertices it can add in that time instead of `size`
+        (the scene's `planner: {seconds: S}`); a planner without a time
+        limit may leave the parameter out, and such scenes are refused."""

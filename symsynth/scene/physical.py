@@ -27,6 +27,12 @@ grasps:
 costs: {per_radian: 1, grab: 5, drop: 5}
 planner: {name: ompl-fcl, roadmap_size: 300, resolution: 0.05, seed: 0}
 ```
+
+`planner: {seconds: S}` instead of `roadmap_size` grows each mode's roadmap
+for S seconds.  The roadmap then depends on the machine and its load: the
+same seed no longer guarantees the same costmap.  `seconds` is part of the
+cache key, so a costmap cached with one limit is not reused for another
+(but is reused for the same one, whatever it would give on recomputing).
 """
 
 from __future__ import annotations
@@ -125,6 +131,9 @@ def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report
     initial = {name: pose_of(spec) for name, spec in data["objects"].items()
                if spec.get("at", "Else") == "Else" and "xyz" in spec}
     settings = data.get("planner", {})
+    if "seconds" in settings and "roadmap_size" in settings:
+        report.add(("planner", "seconds"), "give the roadmap either a size (roadmap_size) or a time limit "
+                   "(seconds), not both")
     planner = PlannerSettings(
         name=settings.get("name", PlannerSettings.name),
         roadmap_size=settings.get("roadmap_size", PlannerSettings.roadmap_size),
