@@ -209,6 +209,9 @@ class LowerBound:
                                             if not (y == x and y != ELSE and h == g)]
                 best = min(best, min(motion(EMPTY, S, T) for S in starts))
             self.transit[x] = best
+        # the first transit when the robot may be anywhere (hand empty, ee = Else)
+        self.from_anywhere = {x: min(motion(EMPTY, scene.anchors, anchors(x, g)) for g in grasps)
+                              for x in places}
         # carrying o from place x to location l: the cheapest chain of
         # transfers, with free changes of grasp at locations (a drop and a
         # grab, not counted) and at x (the first grab picks the grasp)
@@ -227,6 +230,29 @@ class LowerBound:
                         self.carry[i, (x, g), l] = dist.get((l, g), INF) if l != x else 0
                 for l in scene.locations:
                     self.carry[i, x, l] = min(self.carry[i, (x, g), l] for g in grasps)
+        # from an empty hand aimed at (y, g), y a location: the least cost of
+        # reaching an object at Else, over transits and detours that carry the
+        # aimed object elsewhere (grab, transfers, drop) first: Dijkstra over
+        # (place, grasp)
+        self.to_else = {}
+        if pattern:
+            hop = {}
+            for y in places:
+                for g in grasps:
+                    S = anchors(y, g)
+                    for x in places:
+                        for h in grasps:
+                            if (x, h) != (y, g) or x == ELSE:
+                                hop[(y, g), (x, h)] = motion(EMPTY, S, anchors(x, h))
+                    if y != ELSE:
+                        for w in scene.locations:
+                            if w != y:
+                                c = self.grab + self.drop + min(self.carry[i, (y, g), w]
+                                                                for i in range(len(names)))
+                                hop[(y, g), (w, g)] = min(hop.get(((y, g), (w, g)), INF), c)
+            for y in scene.locations:
+                for g in grasps:
+                    self.to_else[y, g] = _to_else((y, g), hop)
         self.strike = self._strike() if pattern else 0
 
     def _strike(self) -> float:
@@ -235,10 +261,16 @@ class LowerBound:
         location's atoms holding), of the most a move of one placed object
         to Else makes the bound grow by."""
         grasps = self.scene.grasps
+        locations = self.scene.locations
         any_place = min(self.transit.values())
         best = INF
         for l, _ in self.groups:
             for o in self.candidates[l]:
+                # holding o over l, the robot must put o down somewhere (y)
+                # before any transit: then go to Else at once, or via
+                # another transit first
+                to_else = min(self.carry[o, (l, g), y] + self.to_else[y, g]
+                              for g in grasps for y in locations)
                 worst = 0
                 for other, _ in self.groups:
                     if other == l:
@@ -249,7 +281,7 @@ class LowerBound:
                         break
                     damage = INF
                     for c1 in standing:  # the object the human takes to Else
-                        d = self.carry[c1, ELSE, other] + self.grab + self.transit[ELSE]
+                        d = self.carry[c1, ELSE, other] + self.grab + to_else
                         for c in self.candidates[other]:
                             if c == o:  # held over l
                                 d = min(d, min(self.carry[c, (l, g), other] for g in grasps))
@@ -298,7 +330,35 @@ class LowerBound:
                 return INF, False
         held = v.held()
         brink = (missing == [ee] and held is not None and held in self.candidates[ee])
+        if missing and held is None and ee == ELSE:
+            # the first action is a transit from anywhere: either the first
+            # transit to some final object (counted above from the cheapest
+            # start) or one more
+            total += min((self.from_anywhere[a] - self.transit[a] for a in at
+                          if self.transit[a] < INF), default=0)
         return total, brink
+
+
+def _to_else(source, hop) -> float:
+    """Least cost from `source` to a transit that ends at Else, with `hop`:
+    (place, grasp) -> (place, grasp) -> cost."""
+    import heapq
+    out: dict = {}
+    for (a, b), c in hop.items():
+        out.setdefault(a, []).append((b, c))
+    done = set()
+    heap = [(0, source)]
+    while heap:
+        d, node = heapq.heappop(heap)
+        if node in done:
+            continue
+        if node[0] == ELSE:
+            return d
+        done.add(node)
+        for nxt, c in out.get(node, ()):
+            if c < INF and nxt not in done:
+                heapq.heappush(heap, (d + c, nxt))
+    return INF
 
 
 def _shortest(x, grasps, locations, hop) -> dict:
