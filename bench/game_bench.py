@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Benchmark: the game solvers (explicit, symbolic) on a growing pattern family.
+"""Benchmark: the game solvers (explicit, symbolic, forward) on a growing pattern family.
 
-    python bench/game_bench.py [--quick] [--sizes 1x2,2x3,...] [--solvers explicit,symbolic]
-                               [--timeout S] [--k K] [--seed S] [--mem-limit GB] [--out FILE.md]
+    python bench/game_bench.py [--quick] [--sizes 1x2,2x3,...] [--solvers explicit,symbolic,forward]
+                               [--limit SOLVER=NxM ...] [--timeout S] [--k K] [--seed S]
+                               [--mem-limit GB] [--out FILE.md]
 
 Family (bench/gamefamily.py): n blocks, m >= n + 1 locations, 2 Else samples,
 grasp `top`, a human with k moves (default 3), the task one pattern
@@ -26,11 +27,14 @@ the time limit (default 600 s) or its resident set grows past the memory
 limit (default 8 GB); the cell says TO or OOM, and the larger sizes are not
 run for that solver (TO*, OOM*).
 
-Targets (PASS/FAIL): (a) the symbolic solver at least 10x faster than the
-explicit one at the largest size the explicit one finishes (same run, side by
-side); (b) 8 objects x 12 locations x k = 3 solved by the symbolic solver in
-under 60 s.  Exit status 0 when all pass, 1 when a target fails, 2 on a
-mismatch.
+`--limit SOLVER=NxM` runs SOLVER only up to that size (one of --sizes); its
+larger cells say "—" (not run), e.g. `--limit explicit=5x7`.
+
+Targets (PASS/FAIL), for each solver other than explicit (the issue states
+them for the symbolic one): (a) at least 10x faster than the explicit one at
+the largest size the explicit one finishes (same run, side by side); (b)
+8 objects x 12 locations x k = 3 solved in under 60 s.  Exit status 0 when
+all pass, 1 when a target fails, 2 on a mismatch.
 """
 
 from __future__ import annotations
@@ -210,6 +214,8 @@ def fmt_s(cell: Cell | None) -> str:
         return ""
     if cell.status in ("TO", "OOM"):
         return f"{cell.status} ({cell.wall_s:.0f} s)"
+    if cell.status == "n/a":
+        return "—"
     if not cell.ok:
         return cell.status
     t = cell.solve_s
@@ -254,9 +260,8 @@ def report(sizes, solvers, cells, meta, args):
     for s in solvers:
         head += [f"{s} s", f"{s} MB", f"{s} states"]
     head += ["E_p"]
-    speed = "explicit" in solvers and "symbolic" in solvers
-    if speed:
-        head.append("explicit/symbolic")
+    compared = [s for s in solvers if s != "explicit"] if "explicit" in solvers else []
+    head += [f"explicit/{s}" for s in compared]
     lines.append("| " + " | ".join(head) + " |")
     lines.append("|" + "|".join("---:" for _ in head) + "|")
     mismatches = []
@@ -274,9 +279,8 @@ def report(sizes, solvers, cells, meta, args):
             row.append("**MISMATCH** " + ", ".join(f"{s} {fmt_value(v)}" for s, v in values.items()))
         else:
             row.append(fmt_value(next(iter(distinct))) if distinct else "")
-        if speed:
-            e, y = cells.get(("explicit", n, m)), cells.get(("symbolic", n, m))
-            row.append(_ratio(e, y))
+        for s in compared:
+            row.append(_ratio(cells.get(("explicit", n, m)), cells.get((s, n, m))))
         lines.append("| " + " | ".join(row) + " |")
     lines.append("")
 
@@ -300,8 +304,9 @@ def report(sizes, solvers, cells, meta, args):
         lines.append("")
 
     verdicts = []  # (status, message); status PASS, FAIL or SKIP
-    verdicts.append(_target_speedup(sizes, cells, solvers))
-    verdicts.append(_target_size(sizes, cells, solvers, args))
+    for s in [x for x in solvers if x != "explicit"] or ["symbolic"]:
+        verdicts.append(_target_speedup(sizes, cells, solvers, s))
+        verdicts.append(_target_size(sizes, cells, solvers, args, s))
     for n, m, values in mismatches:
         verdicts.append(("MISMATCH", f"{n}x{m}: E_p differs: "
                          + ", ".join(f"{s} {fmt_value(v)}" for s, v in values.items())))
@@ -321,30 +326,31 @@ def _ratio(e: Cell | None, y: Cell | None) -> str:
     return ""
 
 
-def _target_speedup(sizes, cells, solvers):
-    what = f"(a) symbolic >= {TARGET_SPEEDUP:.0f}x faster than explicit at the largest size explicit finishes"
-    if "explicit" not in solvers or "symbolic" not in solvers:
-        return "SKIP", f"{what}: needs --solvers explicit,symbolic"
+def _target_speedup(sizes, cells, solvers, solver="symbolic"):
+    what = (f"(a) {solver} >= {TARGET_SPEEDUP:.0f}x faster than explicit at the largest size "
+            "explicit finishes")
+    if "explicit" not in solvers or solver not in solvers:
+        return "SKIP", f"{what}: needs --solvers explicit,{solver}"
     done = [(n, m) for (n, m) in sizes if (c := cells.get(("explicit", n, m))) is not None and c.ok]
     if not done:
         return "FAIL", f"{what}: explicit finished no size"
     n, m = done[-1]
-    e, y = cells[("explicit", n, m)], cells.get(("symbolic", n, m))
+    e, y = cells[("explicit", n, m)], cells.get((solver, n, m))
     if y is None or not y.ok:
-        return "FAIL", f"{what}: at {n}x{m} explicit {e.solve_s:.2f} s, symbolic {y.status if y else 'not run'}"
+        return "FAIL", f"{what}: at {n}x{m} explicit {e.solve_s:.2f} s, {solver} {y.status if y else 'not run'}"
     ratio = e.solve_s / y.solve_s if y.solve_s else float("inf")
     return ("PASS" if ratio >= TARGET_SPEEDUP else "FAIL",
-            f"{what}: at {n}x{m}, explicit {e.solve_s:.2f} s / symbolic {y.solve_s:.3f} s = {ratio:.1f}x")
+            f"{what}: at {n}x{m}, explicit {e.solve_s:.2f} s / {solver} {y.solve_s:.3f} s = {ratio:.1f}x")
 
 
-def _target_size(sizes, cells, solvers, args):
+def _target_size(sizes, cells, solvers, args, solver="symbolic"):
     n, m, k = TARGET_SIZE
-    what = f"(b) {n} objects x {m} locations x k={k} solved by symbolic in < {TARGET_SECONDS:.0f} s"
-    if "symbolic" not in solvers or (n, m) not in sizes or args.k != k:
+    what = f"(b) {n} objects x {m} locations x k={k} solved by {solver} in < {TARGET_SECONDS:.0f} s"
+    if solver not in solvers or (n, m) not in sizes or args.k != k:
         return "SKIP", f"{what}: not in this run (--sizes/--k/--solvers)"
-    c = cells.get(("symbolic", n, m))
-    if c is None:
-        return "FAIL", f"{what}: not run"
+    c = cells.get((solver, n, m))
+    if c is None or c.status == "n/a":
+        return "SKIP", f"{what}: not run (--limit)"
     if not c.ok:
         return "FAIL", f"{what}: {c.status}" + (f" ({c.error})" if c.error else "")
     if c.cost_bound is None:  # m >= n + 1 and a finite k: the pattern is always achievable
@@ -397,12 +403,14 @@ def main(argv=None):
                    help=f"smoke run: sizes {','.join(f'{n}x{m}' for n, m in QUICK_SIZES)}, 30 s limit")
     p.add_argument("--sizes", default=None,
                    help="comma-separated NxM (default: " + ",".join(f"{n}x{m}" for n, m in SIZES) + ")")
-    p.add_argument("--solvers", default="explicit,symbolic")
+    p.add_argument("--solvers", default="explicit,symbolic,forward")
     p.add_argument("--timeout", type=float, default=None, help="per run, s (default 600; 30 with --quick)")
     p.add_argument("--mem-limit", type=float, default=8.0, help="GB of resident memory per run (0: none)")
     p.add_argument("--k", type=int, default=3, help="human moves (default 3)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--no-skip", action="store_true", help="run larger sizes even after a failure")
+    p.add_argument("--limit", action="append", default=[], metavar="SOLVER=NxM",
+                   help="run SOLVER only up to size NxM (in the order of --sizes); repeatable")
     p.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"markdown file (default {DEFAULT_OUT})")
     args = p.parse_args(argv)
     args.timeout = args.timeout or (30.0 if args.quick else 600.0)
@@ -417,6 +425,13 @@ def main(argv=None):
     if unknown:
         p.error(f"unknown solver(s) {', '.join(unknown)}; registered: {', '.join(SOLVERS)}")
     runnable = solvers
+    limits: dict[str, tuple[int, int]] = {}
+    for item in args.limit:
+        name, _, size = item.partition("=")
+        if name not in solvers or not size:
+            p.error(f"--limit {item}: expected SOLVER=NxM with SOLVER among --solvers")
+        limits[name] = parse_sizes(size)[0]
+    beyond: set[str] = set()
 
     meta = environment(args)
     cells: dict[tuple[str, int, int], Cell] = {}
@@ -425,6 +440,12 @@ def main(argv=None):
     try:
         for n, m in sizes:
             for s in runnable:
+                if s in beyond:
+                    cells[(s, n, m)] = Cell(s, n, m, args.k, status="n/a")
+                    bar.update()
+                    continue
+                if limits.get(s) == (n, m):
+                    beyond.add(s)  # this size is the last
                 if s in failed and not args.no_skip:
                     cells[(s, n, m)] = Cell(s, n, m, args.k, status=failed[s] + "*")
                     bar.update()
@@ -448,6 +469,10 @@ def main(argv=None):
     finally:
         bar.close()
 
+    try:
+        meta["load average at end"] = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    except OSError:
+        pass
     text, verdicts = report(sizes, solvers, cells, meta, args)
     print(text)
     args.out.parent.mkdir(parents=True, exist_ok=True)

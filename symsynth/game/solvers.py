@@ -10,6 +10,7 @@ from collections.abc import Callable
 from typing import Protocol
 
 from symsynth.game.explicit import solve_explicit
+from symsynth.game.forward import solve_forward
 from symsynth.game.solution import Solution
 from symsynth.game.symbolic import solve_symbolic
 from symsynth.logic import ast
@@ -25,5 +26,6 @@ class Solver(Protocol):
 SOLVERS: dict[str, Callable[..., Solution]] = {
     "symbolic": solve_symbolic,
     "explicit": solve_explicit,
+    "forward": solve_forward,
 }
 DEFAULT_SOLVER = "symbolic"

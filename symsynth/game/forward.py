@@ -1,0 +1,804 @@
+"""The forward solver: spec §6's value by a bounded AND-OR search from the
+initial position, guided by an admissible lower bound.
+
+Only positions that play near the optimum reaches are looked at.  The
+search answers one question, "is val(p) <= b?", depth first, with a memo of
+what is proven about each position:
+
+- `lo(p)`: val(p) >= lo(p).  Initially the lower bound L(p) (`LowerBound`);
+  raised by every failed question: at a robot position to
+  min over actions of c + lo(after), at a human position to the largest lo
+  of its replies.  These are Bellman's equations applied to lower bounds, so
+  lo stays a lower bound whatever the order of the search.
+- `hi(p)` with the robot's action: val(p) <= hi(p), proven by a strategy
+  whose every play from p costs at most hi(p).  Set when a question is
+  answered yes, and only ever lowered.
+
+"val(p) <= b?" at a robot position: no if lo(p) > b; else try the actions in
+order of c + lo(after) while that is <= b, asking "val(after) <= b - c?".  At
+a human position: the pass and every move must all be within b; replies are
+tried largest lo first, so a failure shows early.
+
+The initial position is asked with b = lo, then with the raised lo, until
+the answer is yes: then lo = hi = E_p.
+
+Why it is exact
+---------------
+- lo is a lower bound (above), so a "no" never hides a strategy.  A yes
+  builds a strategy from the hi entries: at p, the action recorded, whose
+  replies all have hi <= hi(p) - c.  So E_p = the first b that gets a yes.
+- Zero-cost actions can close cycles at the same budget.  A question
+  already being asked further up the stack with the same (position,
+  budget) answers no (the robot never needs to come back to a position:
+  memoryless winning strategies do not revisit one along a play, so the
+  search still finds them); that "no" proves nothing about val, but no lo
+  is ever raised from it beyond min/max of proven lower bounds, and at the
+  initial position (empty stack) a no is a proof: then lo := max(lo, b + 1).
+- A hi entry is replaced only by a strictly smaller one, so following the
+  entries never goes in circles (an entry's replies were proven before it
+  with hi no larger, and equal hi means an entry never changed since).
+- Infinite values: a position with no action has lo = inf.  A human who
+  keeps the robot circling is not caught by the bound; when the question's
+  budget passes `qualitative_after` times the first lower bound (and some
+  margin), the qualitative attractor (costs ignored) is computed once on the
+  positions reachable from the start (`GameGraph.explore`): if the start is
+  lost, E_p is infinite.
+
+The lower bound (`LowerBound`) is 0 for any task, except F(p) with p a
+conjunction of propositional parts (no temporal operator: the DFA has not
+accepted iff no state so far satisfied p, so some future state must).  For
+each location l of interest with conjuncts `at(X, l)`, let C(l) be the
+objects carrying all of l's tags.
+
+- L0(v): against a human who always passes (the human may, so val is at
+  least this), every location l whose atoms do not all hold needs its own
+  final object c in C(l), hence a drop at l, the chain of transfers that
+  carries c from where it stands to l (`carry`: a shortest path over places
+  whose hops cost the cheapest rule of the motion, max over its start
+  anchors; a change of grasp on the way, or a drop and a grab, counted 0),
+  a grab (unless c is held) and a first transit to c (unless held or
+  aimed at), from the cheapest start set.  Different locations need
+  different drops, chains, objects, grabs and first transits, so the sum
+  over l of the cheapest c is a lower bound.
+- When p is only `at(X, l)` atoms (l in L), each human move adds `strike`:
+  the robot wins with a drop, so the state before its last action is a
+  *brink*: holding some o in C(l) over l, every other location's atoms
+  holding.  The human who passes until its turn comes at a brink and then
+  takes one placed object to Else (it does not accept: that location's
+  atoms stop holding) leaves the robot L0 >= drop + strike to pay to the
+  next brink.  Summing the segments between brinks, val >= L0(v) + h *
+  strike at the human's turn, and at the robot's unless v is itself a
+  brink (then the robot wins before the human can strike: L0(v)).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Hashable, Iterator, Mapping
+from typing import Callable
+
+from symsynth.game.abstraction import State, costmap_of, initial_state, quantize
+from symsynth.game.explicit import PASS, GameGraph, Node, _counter_play as _explicit_counter
+from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
+from symsynth.logic import ast
+from symsynth.scene.model import ELSE, EMPTY, HAND, Scene
+
+INF = math.inf
+
+
+def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
+                  k: int | None = None, budget: float | None = None,
+                  resolution: float = 1.0) -> Solution:
+    """E_p, a strategy and plays for `formula` (default: the scene's task)
+    against a human with `k` moves (default: the scene's k)."""
+    k = check_parameters(scene, k, resolution)
+    clock = time.perf_counter()
+    formula = task_formula(scene, formula)
+    game = GameGraph(scene, formula, resolution)
+    bound = LowerBound(scene, formula, game, resolution)
+    seconds = {"dfa": time.perf_counter() - clock}
+    v0 = initial_state(scene)
+    q0 = game.read(game.dfa.initial, v0)
+    if game.accepts(q0):
+        return Solution(0.0, 0, resolution, budget, verdict(0, resolution, budget), k, 0,
+                        seconds | {"search": 0.0, "plays": 0.0}, {}, (), None, scene.object_names)
+
+    clock = time.perf_counter()
+    start = (v0, q0, k)
+    search = Search(game, bound, start)
+    units = search.value_human(start)
+    seconds["search"] = time.perf_counter() - clock
+    stats = search.stats()
+
+    clock = time.perf_counter()
+    realizable = verdict(units, resolution, budget)
+    if units is None:
+        strategy: Mapping = {}
+        principal, counter = (), search.counter_play(start)
+    else:
+        strategy = Strategy(search)
+        principal = search.principal_play(start, units)
+        counter = principal if realizable is False else None
+    seconds["plays"] = time.perf_counter() - clock
+    return Solution(None if units is None else units * resolution, units, resolution, budget,
+                    realizable, k, search.positions(), seconds, strategy, principal, counter,
+                    scene.object_names, stats)
+
+
+# -- the lower bound ---------------------------------------------------------------
+
+def _propositional(f: ast.Formula) -> bool:
+    """No temporal operator (nor `last`) in `f`."""
+    if isinstance(f, (ast.Atom, ast.Const)):
+        return True
+    if isinstance(f, ast.Not):
+        return _propositional(f.arg)
+    if isinstance(f, (ast.And, ast.Or, ast.Implies, ast.Equiv)):
+        return _propositional(f.left) and _propositional(f.right)
+    return False
+
+
+def _conjuncts(f: ast.Formula) -> list[ast.Formula]:
+    if isinstance(f, ast.And):
+        return _conjuncts(f.left) + _conjuncts(f.right)
+    return [f]
+
+
+class LowerBound:
+    """An admissible lower bound on the value of a position (module doc)."""
+
+    def __init__(self, scene: Scene, formula: ast.Formula, game: GameGraph, resolution: float):
+        self.scene = scene
+        self.enabled = False
+        self.strike = 0
+        self._cache: dict[State, float] = {}
+        if not isinstance(formula, ast.Eventually):
+            return
+        parts = _conjuncts(formula.arg)
+        if not all(_propositional(part) for part in parts):
+            return  # e.g. F(a & F b): after a, a need not hold again
+        groups: dict[str, set[str]] = {}
+        pattern = True  # every conjunct is at(X, l) with l a location of interest
+        for part in parts:
+            p = game.props.get(part.key) if isinstance(part, ast.Atom) else None
+            if p is not None and p.kind == "at" and p.location in scene.locations:
+                groups.setdefault(p.location, set()).add(p.tag)
+            else:
+                pattern = False
+        if not groups:
+            return
+        self.enabled = True
+        names = self.names = scene.object_names
+        self.index = {o: i for i, o in enumerate(names)}
+        self.groups = sorted(groups.items())
+        # objects that may end up at l: they carry every tag asked at l
+        self.candidates = {l: tuple(i for i, o in enumerate(scene.objects) if tags <= o.tags)
+                           for l, tags in self.groups}
+        costmap = costmap_of(scene)
+        r = resolution
+
+        def pc(mode, s, t):
+            if s == t:
+                return 0
+            rules = costmap.rules(mode, s, t)
+            return min((quantize(x.cost, r) for x in rules), default=INF)
+
+        def motion(mode, S, T):
+            if not S or not T:
+                return INF
+            return max(pc(mode, s, t) for s in S for t in T)
+
+        def anchors(place, g):
+            if place == ELSE:
+                return tuple(f"{e}/{g}" for e in scene.else_samples)
+            return (f"{place}/{g}",)
+
+        places = tuple(scene.locations) + (ELSE,)
+        grasps = scene.grasps
+        self.grab = quantize(scene.grab_cost, r)
+        self.drop = quantize(scene.drop_cost, r)
+        # first transit to an object standing at x (any grasp), from any
+        # start set the robot can have with an empty hand
+        self.transit = {}
+        for x in places:
+            best = INF
+            for g in grasps:
+                T = anchors(x, g)
+                starts = [scene.anchors] + [anchors(y, h) for y in places for h in grasps
+                                            if not (y == x and y != ELSE and h == g)]
+                best = min(best, min(motion(EMPTY, S, T) for S in starts))
+            self.transit[x] = best
+        # the first transit when the robot may be anywhere (hand empty, ee = Else)
+        self.from_anywhere = {x: min(motion(EMPTY, scene.anchors, anchors(x, g)) for g in grasps)
+                              for x in places}
+        # carrying o from place x to location l: the cheapest chain of
+        # transfers, with free changes of grasp at locations (a drop and a
+        # grab, not counted) and at x (the first grab picks the grasp)
+        self.carry = {}
+        for i, o in enumerate(names):
+            hop = {}
+            for g in grasps:
+                for y in places:
+                    for l in scene.locations:
+                        if l != y:
+                            hop[(y, g), l] = motion(f"{o}/{g}", anchors(y, g), (f"{l}/{g}",))
+            for x in places:
+                dist = _shortest(x, grasps, scene.locations, hop)
+                for g in grasps:
+                    for l in scene.locations:
+                        self.carry[i, (x, g), l] = dist.get((l, g), INF) if l != x else 0
+                for l in scene.locations:
+                    self.carry[i, x, l] = min(self.carry[i, (x, g), l] for g in grasps)
+        # from an empty hand aimed at (y, g), y a location: the least cost of
+        # reaching an object at Else, over transits and detours that carry the
+        # aimed object elsewhere (grab, transfers, drop) first: Dijkstra over
+        # (place, grasp)
+        self.to_else = {}
+        if pattern:
+            hop = {}
+            for y in places:
+                for g in grasps:
+                    S = anchors(y, g)
+                    for x in places:
+                        for h in grasps:
+                            if (x, h) != (y, g) or x == ELSE:
+                                hop[(y, g), (x, h)] = motion(EMPTY, S, anchors(x, h))
+                    if y != ELSE:
+                        for w in scene.locations:
+                            if w != y:
+                                c = self.grab + self.drop + min(self.carry[i, (y, g), w]
+                                                                for i in range(len(names)))
+                                hop[(y, g), (w, g)] = min(hop.get(((y, g), (w, g)), INF), c)
+            for y in scene.locations:
+                for g in grasps:
+                    self.to_else[y, g] = _to_else((y, g), hop)
+        self.strike = self._strike() if pattern else 0
+
+    def _strike(self) -> float:
+        """What each human move can add at least (module doc): the least, over
+        the states one drop from the win (holding o over l, every other
+        location's atoms holding), of the most a move of one placed object
+        to Else makes the bound grow by."""
+        grasps = self.scene.grasps
+        locations = self.scene.locations
+        any_place = min(self.transit.values())
+        best = INF
+        for l, _ in self.groups:
+            for o in self.candidates[l]:
+                # holding o over l, the robot must put o down somewhere (y)
+                # before any transit: then go to Else at once, or via
+                # another transit first
+                to_else = min(self.carry[o, (l, g), y] + self.to_else[y, g]
+                              for g in grasps for y in locations)
+                worst = 0
+                for other, _ in self.groups:
+                    if other == l:
+                        continue
+                    standing = [c for c in self.candidates[other] if c != o]
+                    if not standing:
+                        worst = INF  # no such state
+                        break
+                    damage = INF
+                    for c1 in standing:  # the object the human takes to Else
+                        d = self.carry[c1, ELSE, other] + self.grab + to_else
+                        for c in self.candidates[other]:
+                            if c == o:  # held over l
+                                d = min(d, min(self.carry[c, (l, g), other] for g in grasps))
+                            elif c != c1:
+                                d = min(d, min(self.carry[c, x, other] for x in self.transit)
+                                        + self.grab + any_place)
+                        damage = min(damage, self.drop + d)
+                    worst = max(worst, damage)
+                best = min(best, worst)
+        return 0 if best == INF else best
+
+    def __call__(self, v: State, h: int, robot: bool) -> float:
+        """The bound at (v, h) when it is the robot's turn (`robot`) or the human's."""
+        if not self.enabled:
+            return 0
+        entry = self._cache.get(v)
+        if entry is None:
+            entry = self._cache[v] = self._compute(v)
+        value, brink = entry
+        if robot and brink:  # the robot wins with its next drop, before any strike
+            return value
+        return value + h * self.strike
+
+    def _compute(self, v: State) -> tuple[float, bool]:
+        """(L0(v), whether v is a brink: one drop from the win)."""
+        at, grip, ee = v.at, v.grip, v.ee
+        total = 0
+        missing = []
+        for l, _ in self.groups:
+            here = [i for i, a in enumerate(at) if a == l]
+            cands = self.candidates[l]
+            if here and here[0] in cands:
+                continue  # every atom at l holds
+            missing.append(l)
+            best = INF
+            for i in cands:
+                if at[i] == HAND:
+                    cost = self.drop + self.carry[i, (ee, grip), l]
+                else:
+                    aimed = isinstance(ee, tuple) and ee[0] == self.names[i]
+                    cost = (self.drop + self.carry[i, at[i], l] + self.grab
+                            + (0 if aimed else self.transit[at[i]]))
+                best = min(best, cost)
+            total += best
+            if total == INF:
+                return INF, False
+        held = v.held()
+        brink = (missing == [ee] and held is not None and held in self.candidates[ee])
+        if missing and held is None and ee == ELSE:
+            # the first action is a transit from anywhere: either the first
+            # transit to some final object (counted above from the cheapest
+            # start) or one more
+            total += min((self.from_anywhere[a] - self.transit[a] for a in at
+                          if self.transit[a] < INF), default=0)
+        return total, brink
+
+
+def _to_else(source, hop) -> float:
+    """Least cost from `source` to a transit that ends at Else, with `hop`:
+    (place, grasp) -> (place, grasp) -> cost."""
+    import heapq
+    out: dict = {}
+    for (a, b), c in hop.items():
+        out.setdefault(a, []).append((b, c))
+    done = set()
+    heap = [(0, source)]
+    while heap:
+        d, node = heapq.heappop(heap)
+        if node in done:
+            continue
+        if node[0] == ELSE:
+            return d
+        done.add(node)
+        for nxt, c in out.get(node, ()):
+            if c < INF and nxt not in done:
+                heapq.heappush(heap, (d + c, nxt))
+    return INF
+
+
+def _shortest(x, grasps, locations, hop) -> dict:
+    """Dijkstra from (x, any grasp) over (place, grasp): hops between places
+    at `hop` cost, grasp changes free at locations."""
+    import heapq
+    dist = {}
+    heap = [(0, x, g) for g in grasps]
+    while heap:
+        d, y, g = heapq.heappop(heap)
+        if (y, g) in dist:
+            continue
+        dist[y, g] = d
+        if y != x:
+            for h in grasps:
+                if (y, h) not in dist:
+                    heapq.heappush(heap, (d, y, h))
+        for l in locations:
+            c = hop.get(((y, g), l), INF)
+            if c < INF and (l, g) not in dist:
+                heapq.heappush(heap, (d + c, l, g))
+    return dist
+
+
+# -- the search ----------------------------------------------------------------------
+
+Key = tuple[State, Hashable, int]  # (v, q, h)
+
+
+class Search:
+    """The memo and the bounded AND-OR search (module doc).
+
+    Positions (v, q, h) get integer ids on first sight; a robot-turn and a
+    human-turn position with the same (v, q, h) share the id, with separate
+    bounds.  Moves are generated once per id and kept as ids.
+    """
+
+    def __init__(self, game: GameGraph, bound: Callable[[State, int, bool], float], start: Key):
+        self.game = game
+        self.start = start
+        self.bound = bound
+        self.ids: dict[Key, int] = {}
+        self.keys: list[Key] = []
+        self.lo_r: list[float] = []
+        self.lo_h: list[float] = []
+        self.hi_r: dict[int, tuple[int, str]] = {}  # (hi, action)
+        self.hi_h: dict[int, int] = {}
+        self._robot: dict[int, list[tuple[int, str, int]]] = {}  # (units, action, id; WIN = -1)
+        self._human: dict[int, list[int]] = {}  # pass first; WIN = -1
+        self._refuter: dict[int, int] = {}  # the reply that last showed val > b
+        self._zero: dict[int, bool] = {}  # robot positions with a zero-cost action
+        self.closures = 0
+        self.calls = 0
+        self.rounds = 0
+        self.lost: set[Key] = set()  # robot positions of infinite value, known so far
+        self.explored = 0  # qualitative explorations run
+        self._graph = None  # the reachable graph from the start, for the counter play
+
+    def id(self, key: Key) -> int:
+        i = self.ids.get(key)
+        if i is None:
+            i = self.ids[key] = len(self.keys)
+            self.keys.append(key)
+            v, q, h = key
+            lo_r, lo_h = self.bound(v, h, True), self.bound(v, h, False)
+            if key in self.lost:
+                lo_r = lo_h = INF
+            for below in range(h):  # val grows with h
+                j = self.ids.get((v, q, below))
+                if j is not None:
+                    lo_r = max(lo_r, self.lo_r[j])
+                    lo_h = max(lo_h, self.lo_h[j])
+            self.lo_r.append(lo_r)
+            self.lo_h.append(max(lo_h, lo_r) if h == 0 else lo_h)
+        return i
+
+    # -- moves ------------------------------------------------------------------------
+    def robot_options(self, i: int) -> list[tuple[int, str, int]]:
+        """(units, action, id of the human position after, or -1 for a win)."""
+        out = self._robot.get(i)
+        if out is None:
+            v, q, h = self.keys[i]
+            out = self._robot[i] = [
+                (units, action, -1 if node is None else self.id((node.v, node.q, node.h)))
+                for action, node, units, _ in self.game.moves(Node(v, q, h, True))]
+        return out
+
+    def human_options(self, i: int) -> list[int]:
+        """Ids of the robot positions after the pass and each move; -1 for a win."""
+        out = self._human.get(i)
+        if out is None:
+            v, q, h = self.keys[i]
+            out = self._human[i] = [
+                -1 if node is None else self.id((node.v, node.q, node.h))
+                for _, node, _, _ in self.game.moves(Node(v, q, h, False))]
+        return out
+
+    # -- "val <= b?" ----------------------------------------------------------------------
+    def robot(self, i: int, b: int) -> bool:
+        self.calls += 1
+        hi = self.hi_r.get(i)
+        if hi is not None and hi[0] <= b:
+            return True
+        if self.lo_r[i] > b:
+            return False
+        if self._zero_cost(i):
+            return self._closure(i, b)
+        # every action costs >= 1: the questions below have smaller budgets
+        lo_h = self.lo_h
+        ranked = sorted(((units if j < 0 else units + lo_h[j], units, action, j)
+                         for units, action, j in self.robot_options(i)),
+                        key=_first)
+        for f, units, action, j in ranked:
+            if f > b:
+                break
+            if j < 0:
+                self._prove_robot(i, units, action)
+                return True
+            if self.human(j, b - units):
+                self._prove_robot(i, units + self.hi_h[j], action)
+                return True
+        self._bellman_robot(i)
+        return False
+
+    def human(self, i: int, b: int) -> bool:
+        self.calls += 1
+        hi = self.hi_h.get(i)
+        if hi is not None and hi <= b:
+            return True
+        lo_h, lo_r = self.lo_h, self.lo_r
+        if lo_h[i] > b:
+            return False
+        replies = [j for j in self.human_options(i) if j >= 0]
+        worst = max((lo_r[j] for j in replies), default=0)
+        if worst > lo_h[i]:
+            lo_h[i] = worst
+        if worst > b:
+            return False
+        replies.sort(key=lambda j: -lo_r[j])
+        first = self._refuter.get(i)
+        if first is not None:
+            replies.insert(0, first)
+        for j in replies:
+            if not self.robot(j, b):
+                if lo_r[j] > lo_h[i]:
+                    lo_h[i] = lo_r[j]
+                self._refuter[i] = j
+                return False
+        self._prove_human(i, max((self.hi_r[j][0] for j in replies), default=0))
+        return True
+
+    def _prove_robot(self, i: int, hi: int, action: str) -> None:
+        old = self.hi_r.get(i)
+        if old is None or hi < old[0]:
+            self.hi_r[i] = (hi, action)
+
+    def _prove_human(self, i: int, hi: int) -> None:
+        old = self.hi_h.get(i)
+        if old is None or hi < old:
+            self.hi_h[i] = hi
+
+    def _bellman_robot(self, i: int) -> None:
+        """lo := min over actions of c + lo(after), if larger: still a lower bound."""
+        lo_h = self.lo_h
+        best = min((units if j < 0 else units + lo_h[j] for units, _, j in self.robot_options(i)),
+                   default=INF)
+        if best > self.lo_r[i]:
+            self.lo_r[i] = best
+
+    def _zero_cost(self, i: int) -> bool:
+        zero = self._zero.get(i)
+        if zero is None:
+            zero = self._zero[i] = any(units == 0 and j >= 0 for units, _, j in self.robot_options(i))
+        return zero
+
+    def _closure(self, start: int, b: int) -> bool:
+        """"val(start) <= b?" where zero-cost actions can lead back to it with
+        the same budget: the robot positions reachable from `start` by
+        zero-cost actions and passes (with the human positions between)
+        form a small reachability game at budget b, solved as a least
+        fixpoint.  Its exits (actions that cost something, human moves) ask
+        questions with a smaller budget or fewer human moves, which never
+        come back here.  Positions left out of the fixpoint have val > b."""
+        self.closures += 1
+        robots, humans = [start], []
+        seen_r, seen_h = {start}, set()
+        for x in robots:  # grows while iterated
+            for units, _, j in self.robot_options(x):
+                if units == 0 and j >= 0 and j not in seen_h:
+                    seen_h.add(j)
+                    humans.append(j)
+                    p = self.human_options(j)[0]  # the pass
+                    if p not in seen_r:
+                        seen_r.add(p)
+                        robots.append(p)
+        lo_r, lo_h, hi_r, hi_h = self.lo_r, self.lo_h, self.hi_r, self.hi_h
+        won_r = {x for x in robots if x in hi_r and hi_r[x][0] <= b}
+        won_h = {y for y in humans if y in hi_h and hi_h[y] <= b}
+        exits_tried: set[int] = set()
+        moves_ok: dict[int, bool] = {}
+        changed = True
+        while changed:
+            changed = False
+            for x in robots:
+                if x in won_r or lo_r[x] > b:
+                    continue
+                ranked = sorted(((units if j < 0 else units + lo_h[j], units, action, j)
+                                 for units, action, j in self.robot_options(x)), key=_first)
+                proven = False
+                for f, units, action, j in ranked:
+                    if f > b:
+                        break
+                    if units == 0 and j >= 0:
+                        if j in won_h:
+                            self._prove_robot(x, hi_h[j], action)
+                            proven = True
+                            break
+                    elif x not in exits_tried:
+                        if j < 0:
+                            self._prove_robot(x, units, action)
+                            proven = True
+                            break
+                        if self.human(j, b - units):
+                            self._prove_robot(x, units + hi_h[j], action)
+                            proven = True
+                            break
+                exits_tried.add(x)
+                if proven:
+                    won_r.add(x)
+                    changed = True
+            for y in humans:
+                if y in won_h or lo_h[y] > b:
+                    continue
+                replies = self.human_options(y)
+                if replies[0] not in won_r:
+                    continue
+                if y not in moves_ok:
+                    moves_ok[y] = all(self.robot(j, b) for j in replies[1:] if j >= 0)
+                if moves_ok[y]:
+                    self._prove_human(y, max(hi_r[j][0] for j in replies if j >= 0))
+                    won_h.add(y)
+                    changed = True
+        # the others have val > b; then Bellman's equations on the raised bounds
+        for x in robots:
+            if x not in won_r and lo_r[x] <= b:
+                lo_r[x] = b + 1
+        for y in humans:
+            if y not in won_h and lo_h[y] <= b:
+                lo_h[y] = b + 1
+        for x in robots:
+            if x not in won_r:
+                self._bellman_robot(x)
+        return start in won_r
+
+    # -- values ---------------------------------------------------------------------------
+    def value_human(self, key: Key) -> int | None:
+        """val of a human-turn position (the start): units, None when infinite."""
+        return self._value(self.id(key), self.human, self.lo_h)
+
+    def value_robot(self, key: Key) -> int | None:
+        """val of a robot-turn position, in units; None when infinite."""
+        return self._value(self.id(key), self.robot, self.lo_r)
+
+    def _value(self, i: int, ask, lo: list[float]) -> int | None:
+        rounds = 0
+        while True:
+            b = lo[i]
+            if b == INF:
+                return None
+            b = int(b)
+            self.rounds += 1
+            rounds += 1
+            if ask(i, b):
+                return b
+            if lo[i] <= b:  # the search from here is a proof: val > b
+                lo[i] = b + 1
+            if rounds & (rounds - 1) == 0 and rounds >= 8:  # 8, 16, 32, ...
+                self._qualitative()
+
+    def _qualitative(self) -> None:
+        """Positions the human can keep from winning forever, found within what
+        the search has generated: an expanded robot position all of whose
+        actions lead to such human positions, an expanded human position with
+        a reply to such a robot position (the pass included), and nothing
+        else.  Unexpanded positions count as won (they may be) unless their
+        lo is already inf, so what is left is a trap the human can close:
+        lo = inf there, and never a finite position's.  Cost: linear in what
+        was generated."""
+        self.explored += 1
+        n = len(self.keys)
+        # maybe-won: robot role at ids [0, n), human role at [n, 2n); WIN is won
+        askers: list[list[int]] = [[] for _ in range(2 * n)]
+        count = [0] * (2 * n)  # human positions: replies not yet won
+        ready = []
+        lo_r, lo_h = self.lo_r, self.lo_h
+        for i in range(n):
+            options = self._robot.get(i)
+            if lo_r[i] == INF:
+                pass  # known lost
+            elif options is None or any(j < 0 for _, _, j in options):
+                ready.append(i)
+            else:
+                for _, _, j in options:
+                    askers[n + j].append(i)
+            replies = self._human.get(i)
+            if lo_h[i] == INF:
+                pass
+            elif replies is None:
+                ready.append(n + i)
+            else:
+                live = [j for j in replies if j >= 0]
+                count[n + i] = len(live)
+                if not live:
+                    ready.append(n + i)
+                for j in live:
+                    askers[j].append(n + i)
+        won = bytearray(2 * n)
+        for x in ready:
+            won[x] = 1
+        while ready:
+            x = ready.pop()
+            for y in askers[x]:
+                if won[y]:
+                    continue
+                if y < n:  # a robot position: one won action is enough
+                    won[y] = 1
+                    ready.append(y)
+                else:
+                    count[y] -= 1
+                    if count[y] == 0:
+                        won[y] = 1
+                        ready.append(y)
+        for i in range(n):
+            if not won[i]:
+                self.lo_r[i] = INF
+                self.lost.add(self.keys[i])
+            if not won[n + i]:
+                self.lo_h[i] = INF
+
+    # -- plays ------------------------------------------------------------------------------
+    def principal_play(self, start: Key, units: int) -> tuple[Step, ...]:
+        """The strategy against the human's worst replies (the first reply of
+        largest value, the pass first), as the explicit solver plays it."""
+        r = self.game.resolution
+        play: list[Step] = []
+        i, left = self.id(start), units
+        while True:
+            # the human's turn at i, of value `left`: the first reply of that value
+            v, q, h = self.keys[i]
+            moves = self.game.moves(Node(v, q, h, False))
+            for (action, _, _, state), j in zip(moves, self.human_options(i)):
+                if (left == 0) if j < 0 else not self.robot(j, left - 1):
+                    break  # replies are within `left` (proven): this one is `left`
+            else:
+                raise AssertionError("internal error: no reply of the value")
+            if action != PASS:
+                play.append(Step("human", action, 0.0, state))
+            if j < 0:
+                return tuple(play)
+            _, chosen = self.hi_r[j]
+            v, q, h = self.keys[j]
+            moves = self.game.moves(Node(v, q, h, True))
+            (units_a, state, i), = [(u, w, nxt) for (a, _, u, w), (_, _, nxt)
+                                    in zip(moves, self.robot_options(j)) if a == chosen]
+            play.append(Step("robot", chosen, units_a * r, state))
+            if i < 0:
+                return tuple(play)
+            left -= units_a
+
+    def counter_play(self, start: Key) -> tuple[Step, ...]:
+        """The explicit solver's counter play, on the reachable graph."""
+        if self._graph is None:
+            nodes, edges = self.game.explore(Node(*start, False))
+            self._graph = (nodes, edges, _attractor(nodes, edges))
+        nodes, edges, won = self._graph
+        return _explicit_counter(nodes, edges, won, self.game.resolution)
+
+    # -- reporting ---------------------------------------------------------------------------
+    def positions(self) -> int:
+        """Positions (v, q, h, turn) the search generated."""
+        return 2 * len(self.keys)
+
+    def stats(self) -> dict[str, object]:
+        return {"calls": self.calls, "rounds": self.rounds, "positions": len(self.keys),
+                "proven": len(self.hi_r) + len(self.hi_h), "closures": self.closures,
+                "qualitative": self.explored}
+
+
+def _first(x):
+    return x[0]
+
+
+def _attractor(nodes, edges) -> dict[int, int]:
+    """The positions from which the robot forces WIN (index 0), costs ignored."""
+    from symsynth.game.explicit import WIN
+    preds: list[list[int]] = [[] for _ in nodes]
+    for i, out in enumerate(edges):
+        for edge in out:
+            preds[edge.target].append(i)
+    waiting = [len(out) for out in edges]
+    won = {WIN: 0}
+    stack = [WIN]
+    while stack:
+        j = stack.pop()
+        for i in preds[j]:
+            if i in won:
+                continue
+            if nodes[i].robot:
+                won[i] = 0
+                stack.append(i)
+            else:
+                waiting[i] -= 1
+                if waiting[i] == 0:
+                    won[i] = 0
+                    stack.append(i)
+    return won
+
+
+class Strategy(Mapping):
+    """The robot's action at robot-turn positions (v, q, h), optimal there:
+    the search's entry when its hi meets lo (then it is val), else val is
+    searched now (from lo up) and its action kept.  KeyError where the
+    value is infinite.  Iterating lists the positions with an entry."""
+
+    def __init__(self, search: Search):
+        self._search = search
+
+    def __getitem__(self, position: Position) -> str:
+        search = self._search
+        i = search.ids.get(position)
+        entry = None if i is None else search.hi_r.get(i)
+        if entry is None or entry[0] > search.lo_r[i]:  # not known to be optimal
+            if search.value_robot(position) is None:
+                raise KeyError(position)
+            entry = search.hi_r[search.ids[position]]
+        return entry[1]
+
+    def __iter__(self) -> Iterator[Position]:
+        keys = self._search.keys
+        return iter([keys[i] for i in self._search.hi_r])
+
+    def __len__(self) -> int:
+        return len(self._search.hi_r)
