@@ -259,10 +259,15 @@ def test_arch_without_human_by_hand(solve):
     Else to top with the side grasp (34 + 5 + 27 + 5)."""
     solution = solve(scene("arch-abstract"), k=0)
     assert solution.cost_bound == 183
-    assert actions(solution.principal_play) == [
-        ("transit(w1,top)", 49), ("grab(w1)", 5), ("transfer(support1)", 13), ("drop(w1,support1)", 5),
-        ("transit(w2,top)", 17), ("grab(w2)", 5), ("transfer(support2)", 13), ("drop(w2,support2)", 5),
-        ("transit(b,side)", 34), ("grab(b)", 5), ("transfer(top)", 27), ("drop(b,top)", 5)]
+    first = [("transit(w1,top)", 49), ("grab(w1)", 5), ("transfer(support1)", 13), ("drop(w1,support1)", 5),
+             ("transit(w2,top)", 17), ("grab(w2)", 5), ("transfer(support2)", 13), ("drop(w2,support2)", 5)]
+    last = [("grab(b)", 5), ("transfer(top)", 27), ("drop(b,top)", 5)]
+    # A tie: from (w2,top) straight to b costs 34; via (w2,side) it costs
+    # 19 + 15 = 34 too (from support2/side b is nearer).  Either is optimal.
+    assert actions(solution.principal_play) in (
+        first + [("transit(b,side)", 34)] + last,
+        first + [("transit(w2,side)", 19), ("transit(b,side)", 15)] + last)
+    check_principal_play(solution)
     check_principal_play(solution)
 
 
