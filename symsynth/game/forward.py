@@ -20,29 +20,39 @@ a human position: the pass and every move must all be within b; replies are
 tried largest lo first, so a failure shows early.
 
 The initial position is asked with b = lo, then with the raised lo, until
-the answer is yes: then lo = hi = E_p.
+the answer is yes: then lo = hi = E_p.  When that takes more than GALLOP
+rounds (the bound is poor, e.g. 0 for a task it does not understand), b
+goes up by 1, 2, 4, ... above lo until a yes gives a proven hi, then
+halves the interval [lo, hi] until lo = hi.
 
 Why it is exact
 ---------------
 - lo is a lower bound (above), so a "no" never hides a strategy.  A yes
   builds a strategy from the hi entries: at p, the action recorded, whose
   replies all have hi <= hi(p) - c.  So E_p = the first b that gets a yes.
-- Zero-cost actions can close cycles at the same budget.  A question
-  already being asked further up the stack with the same (position,
-  budget) answers no (the robot never needs to come back to a position:
-  memoryless winning strategies do not revisit one along a play, so the
-  search still finds them); that "no" proves nothing about val, but no lo
-  is ever raised from it beyond min/max of proven lower bounds, and at the
-  initial position (empty stack) a no is a proof: then lo := max(lo, b + 1).
+- When every action of a robot position costs >= 1 unit, its questions go
+  to smaller budgets, so the recursion cannot come back to a question being
+  asked, and every "no" raises lo above b: the memo answers it next time.
+- Zero-cost actions can lead back to a position with the same budget.  At
+  such a position the question is answered for its whole *closure* at once
+  (`_closure`): the robot positions reachable by zero-cost actions and
+  passes form a small reachability game at budget b, solved as a least
+  fixpoint; its exits (actions that cost, human moves) ask questions with
+  a smaller budget or fewer human moves, which never come back.  What the
+  fixpoint leaves out has val > b.
 - A hi entry is replaced only by a strictly smaller one, so following the
   entries never goes in circles (an entry's replies were proven before it
-  with hi no larger, and equal hi means an entry never changed since).
-- Infinite values: a position with no action has lo = inf.  A human who
-  keeps the robot circling is not caught by the bound; when the question's
-  budget passes `qualitative_after` times the first lower bound (and some
-  margin), the qualitative attractor (costs ignored) is computed once on the
-  positions reachable from the start (`GameGraph.explore`): if the start is
-  lost, E_p is infinite.
+  with hi no larger, and equal hi means an entry never changed since); in a
+  closure, positions are proven in fixpoint order.
+- Infinite values: a position with no action has lo = inf, and so does one
+  whose bound is inf (a location no object can fill).  A human who keeps
+  the robot circling is caught by a qualitative check after 8, 16, 32, ...
+  rounds of one question (`_qualitative`): a trap the human can close,
+  within the positions the search generated; the trap grows with the
+  budget until it is whole.
+
+The strategy (`Strategy`) is lazy: an entry whose hi equals its lo is
+optimal; at any other position the value is searched when it is looked up.
 
 The lower bound (`LowerBound`) is 0 for any task, except F(p) with p a
 conjunction of propositional parts (no temporal operator: the DFA has not
@@ -74,6 +84,8 @@ objects carrying all of l's tags.
 from __future__ import annotations
 
 import math
+import sys
+import threading
 import time
 from collections.abc import Hashable, Iterator, Mapping
 from typing import Callable
@@ -107,7 +119,7 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
     clock = time.perf_counter()
     start = (v0, q0, k)
     search = Search(game, bound, start)
-    units = search.value_human(start)
+    units = _deep(search.value_human, start)
     seconds["search"] = time.perf_counter() - clock
     stats = search.stats()
 
@@ -118,7 +130,7 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
         principal, counter = (), search.counter_play(start)
     else:
         strategy = Strategy(search)
-        principal = search.principal_play(start, units)
+        principal = _deep(search.principal_play, start, units)
         counter = principal if realizable is False else None
     seconds["plays"] = time.perf_counter() - clock
     return Solution(None if units is None else units * resolution, units, resolution, budget,
@@ -616,24 +628,38 @@ class Search:
     # -- values ---------------------------------------------------------------------------
     def value_human(self, key: Key) -> int | None:
         """val of a human-turn position (the start): units, None when infinite."""
-        return self._value(self.id(key), self.human, self.lo_h)
+        return self._value(self.id(key), self.human, self.lo_h, self.hi_h.__getitem__)
 
     def value_robot(self, key: Key) -> int | None:
         """val of a robot-turn position, in units; None when infinite."""
-        return self._value(self.id(key), self.robot, self.lo_r)
+        return self._value(self.id(key), self.robot, self.lo_r, lambda i: self.hi_r[i][0])
 
-    def _value(self, i: int, ask, lo: list[float]) -> int | None:
-        rounds = 0
+    def _value(self, i: int, ask, lo: list[float], hi) -> int | None:
+        """The least b with a yes: asked at b = lo for the first GALLOP
+        rounds, then (the bound is poor) at lo + 1, 2, 4, ... above it until a
+        yes gives a proven hi, then halfway between lo and hi."""
+        rounds, step, high = 0, 1, None
         while True:
-            b = lo[i]
-            if b == INF:
+            low = lo[i]
+            if low == INF:
                 return None
-            b = int(b)
+            low = int(low)
+            if high is not None and low >= high:
+                return high
+            if high is not None:
+                b = (low + high - 1) // 2  # low <= b < high
+            elif rounds < GALLOP:
+                b = low
+            else:
+                b = low + step
+                step *= 2
             self.rounds += 1
             rounds += 1
             if ask(i, b):
-                return b
-            if lo[i] <= b:  # the search from here is a proof: val > b
+                high = hi(i)
+                if high == low:
+                    return high
+            elif lo[i] <= b:  # the search from here is a proof: val > b
                 lo[i] = b + 1
             if rounds & (rounds - 1) == 0 and rounds >= 8:  # 8, 16, 32, ...
                 self._qualitative()
@@ -747,6 +773,43 @@ class Search:
                 "qualitative": self.explored}
 
 
+def _deep(function, *args):
+    """`function(*args)` in a thread with a large stack and recursion limit:
+    the search recurses once per action along a play, and a play within a
+    large budget of small units can be long."""
+    out: list = []
+
+    def run():
+        try:
+            out.append((True, function(*args)))
+        except BaseException as error:  # noqa: BLE001 - re-raised in the caller
+            out.append((False, error))
+
+    limit = sys.getrecursionlimit()
+    size = threading.stack_size()
+    sys.setrecursionlimit(max(limit, DEPTH))
+    threading.stack_size(STACK)
+    try:
+        worker = threading.Thread(target=run, name="symsynth-forward")
+        worker.start()
+        worker.join()
+    finally:
+        threading.stack_size(size)
+        sys.setrecursionlimit(limit)
+    ok, value = out[0]
+    if not ok:
+        raise value
+    return value
+
+
+DEPTH = 200_000  # Python frames
+STACK = 1 << 29  # bytes of C stack for the searching thread
+
+
+#: Rounds asked at b = lo before galloping (module doc).
+GALLOP = 16
+
+
 def _first(x):
     return x[0]
 
@@ -791,7 +854,7 @@ class Strategy(Mapping):
         i = search.ids.get(position)
         entry = None if i is None else search.hi_r.get(i)
         if entry is None or entry[0] > search.lo_r[i]:  # not known to be optimal
-            if search.value_robot(position) is None:
+            if _deep(search.value_robot, position) is None:
                 raise KeyError(position)
             entry = search.hi_r[search.ids[position]]
         return entry[1]
