@@ -231,3 +231,23 @@ def test_bound_is_off_for_temporal_conjuncts():
     assert scene.task == "F(at(block, l2) & F(at(block, l1)))"
     formula = parse_ltlf(scene.task)
     assert not LowerBound(scene, formula, GameGraph(scene, formula, 1.0), 1.0).enabled
+
+
+def test_long_plays_do_not_hit_the_recursion_limit():
+    """The search recurses once per action along a play: b must walk a
+    corridor l1 -> l2 -> ... -> l200 one transfer at a time (transit 1,
+    grab 1, 199 transfers of 1, drop 1: 202), with Python's recursion limit
+    set far below that depth for the test."""
+    corridor = [f"l{i}" for i in range(1, 201)]
+    # ee = Else at the start: the first transit is measured from every anchor
+    motions = {("empty", s, "l1/top"): 1 for s in ["home"] + [f"{l}/top" for l in corridor[1:]]}
+    for a, b in zip(corridor, corridor[1:]):
+        motions[("b/top", f"{a}/top", f"{b}/top")] = 1
+    scene = make_scene({"b": "l1"}, corridor, motions, task="F(at(b, l200))", grab=1, drop=1)
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(300)
+    try:
+        found = solve_forward(scene)
+    finally:
+        sys.setrecursionlimit(limit)
+    assert found.units == solve_explicit(scene).units == 202
