@@ -90,7 +90,8 @@ from collections.abc import Hashable, Iterator, Mapping
 from typing import Callable
 
 from symsynth.game.abstraction import State, costmap_of, initial_state, quantize
-from symsynth.game.explicit import PASS, GameGraph, Node, _counter_play as _explicit_counter
+from symsynth.game.explicit import PASS, GameGraph, Node, _dijkstra
+from symsynth.game.explicit import _counter_play as _explicit_counter
 from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, Scene
@@ -747,7 +748,8 @@ class Search:
         """The explicit solver's counter play, on the reachable graph."""
         if self._graph is None:
             nodes, edges = self.game.explore(Node(*start, False))
-            self._graph = (nodes, edges, _attractor(nodes, edges))
+            won, _ = _dijkstra(nodes, edges)  # settled = the positions the robot wins
+            self._graph = (nodes, edges, won)
         nodes, edges, won = self._graph
         return _explicit_counter(nodes, edges, won, self.game.resolution)
 
@@ -797,32 +799,6 @@ STACK = 1 << 29  # bytes of C stack for the searching thread
 
 def _first(x):
     return x[0]
-
-
-def _attractor(nodes, edges) -> dict[int, int]:
-    """The positions from which the robot forces WIN (index 0), costs ignored."""
-    from symsynth.game.explicit import WIN
-    preds: list[list[int]] = [[] for _ in nodes]
-    for i, out in enumerate(edges):
-        for edge in out:
-            preds[edge.target].append(i)
-    waiting = [len(out) for out in edges]
-    won = {WIN: 0}
-    stack = [WIN]
-    while stack:
-        j = stack.pop()
-        for i in preds[j]:
-            if i in won:
-                continue
-            if nodes[i].robot:
-                won[i] = 0
-                stack.append(i)
-            else:
-                waiting[i] -= 1
-                if waiting[i] == 0:
-                    won[i] = 0
-                    stack.append(i)
-    return won
 
 
 class Strategy(Mapping):
