@@ -205,19 +205,15 @@ def strategy_table(scene: Scene, formula_text: str, solution: Solution) -> Strat
 def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: Solution) -> int:
     """Write the strategy of `solution` for `formula_text` to `path`;
     returns the number of positions written."""
-    game = GameGraph(scene, parse_ltlf(formula_text, source=f"{scene.name} (task)"),
-                     solution.resolution)
-    choices = _explore(game, solution)
-    worst = worst_units(choices)
-    dfa = game.dfa
+    table = strategy_table(scene, formula_text, solution)
     header = {
-        "format": FORMAT, "scene": scene.name, "task": formula_text.strip(), "k": solution.k,
-        "resolution": solution.resolution, "units": solution.units, "cost_bound": solution.cost_bound,
-        "objects": list(scene.object_names),
-        "dfa": {"bits": list(dfa.bits), "initial": [int(b) for b in dfa.initial]},
+        "format": FORMAT, "scene": table.scene, "task": table.task, "k": table.k,
+        "resolution": table.resolution, "units": table.units, "cost_bound": table.cost_bound,
+        "objects": list(table.objects),
+        "dfa": {"bits": list(table.dfa_bits), "initial": [int(b) for b in table.dfa_initial]},
     }
-    entries = [_position_json(p, c.action, worst[p], scene.object_names, solution.resolution)
-               for p, c in choices.items()]
+    entries = [_position_json(p, action, table.budgets[p], table.objects)
+               for p, action in table.positions.items()]
     # One position per line: the file stays short, diffable and greppable.
     text = json.dumps(header, indent=1)[:-2] + ',\n "positions": [' + ",".join(
         "\n  " + json.dumps(entry) for entry in entries) + "\n ]\n}\n"
@@ -228,12 +224,10 @@ def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: 
     return len(entries)
 
 
-def _position_json(position: Position, action: str, units: int | None,
-                   objects: tuple[str, ...], resolution: float) -> dict[str, Any]:
+def _position_json(position: Position, action: str, budget: float | None,
+                   objects: tuple[str, ...]) -> dict[str, Any]:
     v, q, h = position
-    return state_json(v, objects) | {
-        "q": [int(b) for b in q], "h": h, "action": action,
-        "budget": None if units is None else units * resolution}
+    return state_json(v, objects) | {"q": [int(b) for b in q], "h": h, "action": action, "budget": budget}
 
 
 _NAME = {"type": "string", "minLength": 1}
