@@ -364,3 +364,12 @@ def test_gui_without_a_display_is_one_message(line_files, capsys, monkeypatch):
     monkeypatch.delenv("DISPLAY", raising=False)
     assert main(["simulate", str(line_files), "--gui"]) == 2
     assert "needs a display" in capsys.readouterr().err
+
+
+def test_a_primitive_the_robot_cannot_carry_out_ends_the_run_with_its_reason(line, monkeypatch):
+    """No inverse kinematics for the grab's approach: the run stops, not the program."""
+    monkeypatch.setattr(line.planner, "inverse_kinematics", lambda pose, seed: None)
+    run = line.sim.run(NoHuman())
+    assert not run.completed
+    assert run.reason.startswith("grab(") and "no inverse kinematics solution" in run.reason
+    assert [s.source for s in run.steps] == ["evidence"]  # the transit before it went through

@@ -53,7 +53,6 @@ class Motion:
     path: tuple[Config, ...]
     source: str
     rule: Rule | None = None
-    rejected: tuple[str, ...] = ()  # evidence paths that touch something, and what
 
     @property
     def radians(self) -> float:
@@ -89,10 +88,10 @@ def touched(world: SimWorld, path: Sequence[Config], resolution: float) -> set[s
 
 
 def evidence_motion(world: SimWorld, costmap: Costmap, mode: Mode, start: str, goal: str,
-                    free: frozenset[str], resolution: float) -> Motion | None:
+                    free: frozenset[str], resolution: float) -> tuple[Motion | None, list[str]]:
     """The cheapest rule for `start -> goal` whose places are all `free` and
-    whose evidence path touches nothing in the world; None when there is
-    none (the rejected ones are in the result when one is found)."""
+    whose evidence path touches nothing in the world (None when there is
+    none), and the rules tried before it whose paths touched something."""
     rejected = []
     rules = sorted((r for r in costmap.rules(str(mode), start, goal) if r.free <= free and r.path),
                    key=lambda r: r.cost)
@@ -102,12 +101,10 @@ def evidence_motion(world: SimWorld, costmap: Costmap, mode: Mode, start: str, g
             path = (world.config,) + path  # a robot a hair off the anchor travels the hair too
         hits = touched(world, path, resolution / CHECK)
         if not hits:
-            return Motion(path, "evidence", rule, tuple(rejected))
+            return Motion(path, "evidence", rule), rejected
         rejected.append(f"{mode} {start} -> {goal} (free {_names(rule.free)}, cost {rule.cost:g}) "
                         f"touches {', '.join(sorted(hits))}")
-    if rejected:
-        return Motion((), "rejected", None, tuple(rejected))
-    return None
+    return None, rejected
 
 
 def runtime_motion(world: SimWorld, planner: Planner, mode: Mode, goal: Config, resolution: float,

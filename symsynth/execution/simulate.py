@@ -243,7 +243,7 @@ class _Episode:
             run.best_effort += best_effort
             try:
                 v = self._robot_turn(v, action)
-            except ActionFailed as error:
+            except (ActionFailed, primitives.PrimitiveFailed) as error:
                 return self._end(False, f"{action} failed: {error}")
             q = self.game.read(q, v)
             if self.game.accepts(q):
@@ -278,16 +278,21 @@ class _Episode:
         options = []
         for action, w in human_moves(self.scene, v):
             obj, target = action[len("move("):-1].split(",")
-            if target == ELSE:
-                here = place_at(self.scene, self.world.poses[obj])
-                places = [e for e in self.scene.else_samples if e != here]
-            else:
-                places = [target]
-            for place in places:
-                pose = self.scene.geometry.places[place]
-                if not self.world.blocked(obj, pose):
-                    options.append(Option(action, obj, place, pose, self._after(w, q, h - 1)))
+            for place in self._targets(obj, target):
+                options.append(Option(action, obj, place, self.scene.geometry.places[place],
+                                      self._after(w, q, h - 1)))
         return tuple(options)
+
+    def _targets(self, obj: str, target: str) -> list[str]:
+        """The places a human move of `obj` to `target` (a location, or Else:
+        every Else sample but the one it stands on) can put it, leaving out
+        those where it would penetrate something."""
+        if target == ELSE:
+            here = place_at(self.scene, self.world.poses[obj])
+            places = [e for e in self.scene.else_samples if e != here]
+        else:
+            places = [target]
+        return [x for x in places if not self.world.blocked(obj, self.scene.geometry.places[x])]
 
     def _after(self, w: State, q, h: int) -> Position | None:
         q2 = self.game.read(q, w)
@@ -302,9 +307,7 @@ class _Episode:
         if isinstance(request.to, Pose):
             pose, place = request.to, place_at(self.scene, request.to)
         elif request.to == ELSE:
-            here = place_at(self.scene, self.world.poses[request.obj])
-            free = [e for e in self.scene.else_samples if e != here
-                    and not self.world.blocked(request.obj, self.scene.geometry.places[e])]
+            free = self._targets(request.obj, ELSE)
             if not free:
                 self.run.refused.append(f"{what}: no free Else sample")
                 return None
@@ -376,13 +379,10 @@ class _Episode:
         found = None
         if self.anchor is not None and goal is not None:
             free = self._free(obj)
-            found = motions.evidence_motion(world, scene.costmap, mode, self.anchor, goal, free,
-                                            self.sim.resolution)
-            if found is not None and found.rejected:
-                for message in found.rejected:
-                    self._diverge("evidence", f"{action}: the evidence path of {message}", index)
-            if found is not None and found.source == "rejected":
-                found = None
+            found, rejected = motions.evidence_motion(world, scene.costmap, mode, self.anchor, goal, free,
+                                                      self.sim.resolution)
+            for message in rejected:
+                self._diverge("evidence", f"{action}: the evidence path of {message}", index)
         if found is None and self.anchor == goal:
             found = motions.Motion((world.config,), "none")
         if found is None:
