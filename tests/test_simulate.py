@@ -373,3 +373,31 @@ def test_a_primitive_the_robot_cannot_carry_out_ends_the_run_with_its_reason(lin
     assert not run.completed
     assert run.reason.startswith("grab(") and "no inverse kinematics solution" in run.reason
     assert [s.source for s in run.steps] == ["evidence"]  # the transit before it went through
+
+
+def test_without_a_winning_strategy_best_effort_still_completes(paper_arch, tmp_path, capsys):
+    """Arch, start-goal costmap, k = 5: E_p is infinite.  Without a human the
+    best-effort robot (the explicit solver's actions with fewer human moves
+    left) still builds the arch."""
+    scene, costmaps = paper_arch
+    text = open("scenes/arch.yaml").read().replace("name: ompl-fcl", "name: pybullet")
+    (tmp_path / "arch.yaml").write_text(text + "\ncostmap: arch.costmap.json\n")
+    write_costmap(costmaps["sg"], tmp_path / "arch.costmap.json")
+    path = str(tmp_path / "arch.yaml")
+    assert main(["simulate", path]) == 1
+    assert "no strategy wins against every human" in capsys.readouterr().out
+    assert main(["simulate", path, "--best-effort", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    run = out["runs"][0]
+    assert out["cost_bound"] is None and out["guarantee"] is False
+    assert run["completed"] and run["best_effort_actions"] == run["robot_actions"] > 0
+    assert run["trace"][-1]["state"]["at"] == {"w1": "support1", "w2": "support2", "b": "top"} or \
+        run["trace"][-1]["state"]["at"] == {"w1": "support2", "w2": "support1", "b": "top"}
+
+
+def test_a_script_plays_from_its_first_entry_in_every_run(line_files, tmp_path, capsys):
+    script_file = tmp_path / "human.yaml"
+    script_file.write_text("moves:\n  - {after: 0, move: w1, to: center}\n")
+    assert main(["simulate", str(line_files), "--human", str(script_file), "--runs", "2", "--json"]) == 0
+    runs = json.loads(capsys.readouterr().out)["runs"]
+    assert [r["trace"][0]["action"] for r in runs] == ["move(w1,center)"] * 2

@@ -21,6 +21,7 @@ from symsynth.planning.build import obtain_costmap
 from symsynth.planning.costmaps import METHODS
 from symsynth.scene import Scene, load_scene
 
+BUILT_IN_HUMANS = ("none", "random", "adversarial")
 HELP = "run a strategy in a PyBullet world against a simulated human"
 DESCRIPTION = """\
 Execute a strategy in simulation (paper Sec. V-B): the robot follows the
@@ -114,7 +115,7 @@ def _probability(text: str) -> float:
 
 
 def run(args: argparse.Namespace) -> int:
-    from symsynth.execution.human import AdversarialHuman, NoHuman, RandomHuman, read_script
+    from symsynth.execution.human import AdversarialHuman, NoHuman, RandomHuman, ScriptedHuman, read_script
     from symsynth.execution.record import Recorder
     from symsynth.execution.simulate import Policy, Simulator
     from symsynth.planning.registry import planner_class
@@ -127,7 +128,7 @@ def run(args: argparse.Namespace) -> int:
     if args.k is not None:
         scene = dataclasses.replace(scene, k=args.k)
     script = None
-    if args.human not in ("none", "random", "adversarial"):
+    if args.human not in BUILT_IN_HUMANS:
         if not Path(args.human).is_file():
             raise InputError(f"--human: expected none, random, adversarial or a script file, "
                              f"found {args.human!r} (no such file)")
@@ -153,7 +154,7 @@ def run(args: argparse.Namespace) -> int:
         print(_no_guarantee(bound, args.budget) + "; add --best-effort to run anyway")
         return 1
     fallback = None
-    if not guarantee:
+    if bound is None:  # a finite E_p over the budget still has its strategy everywhere it leads
         # The explicit solver's strategy covers every reachable position of
         # finite value, also when the initial one has none (the symbolic
         # solver stops early then).
@@ -178,7 +179,7 @@ def run(args: argparse.Namespace) -> int:
         elif args.human == "adversarial":
             human = AdversarialHuman(seed, policy.budget)
         else:
-            human = read_script(args.human, scene) if i else script
+            human = ScriptedHuman(script.entries, script.source)  # from its first entry
         record = recorder if args.record is not None and i == 0 else None
         runs.append(simulator.run(human, seed, recorder=record, gui=args.gui))
     bar.close()
