@@ -14,6 +14,9 @@ import os
 import sys
 from collections.abc import Iterator
 
+from symsynth.errors import SymsynthError
+from symsynth.scene.geometry import Shape
+
 
 _libc = ctypes.CDLL(None)
 
@@ -46,10 +49,38 @@ def client(gui: bool = False) -> bullet_client.BulletClient:
     (`gui=True`, which needs a display)."""
     if gui:
         if not os.environ.get("DISPLAY") and sys.platform.startswith("linux"):
-            from symsynth.errors import SymsynthError
-
             raise SymsynthError("a window needs a display, and DISPLAY is not set; "
                                 "leave --gui out (the simulation runs headless)")
         return bullet_client.BulletClient(connection_mode=pybullet.GUI)
     with _silenced_stdout():
         return bullet_client.BulletClient(connection_mode=pybullet.DIRECT)
+
+
+# -- symsynth shapes as PyBullet shapes (frames as pybullet wants: centred) -------------
+
+def collision_shape(client, shape: Shape, *, concave: bool = False) -> int:
+    """A pybullet collision shape id for `shape`, centred as pybullet wants."""
+    if shape.kind == "box":
+        return client.createCollisionShape(pybullet.GEOM_BOX, halfExtents=[s / 2 for s in shape.size])
+    if shape.kind == "cylinder":
+        return client.createCollisionShape(pybullet.GEOM_CYLINDER, radius=shape.radius, height=shape.height)
+    if shape.kind == "mesh" and shape.mesh is not None:
+        flags = pybullet.GEOM_FORCE_CONCAVE_TRIMESH if concave else 0
+        shape_id = client.createCollisionShape(pybullet.GEOM_MESH, fileName=str(shape.mesh),
+                                               meshScale=[shape.scale] * 3, flags=flags)
+        if shape_id < 0:
+            raise SymsynthError(f"pybullet could not load the mesh {shape.mesh}")
+        return shape_id
+    raise SymsynthError(f"unknown shape kind {shape.kind!r} (expected box, cylinder or mesh)")
+
+
+def visual_shape(client, shape: Shape, colour: tuple[float, float, float, float]) -> int:
+    """A pybullet visual shape id for `shape` in `colour` (RGBA), centred."""
+    if shape.kind == "box":
+        return client.createVisualShape(pybullet.GEOM_BOX, halfExtents=[s / 2 for s in shape.size],
+                                        rgbaColor=colour)
+    if shape.kind == "cylinder":
+        return client.createVisualShape(pybullet.GEOM_CYLINDER, radius=shape.radius, length=shape.height,
+                                        rgbaColor=colour)
+    return client.createVisualShape(pybullet.GEOM_MESH, fileName=str(shape.mesh),
+                                    meshScale=[shape.scale] * 3, rgbaColor=colour)

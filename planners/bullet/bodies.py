@@ -23,9 +23,8 @@ compared with each other (objects stand on the table).
 
 from __future__ import annotations
 
-from symsynth.bullet import pybullet as p
+from symsynth.bullet import collision_shape
 
-from symsynth.planning.protocol import PlannerError
 from symsynth.scene.geometry import Pose, Shape
 
 ROBOT, BASE, HELD, STATIC, PLACE = 1, 2, 4, 8, 16
@@ -38,22 +37,6 @@ MASK = {
 }
 OFF = 0  # group and mask of a body that takes part in nothing
 PARKED = ((0.0, 0.0, -1000.0), (0.0, 0.0, 0.0, 1.0))  # where unused bodies wait
-
-
-def collision_shape(client, shape: Shape, *, concave: bool = False) -> int:
-    """A pybullet collision shape id for `shape`, centred as pybullet wants."""
-    if shape.kind == "box":
-        return client.createCollisionShape(p.GEOM_BOX, halfExtents=[s / 2 for s in shape.size])
-    if shape.kind == "cylinder":
-        return client.createCollisionShape(p.GEOM_CYLINDER, radius=shape.radius, height=shape.height)
-    if shape.kind == "mesh" and shape.mesh is not None:
-        flags = p.GEOM_FORCE_CONCAVE_TRIMESH if concave else 0
-        shape_id = client.createCollisionShape(p.GEOM_MESH, fileName=str(shape.mesh),
-                                               meshScale=[shape.scale] * 3, flags=flags)
-        if shape_id < 0:
-            raise PlannerError(f"pybullet could not load the mesh {shape.mesh}")
-        return shape_id
-    raise PlannerError(f"unknown shape kind {shape.kind!r} (expected box, cylinder or mesh)")
 
 
 def make_body(client, shape: Shape, pose: Pose | None, group: int, *, concave: bool = False) -> int:

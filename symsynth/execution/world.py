@@ -189,26 +189,11 @@ class SimWorld:
 
     def _body(self, shape: Shape, pose: Pose, colour: RGBA, *, collision: bool = True,
               concave: bool = False) -> int:
-        client = self.client
-        if shape.kind == "box":
-            half = [s / 2 for s in shape.size]
-            visual = client.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=colour)
-            solid = client.createCollisionShape(p.GEOM_BOX, halfExtents=half) if collision else -1
-        elif shape.kind == "cylinder":
-            visual = client.createVisualShape(p.GEOM_CYLINDER, radius=shape.radius, length=shape.height,
-                                              rgbaColor=colour)
-            solid = (client.createCollisionShape(p.GEOM_CYLINDER, radius=shape.radius, height=shape.height)
-                     if collision else -1)
-        else:
-            scale = [shape.scale] * 3
-            visual = client.createVisualShape(p.GEOM_MESH, fileName=str(shape.mesh), meshScale=scale,
-                                              rgbaColor=colour)
-            flags = p.GEOM_FORCE_CONCAVE_TRIMESH if concave else 0
-            solid = (client.createCollisionShape(p.GEOM_MESH, fileName=str(shape.mesh), meshScale=scale,
-                                                 flags=flags) if collision else -1)
+        solid = bullet.collision_shape(self.client, shape, concave=concave) if collision else -1
         centre = pose @ shape.centre_offset()
-        return client.createMultiBody(baseMass=0, baseCollisionShapeIndex=solid, baseVisualShapeIndex=visual,
-                                      basePosition=centre.xyz, baseOrientation=centre.quat)
+        return self.client.createMultiBody(baseMass=0, baseCollisionShapeIndex=solid,
+                                           baseVisualShapeIndex=bullet.visual_shape(self.client, shape, colour),
+                                           basePosition=centre.xyz, baseOrientation=centre.quat)
 
 
 def colour_of(tags: frozenset[str], index: int) -> RGBA:
