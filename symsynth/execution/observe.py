@@ -48,8 +48,8 @@ def observe(scene: Scene, world: SimWorld) -> State:
 
 def location_at(scene: Scene, pose: Pose) -> str:
     """The location of interest an object at `pose` stands on, or `Else`."""
-    places = scene.geometry.places
-    return next((l for l in scene.locations if distance(pose, places[l]) <= POSITION), ELSE)
+    place = place_at(scene, pose)
+    return place if place in scene.locations else ELSE
 
 
 def place_at(scene: Scene, pose: Pose) -> str | None:
