@@ -13,9 +13,10 @@ import ctypes
 import os
 import sys
 from collections.abc import Iterator
+from dataclasses import dataclass
 
 from symsynth.errors import SymsynthError
-from symsynth.scene.geometry import Shape
+from symsynth.scene.geometry import Robot, Shape
 
 
 _libc = ctypes.CDLL(None)
@@ -84,3 +85,59 @@ def visual_shape(client, shape: Shape, colour: tuple[float, float, float, float]
                                         rgbaColor=colour)
     return client.createVisualShape(pybullet.GEOM_MESH, fileName=str(shape.mesh),
                                     meshScale=[shape.scale] * 3, rgbaColor=colour)
+
+
+# -- the robot ---------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class RobotJoints:
+    """A robot loaded from its URDF: the body and how its joints are addressed."""
+
+    id: int  # the pybullet body
+    infos: tuple  # getJointInfo of every joint, by joint index
+    joints: tuple[int, ...]  # the controlled joints, in the order of a configuration
+    movable: tuple[int, ...]  # every joint that is not fixed (pybullet's inverse kinematics order)
+    held: dict[int, float]  # the other movable joints, set to these values and kept there
+    ee: int  # the end-effector link (-1: the base)
+
+    @property
+    def parents(self) -> dict[int, int]:
+        """link -> its parent link (the base, -1, has none)."""
+        return {j: info[16] for j, info in enumerate(self.infos)}
+
+
+def load_robot(client, robot: Robot, *, flags: int = 0,
+               error: type[SymsynthError] = SymsynthError) -> RobotJoints:
+    """Load `robot` (fixed base at its pose) into `client` with the URDF `flags`.
+
+    The controlled joints are the scene's `joints`, or else every movable
+    joint not named in `fixed`; the fixed ones are set to their value and
+    every other movable joint to 0.  Problems raise `error` naming the URDF.
+    """
+    body = client.loadURDF(str(robot.urdf), basePosition=robot.base.xyz,
+                           baseOrientation=robot.base.quat, useFixedBase=True, flags=flags)
+    if body < 0:
+        raise error(f"pybullet could not load the robot URDF {robot.urdf}")
+    infos = tuple(client.getJointInfo(body, j) for j in range(client.getNumJoints(body)))
+    joint_index = {info[1].decode(): j for j, info in enumerate(infos)}
+    link_index = {info[12].decode(): j for j, info in enumerate(infos)}
+    link_index[client.getBodyInfo(body)[0].decode()] = -1
+    movable = tuple(j for j, info in enumerate(infos) if info[2] != pybullet.JOINT_FIXED)
+    fixed = dict(robot.fixed)
+    names = robot.joints or tuple(infos[j][1].decode() for j in movable
+                                  if infos[j][1].decode() not in fixed)
+    for name in list(names) + list(fixed):
+        if joint_index.get(name) not in movable:
+            raise error(f"joint {name!r} is not a movable joint of {robot.urdf}")
+    if robot.ee_link not in link_index:
+        raise error(f"end-effector link {robot.ee_link!r} is not a link of {robot.urdf}")
+    if len(robot.home) != len(names):
+        raise error(f"home has {len(robot.home)} values for {len(names)} joints ({', '.join(names)})")
+    joints = tuple(joint_index[n] for n in names)
+    held = {joint_index[n]: float(v) for n, v in fixed.items()}
+    for j in movable:
+        if j not in joints and j not in held:
+            held[j] = 0.0
+    for j, value in held.items():
+        client.resetJointState(body, j, value)
+    return RobotJoints(body, infos, joints, movable, held, link_index[robot.ee_link])

@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from symsynth.bullet import pybullet as p
+from symsynth.bullet import load_robot, pybullet as p
 
 from symsynth.planning.protocol import Config, PlannerError
 from symsynth.scene.geometry import Robot
@@ -33,38 +33,16 @@ class RobotBody:
 
     def __init__(self, client, robot: Robot) -> None:
         self.client = client
-        self.id = client.loadURDF(str(robot.urdf), basePosition=robot.base.xyz,
-                                  baseOrientation=robot.base.quat, useFixedBase=True,
-                                  flags=p.URDF_USE_SELF_COLLISION)
-        if self.id < 0:
-            raise PlannerError(f"pybullet could not load the robot URDF {robot.urdf}")
-        infos = [client.getJointInfo(self.id, j) for j in range(client.getNumJoints(self.id))]
-        joint_index = {info[1].decode(): j for j, info in enumerate(infos)}
-        link_index = {info[12].decode(): j for j, info in enumerate(infos)}
-        link_index[client.getBodyInfo(self.id)[0].decode()] = -1
-        self.parent = {j: info[16] for j, info in enumerate(infos)}
-        movable = [j for j, info in enumerate(infos) if info[2] != p.JOINT_FIXED]
-        fixed = dict(robot.fixed)
-        names = robot.joints or tuple(infos[j][1].decode() for j in movable
-                                      if infos[j][1].decode() not in fixed)
-        for name in list(names) + list(fixed):
-            if joint_index.get(name) not in movable:
-                raise PlannerError(f"joint {name!r} is not a movable joint of {robot.urdf}")
-        if robot.ee_link not in link_index:
-            raise PlannerError(f"end-effector link {robot.ee_link!r} is not a link of {robot.urdf}")
-        if len(robot.home) != len(names):
-            raise PlannerError(f"home has {len(robot.home)} values for {len(names)} joints ({', '.join(names)})")
-        self.joints = [joint_index[n] for n in names]
-        self.ee = link_index[robot.ee_link]
-        self.movable = movable  # the order of pybullet's inverse kinematics arrays
+        loaded = load_robot(client, robot, flags=p.URDF_USE_SELF_COLLISION, error=PlannerError)
+        self.id = loaded.id
+        infos = loaded.infos
+        self.parent = loaded.parents
+        self.joints = list(loaded.joints)
+        self.ee = loaded.ee
+        self.movable = list(loaded.movable)  # the order of pybullet's inverse kinematics arrays
         self.limits = np.array([_limits(infos[j]) for j in self.joints])
         # inverse kinematics keeps the other movable joints at their fixed value
-        self.fixed = {joint_index[n]: float(v) for n, v in fixed.items()}
-        for j in movable:
-            if j not in self.joints and j not in self.fixed:
-                self.fixed[j] = 0.0
-        for j, value in self.fixed.items():
-            client.resetJointState(self.id, j, value)
+        self.fixed = loaded.held
         self.home = tuple(float(v) for v in robot.home)
         self.links = [j for j in range(-1, len(infos)) if client.getCollisionShapeData(self.id, j)]
         self.adjacent = self._adjacent_pairs()

@@ -26,7 +26,6 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 
 from symsynth import bullet
-from symsynth.bullet import pybullet as p
 from symsynth.errors import SymsynthError
 from symsynth.scene.geometry import Pose, Shape
 from symsynth.scene.model import ELSE, Scene
@@ -58,21 +57,10 @@ class SimWorld:
         self.scene = scene
         self.geometry = geometry
         self.client = bullet.client(gui=gui)
-        robot = geometry.robot
-        self.robot = self.client.loadURDF(str(robot.urdf), basePosition=robot.base.xyz,
-                                          baseOrientation=robot.base.quat, useFixedBase=True)
-        if self.robot < 0:
-            raise SymsynthError(f"pybullet could not load the robot URDF {robot.urdf}")
-        infos = [self.client.getJointInfo(self.robot, j) for j in range(self.client.getNumJoints(self.robot))]
-        index = {info[1].decode(): j for j, info in enumerate(infos)}
-        links = {info[12].decode(): j for j, info in enumerate(infos)}
-        fixed = dict(robot.fixed)
-        names = robot.joints or tuple(info[1].decode() for info in infos
-                                      if info[2] != p.JOINT_FIXED and info[1].decode() not in fixed)
-        self.joints = [index[name] for name in names]
-        self.ee_link = links[robot.ee_link]
-        for name, value in fixed.items():
-            self.client.resetJointState(self.robot, index[name], float(value))
+        loaded = bullet.load_robot(self.client, geometry.robot)
+        self.robot = loaded.id
+        self.joints = list(loaded.joints)
+        self.ee_link = loaded.ee
         self.obstacles = {self._body(body.shape, body.pose, OBSTACLE, concave=True): body.name
                           for body in geometry.obstacles}
         self.bodies: dict[str, int] = {}
@@ -89,7 +77,7 @@ class SimWorld:
         self.held: str | None = None
         self.grasp: str | None = None
         self.config: tuple[float, ...] = ()
-        self.set_config(robot.home)
+        self.set_config(geometry.robot.home)
 
     def close(self) -> None:
         self.client.disconnect()
