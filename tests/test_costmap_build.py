@@ -178,6 +178,7 @@ class TimedPlanar(PlanarPlanner):
     """The planar planner, recording the time limit it is given."""
 
     seen: list = []
+    time_limited = True
 
     def roadmap(self, mode, anchors, size, seed, seconds=None):
         TimedPlanar.seen.append(seconds)

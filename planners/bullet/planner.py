@@ -30,6 +30,7 @@ from symsynth_planners.bullet.world import World
 
 class BulletPlanner:
     name: ClassVar[str] = "pybullet"
+    time_limited: ClassVar[bool] = True  # roadmap(..., seconds=S) is honoured
 
     def __init__(self, scene: Scene) -> None:
         geometry = scene.geometry

@@ -35,6 +35,7 @@ class OmplFclPlanner:
     """The `Planner` protocol for a scene whose `geometry` is a `Geometry`."""
 
     name: ClassVar[str] = "ompl-fcl"
+    time_limited: ClassVar[bool] = True  # roadmap(..., seconds=S) is honoured
 
     def __init__(self, scene) -> None:
         geometry = getattr(scene, "geometry", None)

@@ -11,7 +11,6 @@ shapes) share one roadmap and its checks.
 from __future__ import annotations
 
 import dataclasses
-import inspect
 import multiprocessing
 import os
 import time
@@ -101,7 +100,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     stats = Stats()
     clock = time.perf_counter()
     planner = (planner_factory or planner_class(name))(scene)
-    if settings.seconds is not None and "seconds" not in inspect.signature(planner.roadmap).parameters:
+    if settings.seconds is not None and not getattr(planner, "time_limited", False):
         raise PlannerError(f"the {name} planner has no roadmap time limit: give the scene's planner a "
                            f"roadmap_size instead of seconds")
     configs = anchor_configs(planner, scene)

@@ -115,5 +115,7 @@ class Planner(Protocol):
         """A roadmap of about `size` vertices plus the anchors, whose edges are
         free of static collisions (location obstacles ignored).  With
         `seconds`, the vertices it can add in that time instead of `size`
-        (the scene's `planner: {seconds: S}`); a planner without a time
-        limit may leave the parameter out, and such scenes are refused."""
+        (the scene's `planner: {seconds: S}`).  A planner that honours
+        `seconds` says so with a class attribute `time_limited = True`; one
+        without it may leave the parameter out, and such scenes are refused
+        with one message before any work."""
