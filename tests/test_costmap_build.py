@@ -18,7 +18,7 @@ from symsynth.planning.anchors import anchor_configs, motions
 from symsynth.planning.build import compute_costmap, obtain_costmap
 from symsynth.planning.costmaps import Query
 from symsynth.planning.protocol import Mode, PlannerError
-from symsynth.planning.verify import verify_costmap
+from symsynth.planning.verify import path_length, verify_costmap
 from symsynth.scene.costmap import Costmap
 
 # A wall at y = 0.3 with a gap at x in [0.45, 0.55]; place P sits in the gap.
@@ -109,6 +109,12 @@ def test_every_evidence_path_verifies_and_a_tampered_one_fails():
     reasons = sorted(f.reason for f in failures)
     assert any("touches P" in r for r in reasons)
     assert any(r.startswith("cost ") for r in reasons)
+    # a path that starts on P itself and goes straight up to l1: it still touches P
+    path = ((0.5, 0.3), (0.5, 0.4), (0.5, 0.5))
+    inside = dataclasses.replace(rule, free=frozenset(), path=path,
+                                 cost=scene.geometry.per_radian * path_length(path))
+    _, failures = verify_costmap(Costmap({key: (inside,)}), scene, planner, 0.005, progress=False)
+    assert [f.reason for f in failures] == ["touches P, which the rule assumes may be occupied"]
 
 
 def test_motions_follow_the_spec():

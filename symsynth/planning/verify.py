@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from tqdm import tqdm
 
-from symsynth.planning.anchors import motions
+from symsynth.planning.anchors import anchor_configs, motions
 from symsynth.planning.protocol import Mode, Planner
 from symsynth.scene.costmap import Costmap
 from symsynth.scene.model import Scene
@@ -51,7 +51,8 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
     places = frozenset(scene.locations + scene.else_samples)
     per_radian = scene.geometry.per_radian
     failures: list[Failure] = []
-    at_start: dict[tuple, frozenset[str]] = {}
+    configs = anchor_configs(planner, scene)
+    at_start: dict[tuple[str, str], frozenset[str]] = {}
     checked = 0
     items = [(key, i, rule) for key, rules in costmap.motions.items() for i, rule in enumerate(rules)]
     for (mode_name, start, goal), i, rule in tqdm(items, desc="verify", unit="rule", disable=not progress,
@@ -70,11 +71,12 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
             fail(f"cost {rule.cost} but the path is {path_length(rule.path):.6f} rad "
                  f"x {per_radian} per radian = {per_radian * path_length(rule.path):.6f}")
         mode = Mode.parse(mode_name)
-        # what the start configuration itself touches cannot be occupied (build.physical_queries)
-        first = (mode_name, tuple(rule.path[0]))  # many rules start at the same anchor
-        if first not in at_start:
-            at_start[first] = planner.contacts(mode, first[1]).locations
-        allowed = rule.free | query.never | at_start[first]
+        # what the start anchor's configuration touches cannot be occupied
+        # (build.physical_queries); the anchor's, not the path's first point,
+        # which the costmap file could put anywhere
+        if (mode_name, start) not in at_start:
+            at_start[mode_name, start] = planner.contacts(mode, configs[start]).locations
+        allowed = rule.free | query.never | at_start[mode_name, start]
         for a, b in zip(rule.path, rule.path[1:] or rule.path):
             contacts = planner.motion_contacts(mode, tuple(a), tuple(b), resolution)
             if contacts.static:
