@@ -158,6 +158,14 @@ def test_missing_mesh_file_is_reported(tmp_path):
     assert "objects.b.mesh.file: mesh file" in problems(tmp_path, text)
 
 
+def test_a_file_that_is_no_mesh_is_reported_before_any_planner_reads_it(tmp_path):
+    # pybullet's collision shapes crash the interpreter on such a file
+    (tmp_path / "junk.stl").write_bytes(b"garbage, not a mesh\n\x00\x01")
+    text = BASE.replace("box: [0.04, 0.16, 0.06]", "mesh: {file: junk.stl}")
+    assert "objects.b.mesh.file: mesh file" in problems(tmp_path, text)
+    assert "junk.stl' has no triangles" in problems(tmp_path, text)
+
+
 def test_list_of_locations_in_a_physical_scene_explains_itself(tmp_path):
     text = BASE.replace("locations:\n  l1: {xyz: [0.5, 0.1, 0]}\n  l2: {xyz: [0.5, -0.1, 0], "
                         "rpy: [0, 0, 1.5707963]}", "locations: [l1, l2]")

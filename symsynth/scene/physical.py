@@ -198,6 +198,10 @@ def _shape(spec: dict[str, Any], base: Path, where: tuple, report: Report) -> Sh
     mesh = base / spec["mesh"]["file"]
     if not mesh.is_file():
         report.add(where + ("mesh", "file"), f"mesh file {str(mesh)!r} not found")
+    elif not _has_triangles(mesh):
+        # read here, once for every consumer: pybullet crashes on some files it cannot parse
+        report.add(where + ("mesh", "file"), f"mesh file {str(mesh)!r} has no triangles "
+                   "(expected a mesh trimesh can read: .obj, .stl, .ply, ...)")
     return Shape("mesh", mesh=mesh, scale=float(spec["mesh"].get("scale", 1.0)))
 
 
@@ -246,3 +250,13 @@ def _find_urdf(name: str, base: Path) -> Path | None:
 
     bundled = Path(pybullet_data.getDataPath()) / name
     return bundled if bundled.is_file() else None
+
+
+def _has_triangles(path: Path) -> bool:
+    import trimesh  # only physical scenes with meshes need it
+
+    try:
+        mesh = trimesh.load(str(path), force="mesh")
+    except Exception:  # noqa: BLE001 - any reader failure means "not a mesh"
+        return False
+    return isinstance(mesh, trimesh.Trimesh) and len(mesh.faces) > 0
