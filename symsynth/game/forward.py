@@ -108,8 +108,10 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
     clock = time.perf_counter()
     formula = task_formula(scene, formula)
     game = GameGraph(scene, formula, resolution)
-    bound = LowerBound(scene, formula, game, resolution)
     seconds = {"dfa": time.perf_counter() - clock}
+    clock = time.perf_counter()
+    bound = LowerBound(scene, formula, game, resolution)
+    seconds["bound"] = time.perf_counter() - clock
     v0 = initial_state(scene)
     q0 = game.read(game.dfa.initial, v0)
     if game.accepts(q0):
@@ -118,7 +120,7 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
 
     clock = time.perf_counter()
     start = (v0, q0, k)
-    search = Search(game, bound, start)
+    search = Search(game, bound)
     units = _deep(search.value_human, start)
     seconds["search"] = time.perf_counter() - clock
     stats = search.stats()
@@ -182,7 +184,6 @@ class LowerBound:
             return
         self.enabled = True
         names = self.names = scene.object_names
-        self.index = {o: i for i, o in enumerate(names)}
         self.groups = sorted(groups.items())
         # objects that may end up at l: they carry every tag asked at l
         self.candidates = {l: tuple(i for i, o in enumerate(scene.objects) if tags <= o.tags)
@@ -408,9 +409,8 @@ class Search:
     bounds.  Moves are generated once per id and kept as ids.
     """
 
-    def __init__(self, game: GameGraph, bound: Callable[[State, int, bool], float], start: Key):
+    def __init__(self, game: GameGraph, bound: Callable[[State, int, bool], float]):
         self.game = game
-        self.start = start
         self.bound = bound
         self.ids: dict[Key, int] = {}
         self.keys: list[Key] = []
@@ -425,7 +425,6 @@ class Search:
         self.closures = 0
         self.calls = 0
         self.rounds = 0
-        self.lost: set[Key] = set()  # robot positions of infinite value, known so far
         self.explored = 0  # qualitative explorations run
         self._graph = None  # the reachable graph from the start, for the counter play
 
@@ -436,8 +435,6 @@ class Search:
             self.keys.append(key)
             v, q, h = key
             lo_r, lo_h = self.bound(v, h, True), self.bound(v, h, False)
-            if key in self.lost:
-                lo_r = lo_h = INF
             for below in range(h):  # val grows with h
                 j = self.ids.get((v, q, below))
                 if j is not None:
@@ -628,17 +625,20 @@ class Search:
     # -- values ---------------------------------------------------------------------------
     def value_human(self, key: Key) -> int | None:
         """val of a human-turn position (the start): units, None when infinite."""
-        return self._value(self.id(key), self.human, self.lo_h)
+        return self._value(self.id(key), self.human, self.lo_h, self.hi_h)
 
     def value_robot(self, key: Key) -> int | None:
         """val of a robot-turn position, in units; None when infinite."""
-        return self._value(self.id(key), self.robot, self.lo_r)
+        return self._value(self.id(key), self.robot, self.lo_r, self.hi_r)
 
-    def _value(self, i: int, ask, lo: list[float]) -> int | None:
+    def _value(self, i: int, ask, lo: list[float], hi: Mapping) -> int | None:
         """The least b with a yes, asked from b = lo up.  (Galloping above lo
         and then halving, tried for tasks without a bound, made budgets so
         large in games of infinite value that the search blew up before the
-        trap check could see the trap: O(positions x budget).)"""
+        trap check could see the trap: O(positions x budget).)  The trap
+        check is skipped for a position with a proven hi: its value is finite
+        (the strategy's lookups, `solve -o`, would otherwise run it over
+        everything generated again and again)."""
         rounds = 0
         while True:
             b = lo[i]
@@ -651,7 +651,7 @@ class Search:
                 return b
             if lo[i] <= b:  # the search from here is a proof: val > b
                 lo[i] = b + 1
-            if rounds & (rounds - 1) == 0 and rounds >= 8:  # 8, 16, 32, ...
+            if rounds & (rounds - 1) == 0 and rounds >= 8 and i not in hi:  # 8, 16, 32, ...
                 self._qualitative()
 
     def _qualitative(self) -> None:
@@ -710,7 +710,6 @@ class Search:
         for i in range(n):
             if not won[i]:
                 self.lo_r[i] = INF
-                self.lost.add(self.keys[i])
             if not won[n + i]:
                 self.lo_h[i] = INF
 
@@ -755,7 +754,9 @@ class Search:
 
     # -- reporting ---------------------------------------------------------------------------
     def positions(self) -> int:
-        """Positions (v, q, h, turn) the search generated."""
+        """Twice the (v, q, h) the search generated: each stands for a
+        robot-turn and a human-turn position, though the search may have
+        reached only one of the two (an upper bound on what it generated)."""
         return 2 * len(self.keys)
 
     def stats(self) -> dict[str, object]:
