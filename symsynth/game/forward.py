@@ -82,6 +82,8 @@ objects carrying all of l's tags.
 
 from __future__ import annotations
 
+import functools
+import heapq
 import math
 import sys
 import threading
@@ -90,6 +92,7 @@ from collections.abc import Hashable, Iterator, Mapping
 from typing import Callable
 
 from symsynth.game.abstraction import State, costmap_of, initial_state, quantize
+from symsynth.game.abstraction import anchors as place_anchors
 from symsynth.game.explicit import PASS, GameGraph, Node, _dijkstra
 from symsynth.game.explicit import _counter_play as _explicit_counter
 from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
@@ -202,10 +205,7 @@ class LowerBound:
                 return INF
             return max(pc(mode, s, t) for s in S for t in T)
 
-        def anchors(place, g):
-            if place == ELSE:
-                return tuple(f"{e}/{g}" for e in scene.else_samples)
-            return (f"{place}/{g}",)
+        anchors = functools.partial(place_anchors, scene)
 
         places = tuple(scene.locations) + (ELSE,)
         grasps = scene.grasps
@@ -263,9 +263,8 @@ class LowerBound:
                                 c = self.grab + self.drop + min(self.carry[i, (y, g), w]
                                                                 for i in range(len(names)))
                                 hop[(y, g), (w, g)] = min(hop.get(((y, g), (w, g)), INF), c)
-            for y in scene.locations:
-                for g in grasps:
-                    self.to_else[y, g] = _to_else((y, g), hop)
+            to_else = _to_else(hop)
+            self.to_else = {(y, g): to_else.get((y, g), INF) for y in scene.locations for g in grasps}
         self.strike = self._strike() if pattern else 0
 
     def _strike(self) -> float:
@@ -352,32 +351,30 @@ class LowerBound:
         return total, brink
 
 
-def _to_else(source, hop) -> float:
-    """Least cost from `source` to a transit that ends at Else, with `hop`:
-    (place, grasp) -> (place, grasp) -> cost."""
-    import heapq
-    out: dict = {}
+def _to_else(hop) -> dict:
+    """Least cost from each (place, grasp) to a transit that ends at Else,
+    with `hop`: (place, grasp) -> (place, grasp) -> cost.  One Dijkstra
+    backwards from every (Else, grasp)."""
+    into: dict = {}
     for (a, b), c in hop.items():
-        out.setdefault(a, []).append((b, c))
-    done = set()
-    heap = [(0, source)]
+        if c < INF:
+            into.setdefault(b, []).append((a, c))
+    dist: dict = {}
+    heap = [(0, node) for node in into if node[0] == ELSE]
     while heap:
         d, node = heapq.heappop(heap)
-        if node in done:
+        if node in dist:
             continue
-        if node[0] == ELSE:
-            return d
-        done.add(node)
-        for nxt, c in out.get(node, ()):
-            if c < INF and nxt not in done:
-                heapq.heappush(heap, (d + c, nxt))
-    return INF
+        dist[node] = d
+        for prev, c in into.get(node, ()):
+            if prev not in dist:
+                heapq.heappush(heap, (d + c, prev))
+    return dist
 
 
 def _shortest(x, grasps, locations, hop) -> dict:
     """Dijkstra from (x, any grasp) over (place, grasp): hops between places
     at `hop` cost, grasp changes free at locations."""
-    import heapq
     dist = {}
     heap = [(0, x, g) for g in grasps]
     while heap:
