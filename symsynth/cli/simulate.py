@@ -117,7 +117,7 @@ def _probability(text: str) -> float:
 def run(args: argparse.Namespace) -> int:
     from symsynth.execution.human import AdversarialHuman, NoHuman, RandomHuman, ScriptedHuman, read_script
     from symsynth.execution.record import Recorder
-    from symsynth.execution.simulate import Policy, Simulator
+    from symsynth.execution.simulate import SLACK, Policy, Simulator
     from symsynth.planning.registry import planner_class
 
     if args.record is not None:
@@ -149,7 +149,7 @@ def run(args: argparse.Namespace) -> int:
         table = strategy_table(scene, scene.task, solution)
     formula = parse_ltlf(table.task, source=f"{args.strategy or args.scene} (task)")
     bound = table.cost_bound
-    guarantee = bound is not None and (args.budget is None or bound <= args.budget + 1e-9)
+    guarantee = bound is not None and (args.budget is None or bound <= args.budget + SLACK)
     if not guarantee and not args.best_effort:
         print(_no_guarantee(bound, args.budget) + "; add --best-effort to run anyway")
         return 1
@@ -202,7 +202,7 @@ def run(args: argparse.Namespace) -> int:
         if frames:
             print(f"\nwrote {args.record} ({frames} frames, run 1)")
     ok = all(r.completed and r.sound and r.within_bound is not False
-             and (args.budget is None or r.cost <= args.budget + 1e-9) for r in runs)
+             and (args.budget is None or r.cost <= args.budget + SLACK) for r in runs)
     return 0 if ok else 1
 
 
@@ -236,6 +236,8 @@ def _no_guarantee(bound: float | None, budget: float | None) -> str:
 
 def _report(scene: Scene, args: argparse.Namespace, table: StrategyFile, bound: float | None,
             guarantee: bool, runs: list) -> None:
+    from symsynth.execution.simulate import SLACK
+
     source = f"from {args.strategy}" if args.strategy else f"solved by {args.solver}"
     print(f"scene      {scene.name} ({args.scene})")
     print(f"strategy   {source}: {len(table.positions)} positions, k = {table.k}, "
@@ -248,7 +250,7 @@ def _report(scene: Scene, args: argparse.Namespace, table: StrategyFile, bound: 
         print()
         print(f"run {i} (seed {r.seed}): {_verdict(r)}")
         if args.budget is not None:
-            over = r.cost > args.budget + 1e-9
+            over = r.cost > args.budget + SLACK
             print(f"           budget {args.budget:g}: " + ("EXCEEDED" if over else "kept"))
         if args.trace or len(runs) == 1:
             _trace(r, scene)

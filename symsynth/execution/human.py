@@ -23,6 +23,7 @@ checks the same way), or None to pass.
 
 from __future__ import annotations
 
+import math
 import random
 from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass
@@ -200,7 +201,9 @@ def read_script(path: str | Path, scene: Scene) -> ScriptedHuman:
                 add(where + ("after",), f"{entry['after']!r} is no robot action of this scene; expected "
                     "a number of robot actions, or transit(o,g), grab(o), transfer(l) or drop(o,l) "
                     "with the scene's names")
-            if isinstance(to, list):
+            if isinstance(to, list) and not all(math.isfinite(v) for v in to):
+                add(where + ("to",), "expected finite numbers [x, y] or [x, y, z]")
+            elif isinstance(to, list):
                 xyz = tuple(float(v) for v in to) + ((0.0,) if len(to) == 2 else ())
                 to = Pose(xyz)
             after = entry["after"].replace(" ", "") if isinstance(entry["after"], str) else entry["after"]

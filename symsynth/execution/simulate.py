@@ -251,6 +251,10 @@ class _Episode:
 
     def _end(self, completed: bool, reason: str) -> Run:
         self.run.completed, self.run.reason = completed, reason
+        first = getattr(self.human, "next", 0) + 1  # a script's moves that never came due
+        for n, entry in enumerate(getattr(self.human, "pending", ()), start=first):
+            self.run.refused.append(f"script move {n} ({entry['move']} to {_where(entry['to'])}): "
+                                    f"never came due (after {entry['after']})")
         self._frame(("done: " if completed else "stopped: ") + reason, hold=True)
         return self.run
 
