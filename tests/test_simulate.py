@@ -189,11 +189,16 @@ def test_the_adversary_makes_the_robot_pay_exactly_E_p_in_the_abstraction(name, 
     assert sum(s.who == "human" for s in run.steps) >= 1
 
 
-def test_same_seed_same_run(arch):
+def test_same_seed_same_run(arch, line):
     first = arch.sim.run(RandomHuman(7, 0.5), 7)
     again = arch.sim.run(RandomHuman(7, 0.5), 7)
     assert [(s.action, s.measured, s.state) for s in first.steps] == \
            [(s.action, s.measured, s.state) for s in again.steps]
+    # run-time planning (a block dropped between places) is seeded too
+    runs = [line.sim.run(script((0, "b", Pose((0.45, 0.25, 0.0)))), 3) for _ in range(2)]
+    assert any(s.source == "runtime" for s in runs[0].steps)
+    assert [(s.action, s.measured, s.state) for s in runs[0].steps] == \
+           [(s.action, s.measured, s.state) for s in runs[1].steps]
 
 
 def test_a_block_dropped_between_places_is_else_and_the_robot_plans_at_run_time(line):
