@@ -1,7 +1,7 @@
 """A picture of a physical scene: headless PyBullet (TinyRenderer) plus
 labels drawn with Pillow.
 
-The robot stands at `config` (or home), the static obstacles are grey, each
+The robot stands at home, the static obstacles are grey, each
 object stands at its initial place (a location of interest, or its Else
 pose), and every place is marked by a thin square on the table, green for a
 location of interest and orange for an Else sample, labelled with its name
@@ -76,19 +76,15 @@ def default_camera(scene: Scene, width: int, height: int, distance: float = 1.9)
 
 
 def render_scene(scene: Scene, path: Path | str, *, width: int = 800, height: int = 600,
-                 config: Sequence[float] | None = None, labels: bool = True,
-                 camera: Camera | None = None) -> Camera:
+                 labels: bool = True) -> Camera:
     """Write a PNG picture of `scene` to `path`; returns the camera used."""
     if scene.geometry is None:
         raise SymsynthError(f"scene {scene.name!r} has no geometry to render (not a physical scene)")
     if width < 1 or height < 1:
         raise SymsynthError(f"image size must be positive, got {width}x{height}")
-    camera = camera or default_camera(scene, width, height)
-    camera = Camera(camera.eye, camera.target, camera.up, camera.fov, width, height, camera.near, camera.far)
+    camera = default_camera(scene, width, height)
     world = SimWorld(scene)
     try:
-        if config is not None:
-            world.set_config(config)
         image = snapshot(world, camera)
     finally:
         world.close()

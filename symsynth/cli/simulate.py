@@ -161,7 +161,7 @@ def run(args: argparse.Namespace) -> int:
         fallback = SOLVERS["explicit"](scene, formula, k=table.k).strategy
     policy = Policy(table.positions, table.budgets, bound, fallback)
     planner = planner_class(obtained.planner if obtained else args.planner or scene.geometry.planner.name)(scene)
-    simulator = Simulator(scene, formula, policy, planner, k=table.k, resolution=table.resolution)
+    simulator = Simulator(scene, formula, policy, planner, resolution=table.resolution)
 
     runs, made = [], []
 

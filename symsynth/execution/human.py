@@ -41,13 +41,12 @@ from symsynth.scene.yamlpos import line_of, read_yaml
 
 @dataclass(frozen=True)
 class Option:
-    """A possible human move: the abstract action, the object and where it
-    goes (`place`: a location or Else sample, None for a free pose), and the
-    robot position after it (None when the move completes the task)."""
+    """A possible human move: the abstract action, the object and the pose
+    it goes to, and the robot position after it (None when the move
+    completes the task)."""
 
     action: str
     obj: str
-    place: str | None
     pose: Pose
     after: Position | None
 

@@ -179,7 +179,7 @@ class Simulator:
     kinematics, self- and static collisions) and the anchors are made once."""
 
     def __init__(self, scene: Scene, formula: ast.Formula, policy: Policy, planner: Planner, *,
-                 k: int | None = None, resolution: float = 1.0) -> None:
+                 resolution: float = 1.0) -> None:
         if scene.geometry is None:
             raise SymsynthError(f"scene {scene.name!r} is abstract (no 'robot' key): "
                                 "there is no world to simulate")
@@ -187,7 +187,6 @@ class Simulator:
         self.game = GameGraph(scene, formula, resolution)
         self.policy = policy
         self.planner = planner
-        self.k = scene.k if k is None else k
         self.anchors = anchor_configs(planner, scene)
         self.per_radian = scene.geometry.per_radian
         self.resolution = scene.geometry.planner.resolution
@@ -223,7 +222,7 @@ class _Episode:
         run = self.run
         v = observe(self.scene, self.world)
         q = self.game.read(self.game.dfa.initial, v)
-        h = self.sim.k
+        h = self.scene.k
         self._frame("start", hold=True)
         if self.game.accepts(q):
             return self._end(True, "the task holds in the initial state")
@@ -283,8 +282,7 @@ class _Episode:
         for action, w in human_moves(self.scene, v):
             obj, target = action[len("move("):-1].split(",")
             for place in self._targets(obj, target):
-                options.append(Option(action, obj, place, self.scene.geometry.places[place],
-                                      self._after(w, q, h - 1)))
+                options.append(Option(action, obj, self.scene.geometry.places[place], self._after(w, q, h - 1)))
         return tuple(options)
 
     def _targets(self, obj: str, target: str) -> list[str]:
@@ -306,7 +304,7 @@ class _Episode:
         """A scripted move as an option, or None (refused, with the reason)."""
         what = f"script move {request.entry + 1} ({request.obj} to {_where(request.to)})"
         if h <= 0:
-            self.run.refused.append(f"{what}: the human has no moves left (k = {self.sim.k})")
+            self.run.refused.append(f"{what}: the human has no moves left (k = {self.scene.k})")
             return None
         if isinstance(request.to, Pose):
             pose, place = request.to, place_at(self.scene, request.to)
@@ -330,7 +328,7 @@ class _Episode:
         if blocked:
             self.run.refused.append(f"{what}: it would penetrate {', '.join(sorted(blocked))}")
             return None
-        return Option(action, request.obj, place, pose, self._after(legal[action], q, h - 1))
+        return Option(action, request.obj, pose, self._after(legal[action], q, h - 1))
 
     # -- the robot --------------------------------------------------------------
 

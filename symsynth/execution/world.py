@@ -50,7 +50,7 @@ PENETRATION = 1e-3  # metres: shallower contacts are touching, not colliding
 class SimWorld:
     """One scene in a private PyBullet client (`gui=True`: a window)."""
 
-    def __init__(self, scene: Scene, *, gui: bool = False, marks: bool = True) -> None:
+    def __init__(self, scene: Scene, *, gui: bool = False) -> None:
         geometry = scene.geometry
         if geometry is None:
             raise SymsynthError(f"scene {scene.name!r} has no geometry (not a physical scene)")
@@ -69,11 +69,10 @@ class SimWorld:
             pose = self._initial_pose(spec.name, spec.at)
             self.bodies[spec.name] = self._body(geometry.shapes[spec.name], pose, colour_of(spec.tags, k))
             self.poses[spec.name] = pose
-        if marks:
-            mark = Shape("box", size=(MARK_SIZE, MARK_SIZE, MARK_THICKNESS))
-            for name, pose in geometry.places.items():
-                colour = LOCATION_MARK if name in scene.locations else ELSE_MARK
-                self._body(mark, pose @ Pose((0.0, 0.0, 0.0005)), colour, collision=False)
+        mark = Shape("box", size=(MARK_SIZE, MARK_SIZE, MARK_THICKNESS))
+        for name, pose in geometry.places.items():
+            colour = LOCATION_MARK if name in scene.locations else ELSE_MARK
+            self._body(mark, pose @ Pose((0.0, 0.0, 0.0005)), colour, collision=False)
         self.held: str | None = None
         self.grasp: str | None = None
         self.config: tuple[float, ...] = ()
