@@ -308,7 +308,7 @@ def test_script_files_are_read_with_their_errors_located(line, tmp_path):
     for value in (".nan", ".inf"):  # YAML numbers the schema takes, but no place on the table
         odd = tmp_path / "odd.yaml"
         odd.write_text(f"moves:\n  - {{after: 0, move: b, to: [{value}, 0.1]}}\n")
-        with pytest.raises(InputError, match=f"{odd}:2: moves\\[0\\].to: expected finite numbers"):
+        with pytest.raises(InputError, match=f"{odd}:2: moves.0.to: expected finite numbers"):
             read_script(odd, line.scene)
 
 

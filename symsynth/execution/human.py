@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 import random
-from collections.abc import Callable, Hashable, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
@@ -36,7 +36,8 @@ from symsynth.errors import InputError
 from symsynth.game.solution import Position
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import ELSE, Scene
-from symsynth.scene.yamlpos import line_of, read_yaml
+from symsynth.scene.load import Report, schema_message
+from symsynth.scene.yamlpos import read_yaml
 
 
 @dataclass(frozen=True)
@@ -174,44 +175,37 @@ def read_script(path: str | Path, scene: Scene) -> ScriptedHuman:
     `InputError` naming the file, the line and what was expected.
     """
     data, lines = read_yaml(path, "human script")
-    problems: list[str] = []
-
-    def add(key: tuple[Hashable, ...], message: str) -> None:
-        line = line_of(lines, key)
-        where = ".".join(str(k) if not isinstance(k, int) else f"[{k}]" for k in key).replace(".[", "[")
-        problems.append(f"{path}:{line}: {where or '(top)'}: {message}" if line else f"{path}: {message}")
-
+    report = Report(str(path), lines, "human script", InputError)
     for error in jsonschema.Draft202012Validator(SCRIPT_SCHEMA).iter_errors(data):
-        add(tuple(error.absolute_path), _schema_message(error))
+        report.add(tuple(error.absolute_path), _schema_message(error))
     entries = []
-    if not problems:
+    if not report.problems:
         targets = scene.locations + (ELSE,) + scene.else_samples
         actions = _action_names(scene)
         for i, entry in enumerate(data["moves"]):
             where = ("moves", i)
             if entry["move"] not in scene.object_names:
-                add(where + ("move",), f"unknown object {entry['move']!r}; the objects: "
-                    f"{', '.join(scene.object_names)}")
+                report.add(where + ("move",), f"unknown object {entry['move']!r}; the objects: "
+                           f"{', '.join(scene.object_names)}")
             to = entry["to"]
             if isinstance(to, str) and to not in targets:
-                add(where + ("to",), f"unknown place {to!r}; expected one of {', '.join(targets)} "
-                    "or [x, y] / [x, y, z]")
+                report.add(where + ("to",), f"unknown place {to!r}; expected one of {', '.join(targets)} "
+                           "or [x, y] / [x, y, z]")
             if isinstance(entry["after"], str) and not actions(entry["after"]):
-                add(where + ("after",), f"{entry['after']!r} is no robot action of this scene; expected "
-                    "a number of robot actions, or transit(o,g), grab(o), transfer(l) or drop(o,l) "
-                    "with the scene's names")
+                report.add(where + ("after",), f"{entry['after']!r} is no robot action of this scene; "
+                           "expected a number of robot actions, or transit(o,g), grab(o), transfer(l) "
+                           "or drop(o,l) with the scene's names")
             if isinstance(to, list) and not all(math.isfinite(v) for v in to):
-                add(where + ("to",), "expected finite numbers [x, y] or [x, y, z]")
+                report.add(where + ("to",), "expected finite numbers [x, y] or [x, y, z]")
             elif isinstance(to, list):
                 xyz = tuple(float(v) for v in to) + ((0.0,) if len(to) == 2 else ())
                 to = Pose(xyz)
             after = entry["after"].replace(" ", "") if isinstance(entry["after"], str) else entry["after"]
             entries.append({"after": after, "move": entry["move"], "to": to})
         if len(entries) > scene.k:
-            add(("moves",), f"{len(entries)} moves, but the human has only k = {scene.k}; "
-                "the moves beyond k would be refused")
-    if problems:
-        raise InputError(f"{path}: not a valid human script:\n" + "\n".join(f"  {p}" for p in problems))
+            report.add(("moves",), f"{len(entries)} moves, but the human has only k = {scene.k}; "
+                       "the moves beyond k would be refused")
+    report.raise_if_any()
     return ScriptedHuman(entries, str(path))
 
 
@@ -223,14 +217,9 @@ def _action_names(scene: Scene) -> Callable[[str], bool]:
 
 
 def _schema_message(error: jsonschema.ValidationError) -> str:
-    if error.validator == "required":
-        return error.message.replace("is a required property", "is required")
-    if error.validator == "additionalProperties":
-        return f"{error.message}; allowed keys: {', '.join(sorted(error.schema.get('properties', {})))}"
+    """`schema_message`, with what a script's `after` and `to` can be."""
     if error.validator == "oneOf" and error.absolute_path and error.absolute_path[-1] == "after":
         return f"expected a number of robot actions (>= 0) or a robot action, found {error.instance!r}"
     if error.validator == "oneOf":
         return f"expected a place name or [x, y] / [x, y, z], found {error.instance!r}"
-    if error.validator == "type":
-        return f"expected {error.validator_value}, found {error.instance!r}"
-    return error.message
+    return schema_message(error)

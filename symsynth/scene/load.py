@@ -99,7 +99,7 @@ def scene_from_data(data: Any, source: Path | None = None,
                     costmap: str | Path | None = None) -> Scene:
     """Validate parsed YAML/JSON data and build the `Scene`; a `costmap` file
     replaces the data's costmap and is checked against the scene the same way."""
-    report = _Report(str(source) if source else "<scene>", lines or {})
+    report = Report(str(source) if source else "<scene>", lines or {})
     if not isinstance(data, dict):
         report.add((), "expected a mapping with name, objects, locations, ...")
         report.raise_if_any()
@@ -149,7 +149,7 @@ def scene_from_data(data: Any, source: Path | None = None,
         checks = report
         loaded = _costmap(data.get("costmap"), source, report)
     else:  # problems name the given file; a relative path is from where the user stands
-        checks = _Report(str(costmap), {})
+        checks = Report(str(costmap), {})
         loaded = _costmap(str(costmap), None, checks)
     if loaded is not None:
         _check_costmap(scene, loaded, checks)
@@ -158,7 +158,7 @@ def scene_from_data(data: Any, source: Path | None = None,
     return dataclasses.replace(scene, costmap=loaded)
 
 
-def _check_task(scene: Scene, report: _Report) -> None:
+def _check_task(scene: Scene, report: Report) -> None:
     from symsynth.game.propositions import interpret_all
     from symsynth.logic.parser import parse_ltlf
 
@@ -171,7 +171,7 @@ def _check_task(scene: Scene, report: _Report) -> None:
         report.add(("task",), str(error))
 
 
-def _costmap(value: Any, source: Path | None, report: _Report) -> Costmap | None:
+def _costmap(value: Any, source: Path | None, report: Report) -> Costmap | None:
     if value is None:
         return None
     try:
@@ -184,7 +184,7 @@ def _costmap(value: Any, source: Path | None, report: _Report) -> Costmap | None
         return None
 
 
-def _check_costmap(scene: Scene, costmap: Costmap, report: _Report) -> None:
+def _check_costmap(scene: Scene, costmap: Costmap, report: Report) -> None:
     modes, anchors = set(scene.modes), set(scene.anchors)
     places = set(scene.locations) | set(scene.else_samples)
     for (mode, start, goal), rules in costmap.motions.items():
@@ -203,6 +203,7 @@ def _check_costmap(scene: Scene, costmap: Costmap, report: _Report) -> None:
 
 
 def _schema_message(error: jsonschema.ValidationError, is_physical: bool = False) -> str:
+    """`schema_message`, with what a scene's mistakes mean (a shape, named poses)."""
     if error.validator == "oneOf" and "box" in str(error.schema):
         return f"expected exactly one shape: {', '.join(physical.SHAPE_KEYS)}"
     if error.validator == "type" and not is_physical and error.validator_value == "array" \
@@ -213,6 +214,11 @@ def _schema_message(error: jsonschema.ValidationError, is_physical: bool = False
             and isinstance(error.instance, list):
         return ("expected a mapping from names to poses ({xyz: [x, y, z], rpy: [r, p, y]}): "
                 "this is a physical scene, since it has a 'robot' key")
+    return schema_message(error)
+
+
+def schema_message(error: jsonschema.ValidationError) -> str:
+    """A JSON Schema error in words for a YAML input file."""
     if error.validator == "required":
         return error.message.replace("is a required property", "is required")
     if error.validator == "additionalProperties":
@@ -222,9 +228,14 @@ def _schema_message(error: jsonschema.ValidationError, is_physical: bool = False
     return error.message
 
 
-class _Report:
-    def __init__(self, source: str, lines: dict[KeyPath, int]):
+class Report:
+    """The problems of one input file, each `file:line: key.path: message`,
+    raised together as one `error` about the `what` (scene, human script)."""
+
+    def __init__(self, source: str, lines: dict[KeyPath, int], what: str = "scene",
+                 error: type[InputError] = SceneError):
         self.source, self.lines, self.problems = source, lines, []
+        self.what, self.error = what, error
 
     def add(self, path: KeyPath, message: str) -> None:
         line = line_of(self.lines, path)
@@ -238,5 +249,5 @@ class _Report:
             shown = self.problems[:MAX_PROBLEMS]
             if count > MAX_PROBLEMS:
                 shown.append(f"... and {count - MAX_PROBLEMS} more")
-            raise SceneError(f"{count} problem{'s' if count > 1 else ''} in the scene:\n"
+            raise self.error(f"{count} problem{'s' if count > 1 else ''} in the {self.what}:\n"
                              + "\n".join(shown))
