@@ -22,6 +22,7 @@ import pytest
 from PIL import Image
 
 from symsynth.cli import main
+from symsynth.cli import simulate as simulate_command
 from symsynth.errors import InputError
 from symsynth.execution.human import AdversarialHuman, NoHuman, RandomHuman, ScriptedHuman, read_script
 from symsynth.execution.observe import observe
@@ -36,6 +37,7 @@ from symsynth.game.strategy import strategy_table
 from symsynth.logic.semantics import holds
 from symsynth.planning.registry import planner_class
 from symsynth.scene.costmap import Costmap, Rule, write_costmap
+from symsynth.scene import load_scene
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import ELSE, HAND
 
@@ -361,12 +363,34 @@ def test_strategy_file_gives_the_same_run(line_files, tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["runs"][0]["trace"] == direct
 
 
-def test_a_strategy_for_another_scene_is_refused(line_files, tmp_path, capsys):
+def test_a_strategy_for_another_scene_is_refused_before_any_planning(line_files, tmp_path, capsys,
+                                                                      monkeypatch):
     strategy = tmp_path / "s.json"
     assert main(["solve", "scenes/toy.yaml", "-o", str(strategy)]) == 0
     capsys.readouterr()
     assert main(["simulate", str(line_files), "--strategy", str(strategy)]) == 2
     assert "not a strategy for scene 'line'" in capsys.readouterr().err
+    # scenes/line.yaml names no costmap: the strategy is refused before one is computed
+    monkeypatch.setattr(simulate_command, "obtain_costmap", lambda *a, **k: pytest.fail("planned"))
+    assert main(["simulate", "scenes/line.yaml", "--strategy", str(strategy)]) == 2
+    assert "not a strategy for scene 'line'" in capsys.readouterr().err
+
+
+def test_a_script_is_checked_against_the_k_of_the_strategy(line_files, tmp_path, capsys):
+    """The scene's k is 5, the strategy's 1: a script of two moves is refused
+    (the second could never be made), one of one move runs."""
+    assert load_scene(line_files).k == 5
+    strategy = tmp_path / "s.json"
+    assert main(["solve", str(line_files), "--k", "1", "-o", str(strategy)]) == 0
+    assert json.loads(strategy.read_text())["k"] == 1
+    capsys.readouterr()
+    moves = ["  - {after: 0, move: w1, to: center}\n", "  - {after: 2, move: w2, to: l3}\n"]
+    for n in (2, 1):
+        (tmp_path / "human.yaml").write_text("moves:\n" + "".join(moves[:n]))
+        code = main(["simulate", str(line_files), "--strategy", str(strategy), "--human",
+                     str(tmp_path / "human.yaml")])
+        err = capsys.readouterr().err
+        assert (code, "2 moves, but the human has only k = 1" in err) == ((2, True) if n == 2 else (0, False))
 
 
 def test_command_records_a_gif_of_the_first_run(line_files, tmp_path, capsys):

@@ -125,26 +125,28 @@ def run(args: argparse.Namespace) -> int:
     scene = load_scene(args.scene)
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world to simulate")
-    if args.k is not None:
+    # Every input is read and checked before the costmap and the solve.
+    table = None
+    if args.strategy is not None:
+        table = _read_strategy(args.strategy, scene)
+        scene = dataclasses.replace(scene, k=table.k)
+    elif scene.task is None:
+        raise InputError(f"scene {scene.name!r} has no task: give one (task: FORMULA)")
+    elif args.k is not None:
         scene = dataclasses.replace(scene, k=args.k)
     script = None
     if args.human not in BUILT_IN_HUMANS:
         if not Path(args.human).is_file():
             raise InputError(f"--human: expected none, random, adversarial or a script file, "
                              f"found {args.human!r} (no such file)")
-        script = read_script(args.human, scene)  # before the costmap and the solve
+        script = read_script(args.human, scene)  # against the k of the strategy
     progress = not args.json
     obtained = None
     if scene.costmap is None:
         obtained = obtain_costmap(scene, args.method, args.planner, args.costmap_seed,
                                   use_cache=not args.no_cache, progress=progress)
         scene = dataclasses.replace(scene, costmap=obtained.costmap)
-    if args.strategy is not None:
-        table = _read_strategy(args.strategy, scene)
-        scene = dataclasses.replace(scene, k=table.k)
-    else:
-        if scene.task is None:
-            raise InputError(f"scene {scene.name!r} has no task: give one (task: FORMULA)")
+    if table is None:
         solution = SOLVERS[args.solver](scene, scene.task, k=scene.k, budget=args.budget)
         table = strategy_table(scene, scene.task, solution)
     formula = parse_ltlf(table.task, source=f"{args.strategy or args.scene} (task)")
