@@ -391,6 +391,9 @@ def test_a_script_is_checked_against_the_k_of_the_strategy(line_files, tmp_path,
                      str(tmp_path / "human.yaml")])
         err = capsys.readouterr().err
         assert (code, "2 moves, but the human has only k = 1" in err) == ((2, True) if n == 2 else (0, False))
+    # nor can --k say otherwise: it was ignored (the run had k = 1 whatever it said)
+    assert main(["simulate", str(line_files), "--strategy", str(strategy), "--k", "3"]) == 2
+    assert "--k 3: the strategy" in capsys.readouterr().err
 
 
 def test_command_records_a_gif_of_the_first_run(line_files, tmp_path, capsys):

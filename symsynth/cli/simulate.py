@@ -129,6 +129,9 @@ def run(args: argparse.Namespace) -> int:
     table = None
     if args.strategy is not None:
         table = _read_strategy(args.strategy, scene)
+        if args.k is not None and args.k != table.k:
+            raise InputError(f"--k {args.k}: the strategy {args.strategy} was solved for k = {table.k} "
+                             "(--k is for solving here)")
         scene = dataclasses.replace(scene, k=table.k)
     elif scene.task is None:
         raise InputError(f"scene {scene.name!r} has no task: give one (task: FORMULA)")
