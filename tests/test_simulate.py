@@ -343,6 +343,21 @@ def test_command_runs_and_reports_json(line_files, capsys, line):
         assert run["trace"][-1]["state"]["at"]["b"] == "center"
 
 
+def test_only_the_adversary_has_every_reachable_position_explored(line_files, capsys, line, monkeypatch):
+    """The adversary weighs its moves by the budgets of the positions the
+    strategy reaches; the other humans' runs ask the solver's strategy only
+    where they go, and its positions are not counted."""
+    explored = []
+    monkeypatch.setattr(simulate_command, "strategy_table",
+                        lambda *args: explored.append(args) or strategy_table(*args))
+    for human, positions in (("random", None), ("adversarial", len(line.table.positions))):
+        assert main(["simulate", str(line_files), "--human", human, "--json"]) == 0
+        out = json.loads(capsys.readouterr().out)
+        assert out["strategy"]["positions"] == positions
+        assert out["runs"][0]["completed"] and out["runs"][0]["cost"] <= line.solution.cost_bound + 1e-6
+    assert len(explored) == 1
+
+
 def test_budget_below_E_p_means_no_guarantee(line_files, capsys, line):
     budget = str(line.solution.cost_bound - 1)
     assert main(["simulate", str(line_files), "--budget", budget]) == 1

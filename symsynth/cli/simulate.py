@@ -151,9 +151,15 @@ def run(args: argparse.Namespace) -> int:
         scene = dataclasses.replace(scene, costmap=obtained.costmap)
     if table is None:
         solution = SOLVERS[args.solver](scene, scene.task, k=scene.k, budget=args.budget)
-        table = strategy_table(scene, scene.task, solution)
-    formula = parse_ltlf(table.task, source=f"{args.strategy or args.scene} (task)")
-    bound = table.cost_bound
+        if args.human == "adversarial":  # it weighs its moves by the budgets of every position reached
+            table = strategy_table(scene, scene.task, solution)
+    if table is not None:
+        task, bound, resolution = table.task, table.cost_bound, table.resolution
+        actions, budgets, positions = table.positions, table.budgets, len(table.positions)
+    else:  # the solver's strategy, looked up only where a run goes (no strategy when none wins)
+        task, bound, resolution = scene.task.strip(), solution.cost_bound, solution.resolution
+        actions, budgets, positions = ({} if bound is None else solution.strategy), {}, None
+    formula = parse_ltlf(task, source=f"{args.strategy or args.scene} (task)")
     guarantee = bound is not None and (args.budget is None or bound <= args.budget + SLACK)
     if not guarantee and not args.best_effort:
         print(_no_guarantee(bound, args.budget) + "; add --best-effort to run anyway")
@@ -163,10 +169,10 @@ def run(args: argparse.Namespace) -> int:
         # The explicit solver's strategy covers every reachable position of
         # finite value, also when the initial one has none (the symbolic
         # solver stops early then).
-        fallback = SOLVERS["explicit"](scene, formula, k=table.k).strategy
-    policy = Policy(table.positions, table.budgets, bound, fallback)
+        fallback = SOLVERS["explicit"](scene, formula, k=scene.k).strategy
+    policy = Policy(actions, budgets, bound, fallback)
     planner = planner_class(obtained.planner if obtained else args.planner or scene.geometry.planner.name)(scene)
-    simulator = Simulator(scene, formula, policy, planner, resolution=table.resolution)
+    simulator = Simulator(scene, formula, policy, planner, resolution=resolution)
 
     runs, made = [], []
 
@@ -192,10 +198,10 @@ def run(args: argparse.Namespace) -> int:
 
     if args.json:
         print(json.dumps({
-            "scene": scene.name, "task": table.task, "k": table.k, "cost_bound": bound, "budget": args.budget,
+            "scene": scene.name, "task": task, "k": scene.k, "cost_bound": bound, "budget": args.budget,
             "guarantee": guarantee, "human": args.human,
             "strategy": {"file": None if args.strategy is None else str(args.strategy),
-                         "positions": len(table.positions), "solver": None if args.strategy else args.solver},
+                         "positions": positions, "solver": None if args.strategy else args.solver},
             "costmap": None if obtained is None else costmap_json(obtained),
             "recording": None if args.record is None else str(args.record),
             "runs": [r.to_json(scene.object_names) for r in runs],
@@ -203,7 +209,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         if obtained is not None:
             costmap_report(obtained)
-        _report(scene, args, table, bound, guarantee, runs)
+        _report(scene, args, positions, bound, guarantee, runs)
         if frames:
             print(f"\nwrote {args.record} ({frames} frames, run 1)")
     ok = all(r.completed and r.sound and r.within_bound is not False
@@ -239,13 +245,13 @@ def _no_guarantee(bound: float | None, budget: float | None) -> str:
     return f"No guarantee: E_p = {bound:g} exceeds the budget {budget:g}"
 
 
-def _report(scene: Scene, args: argparse.Namespace, table: StrategyFile, bound: float | None,
+def _report(scene: Scene, args: argparse.Namespace, positions: int | None, bound: float | None,
             guarantee: bool, runs: list) -> None:
     from symsynth.execution.simulate import SLACK
 
     source = f"from {args.strategy}" if args.strategy else f"solved by {args.solver}"
     print(f"scene      {scene.name} ({args.scene})")
-    print(f"strategy   {source}: {len(table.positions)} positions, k = {table.k}, "
+    print(f"strategy   {source}: " + ("" if positions is None else f"{positions} positions, ") + f"k = {scene.k}, "
           + (f"E_p = {bound:g}" if bound is not None else "E_p infinite"))
     if not guarantee:
         print(f"guarantee  NONE. {_no_guarantee(bound, args.budget)}; running best effort")
