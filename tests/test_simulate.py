@@ -26,6 +26,7 @@ from symsynth.cli import simulate as simulate_command
 from symsynth.errors import InputError
 from symsynth.execution.human import AdversarialHuman, NoHuman, RandomHuman, ScriptedHuman, read_script
 from symsynth.execution.observe import observe
+from symsynth.execution.primitives import APPROACH_STEPS
 from symsynth.execution.record import Recorder
 from symsynth.execution.simulate import Policy, Simulator
 from symsynth.execution.world import SimWorld
@@ -226,6 +227,24 @@ def test_scripted_moves_the_world_or_k_forbid_are_refused(line):
     assert any("not a legal human move" in r for r in run.refused)
     assert any("no moves left" in r for r in run.refused)
     assert sum(s.who == "human" for s in run.steps) == line.scene.k
+
+
+def test_grab_and_drop_approaches_are_solved_once_per_simulation(line, monkeypatch):
+    """A second run of the same simulation solves no approach again and
+    moves exactly as the first and as a new simulation's run."""
+    sim, fresh = (Simulator(line.scene, line.formula, line.policy, line.planner) for _ in range(2))
+    first = sim.run(NoHuman())
+    solved = []
+    ik = line.planner.inverse_kinematics
+    monkeypatch.setattr(line.planner, "inverse_kinematics", lambda pose, seed: solved.append(pose) or ik(pose, seed))
+    again = sim.run(NoHuman())
+    assert solved == []
+    other = fresh.run(NoHuman())
+    primitives = [s for s in other.steps if s.source == "primitive"]
+    assert len(primitives) >= 2 and len(solved) == APPROACH_STEPS * len(primitives)
+    assert {s.source for s in other.steps} <= {"evidence", "primitive"}  # no inverse kinematics elsewhere
+    moves = [[(s.action, s.radians, s.measured, s.state) for s in r.steps] for r in (first, again, other)]
+    assert moves[0] == moves[1] == moves[2]
 
 
 # -- soundness checks can fail --------------------------------------------------------
@@ -430,8 +449,9 @@ def test_gui_without_a_display_is_one_message(line_files, capsys, monkeypatch):
 
 def test_a_primitive_the_robot_cannot_carry_out_ends_the_run_with_its_reason(line, monkeypatch):
     """No inverse kinematics for the grab's approach: the run stops, not the program."""
+    sim = Simulator(line.scene, line.formula, line.policy, line.planner)  # no approach solved yet
     monkeypatch.setattr(line.planner, "inverse_kinematics", lambda pose, seed: None)
-    run = line.sim.run(NoHuman())
+    run = sim.run(NoHuman())
     assert not run.completed
     assert run.reason.startswith("grab(") and "no inverse kinematics solution" in run.reason
     assert [s.source for s in run.steps] == ["evidence"]  # the transit before it went through

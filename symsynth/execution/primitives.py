@@ -12,10 +12,16 @@ radians they travel are reported, not charged.
 
 Each configuration of the approach is checked in the world: the fingers
 may meet the object they close around, nothing else.
+
+The approach paths themselves are kept (`Approaches`, one per simulation):
+inverse kinematics is a function of the pose and its seed configuration,
+so an approach from the same configuration to the same poses -- an anchor
+the runs come back to -- is the same path, and is computed once.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from symsynth.errors import SymsynthError
@@ -43,36 +49,51 @@ class Primitive:
         return path_length(self.path)
 
 
-def grab(world: SimWorld, planner: Planner, name: str, grasp: str) -> Primitive:
+class Approaches:
+    """Approach paths by start configuration and poses, each solved once."""
+
+    def __init__(self, planner: Planner) -> None:
+        self.planner = planner
+        self._paths: dict[tuple[Config, Pose, Pose], tuple[Config, ...]] = {}
+
+    def path(self, config: Config, start: Pose, end: Pose, what: str) -> tuple[Config, ...]:
+        """From `config` (at `start`) down to `end`, `APPROACH_STEPS` poses."""
+        key = (tuple(config), start, end)
+        if key not in self._paths:
+            self._paths[key] = _approach(self.planner, key[0], start, end, what)
+        return self._paths[key]
+
+
+def grab(world: SimWorld, approaches: Approaches, name: str, grasp: str) -> Primitive:
     """Close the hand on object `name` with `grasp`, from its pre-image."""
     g = world.geometry.grasps[grasp]
     target = world.poses[name]
-    down = _approach(world, planner, target @ g.pre_image(), target @ g.pose, f"grab({name})")
+    down = approaches.path(world.config, target @ g.pre_image(), target @ g.pose, f"grab({name})")
     hits = _walk(world, down, ignore={name})
     world.attach(name, grasp)
     up = down[::-1]
     hits |= _walk(world, up, ignore={name})
-    return Primitive(tuple(down) + tuple(up[1:]), frozenset(hits))
+    return Primitive(down + up[1:], frozenset(hits))
 
 
-def drop(world: SimWorld, planner: Planner, location: str) -> Primitive:
+def drop(world: SimWorld, approaches: Approaches, location: str) -> Primitive:
     """Open the hand over `location` and leave the held object on its pose."""
     name, grasp = world.held, world.grasp
     if name is None:
         raise PrimitiveFailed(f"drop at {location}: the hand is empty")
     g = world.geometry.grasps[grasp]
     place = world.geometry.places[location]
-    down = _approach(world, planner, place @ g.pre_image(), place @ g.pose, f"drop({name},{location})")
+    down = approaches.path(world.config, place @ g.pre_image(), place @ g.pose, f"drop({name},{location})")
     hits = _walk(world, down)
     world.detach()
     world.place(name, place)
     up = down[::-1]
     hits |= _walk(world, up, ignore={name})
-    return Primitive(tuple(down) + tuple(up[1:]), frozenset(hits))
+    return Primitive(down + up[1:], frozenset(hits))
 
 
-def _approach(world: SimWorld, planner: Planner, start: Pose, end: Pose, what: str) -> list[Config]:
-    path = [world.config]
+def _approach(planner: Planner, at: Config, start: Pose, end: Pose, what: str) -> tuple[Config, ...]:
+    path = [at]
     for i in range(1, APPROACH_STEPS + 1):
         t = i / APPROACH_STEPS
         xyz = tuple(a + (b - a) * t for a, b in zip(start.xyz, end.xyz))
@@ -81,10 +102,10 @@ def _approach(world: SimWorld, planner: Planner, start: Pose, end: Pose, what: s
             raise PrimitiveFailed(f"{what}: no inverse kinematics solution {t:.0%} of the way "
                                   f"down the approach (end-effector at {_fmt(xyz)})")
         path.append(tuple(config))
-    return path
+    return tuple(path)
 
 
-def _walk(world: SimWorld, path: list[Config], ignore: set[str] = frozenset()) -> set[str]:
+def _walk(world: SimWorld, path: Sequence[Config], ignore: set[str] = frozenset()) -> set[str]:
     hits: set[str] = set()
     for config in steps(path, WALK):
         world.set_config(config)

@@ -176,7 +176,8 @@ class ActionFailed(SymsynthError):
 
 class Simulator:
     """Runs of one scene, task and policy; the planner (for inverse
-    kinematics, self- and static collisions) and the anchors are made once."""
+    kinematics, self- and static collisions), the anchors and the grab and
+    drop approaches are made once."""
 
     def __init__(self, scene: Scene, formula: ast.Formula, policy: Policy, planner: Planner, *,
                  resolution: float = 1.0) -> None:
@@ -188,6 +189,7 @@ class Simulator:
         self.policy = policy
         self.planner = planner
         self.anchors = anchor_configs(planner, scene)
+        self.approaches = primitives.Approaches(planner)  # grab and drop paths, shared by the runs
         self.per_radian = scene.geometry.per_radian
         self.resolution = scene.geometry.planner.resolution
 
@@ -342,9 +344,9 @@ class _Episode:
         caption = f"{index}. robot {action}"
         if kind in ("grab", "drop"):
             if kind == "grab":
-                done = primitives.grab(self.world, self.sim.planner, args[0], expected.grip)
+                done = primitives.grab(self.world, self.sim.approaches, args[0], expected.grip)
             else:
-                done = primitives.drop(self.world, self.sim.planner, args[1])
+                done = primitives.drop(self.world, self.sim.approaches, args[1])
             measured = self.scene.grab_cost if kind == "grab" else self.scene.drop_cost
             self._follow(done.path, caption, measured)
             if done.touched:
