@@ -76,7 +76,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--move-probability", type=_probability, default=0.3, metavar="P",
                         help="random human: chance of a move on each of its turns (default: 0.3)")
     parser.add_argument("--k", type=options.count, metavar="K",
-                        help="human moves per run instead of the scene's human.k (solving here only)")
+                        help="human moves per run instead of the scene's human.k "
+                             "(when solving here; a --strategy file fixes k)")
     parser.add_argument("--budget", type=options.amount, metavar="E",
                         help="energy budget: a guarantee holds only if E_p <= E")
     parser.add_argument("--best-effort", action="store_true",
