@@ -52,7 +52,8 @@ def test_random_scenes_match_explicit(chunk):
     pattern of gamegen (so the bound is on for some and 0 for others).
     Where E_p is finite the strategy is followed through every human
     behaviour and never pays more than E_p; where it is infinite the
-    counter play is the explicit solver's."""
+    counter play, walked on the forward search's memo, is the one the
+    explicit solver walks on its Dijkstra."""
     kinds = {"finite": 0, "infinite": 0}
     for seed in range(1000 + 20 * chunk, 1000 + 20 * (chunk + 1)):
         scene = random_scene(seed)
@@ -139,6 +140,20 @@ def test_infinite_by_circling_uses_the_qualitative_check():
     expected, found = _same(scene, 1)
     assert found.units is None and found.stats["qualitative"] >= 1
     assert found.counter_play == expected.counter_play
+
+
+def test_counter_play_does_not_explore_the_game():
+    """No object carries both red and green, so the bound is inf at the
+    start: the counter play (the explicit solver's, a transit, a grab and
+    a drop that comes back to a visited position) is walked on the
+    positions it visits, not on the whole reachable game."""
+    scene = pattern_scene(3, 4, k=3)
+    expected = solve_explicit(scene, "F(at(red, l1) & at(green, l1))")
+    found = solve_forward(scene, "F(at(red, l1) & at(green, l1))")
+    assert found.units is expected.units is None
+    assert found.counter_play == expected.counter_play
+    assert [s.who for s in found.counter_play] == ["robot"] * 3
+    assert found.states < expected.states / 10
 
 
 def test_no_action_at_all_is_infinite_without_exploring():

@@ -93,8 +93,7 @@ from typing import Callable
 
 from symsynth.game.abstraction import State, costmap_of, initial_state, quantize
 from symsynth.game.abstraction import anchors as place_anchors
-from symsynth.game.explicit import PASS, GameGraph, Node, _dijkstra
-from symsynth.game.explicit import _counter_play as _explicit_counter
+from symsynth.game.explicit import PASS, GameGraph, Node
 from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, Scene
@@ -132,7 +131,7 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
     realizable = verdict(units, resolution, budget)
     if units is None:
         strategy: Mapping = {}
-        principal, counter = (), search.counter_play(start)
+        principal, counter = (), _deep(search.counter_play, start)
     else:
         strategy = Strategy(search)
         principal = _deep(search.principal_play, start, units)
@@ -423,7 +422,6 @@ class Search:
         self.calls = 0
         self.rounds = 0
         self.explored = 0  # qualitative explorations run
-        self._graph = None  # the reachable graph from the start, for the counter play
 
     def id(self, key: Key) -> int:
         i = self.ids.get(key)
@@ -741,13 +739,43 @@ class Search:
             left -= units_a
 
     def counter_play(self, start: Key) -> tuple[Step, ...]:
-        """The explicit solver's counter play, on the reachable graph."""
-        if self._graph is None:
-            nodes, edges = self.game.explore(Node(*start, False))
-            won, _ = _dijkstra(nodes, edges)  # settled = the positions the robot wins
-            self._graph = (nodes, edges, won)
-        nodes, edges, won = self._graph
-        return _explicit_counter(nodes, edges, won, self.game.resolution)
+        """The explicit solver's counter play (`explicit._counter_play`),
+        walked on the memo: from the start (a human position of infinite
+        value) the human takes its first reply of infinite value, the pass
+        first; the robot its first action of the fewest units (all its
+        actions lead to positions of infinite value); until the robot has no
+        action or a position comes back.  A reply is lost when its lo is
+        inf, won when it has a hi, and otherwise searched now (`_lost`)."""
+        r = self.game.resolution
+        play: list[Step] = []
+        i, robot, seen = self.id(start), False, set()
+        while (i, robot) not in seen:
+            seen.add((i, robot))
+            v, q, h = self.keys[i]
+            moves = self.game.moves(Node(v, q, h, robot))
+            if robot:
+                options = [j for _, _, j in self.robot_options(i)]
+                if not options:
+                    break
+                e = min(range(len(moves)), key=lambda x: moves[x][2])
+            else:
+                options = self.human_options(i)
+                e = next(x for x, j in enumerate(options) if j >= 0 and self._lost(j))
+            action, _, units, state = moves[e]
+            if action != PASS:
+                play.append(Step("robot" if robot else "human", action, units * r, state))
+            i, robot = options[e], not robot
+            if i < 0:
+                raise AssertionError("internal error: the counter play reached a win")
+        return tuple(play)
+
+    def _lost(self, i: int) -> bool:
+        """Whether the robot position `i` has infinite value."""
+        if self.lo_r[i] == INF:
+            return True
+        if i in self.hi_r:
+            return False
+        return self._value(i, self.robot, self.lo_r, self.hi_r) is None
 
     # -- reporting ---------------------------------------------------------------------------
     def positions(self) -> int:
