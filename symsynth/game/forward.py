@@ -471,11 +471,7 @@ class Search:
         if self._zero_cost(i):
             return self._closure(i, b)
         # every action costs >= 1: the questions below have smaller budgets
-        lo_h = self.lo_h
-        ranked = sorted(((units if j < 0 else units + lo_h[j], units, action, j)
-                         for units, action, j in self.robot_options(i)),
-                        key=_first)
-        for f, units, action, j in ranked:
+        for f, units, action, j in self._ranked(i):
             if f > b:
                 break
             if j < 0:
@@ -524,11 +520,20 @@ class Search:
         if old is None or hi < old:
             self.hi_h[i] = hi
 
+    def _estimates(self, i: int) -> Iterator[tuple[float, int, str, int]]:
+        """(c + lo(after), c, action, after) for each action of the robot
+        position `i`; a win's estimate is its cost c."""
+        lo_h = self.lo_h
+        return ((units if j < 0 else units + lo_h[j], units, action, j)
+                for units, action, j in self.robot_options(i))
+
+    def _ranked(self, i: int) -> list[tuple[float, int, str, int]]:
+        """`_estimates` in increasing order (`robot_options`' order on ties)."""
+        return sorted(self._estimates(i), key=_first)
+
     def _bellman_robot(self, i: int) -> None:
         """lo := min over actions of c + lo(after), if larger: still a lower bound."""
-        lo_h = self.lo_h
-        best = min((units if j < 0 else units + lo_h[j] for units, _, j in self.robot_options(i)),
-                   default=INF)
+        best = min((f for f, _, _, _ in self._estimates(i)), default=INF)
         if best > self.lo_r[i]:
             self.lo_r[i] = best
 
@@ -569,10 +574,8 @@ class Search:
             for x in robots:
                 if x in won_r or lo_r[x] > b:
                     continue
-                ranked = sorted(((units if j < 0 else units + lo_h[j], units, action, j)
-                                 for units, action, j in self.robot_options(x)), key=_first)
                 proven = False
-                for f, units, action, j in ranked:
+                for f, units, action, j in self._ranked(x):
                     if f > b:
                         break
                     if units == 0 and j >= 0:
