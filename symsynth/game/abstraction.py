@@ -136,10 +136,15 @@ def starts(scene: Scene, v: State) -> tuple[str, ...]:
 def _motion(scene: Scene, v: State, mode: str, S: tuple[str, ...], T: tuple[str, ...],
             serves: int) -> float:
     """max over s in S, t in T of cost(mode, s, t, v, o); inf when S or T is empty."""
-    costmap = costmap_of(scene)
+    return motion_cost(costmap_of(scene), mode, S, T, _free_for(scene, v, serves))
+
+
+def motion_cost(costmap: Costmap, mode: str, S: tuple[str, ...], T: tuple[str, ...],
+                free: frozenset[str]) -> float:
+    """`motion(mode, S, T, o)` when the places that count as free are `free`:
+    max over s in S, t in T of `_cost`; inf when S or T is empty."""
     if not S or not T:
         return math.inf
-    free = _free_for(scene, v, serves)
     return max(_cost(costmap, mode, s, t, free) for s in S for t in T)
 
 

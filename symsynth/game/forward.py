@@ -91,7 +91,7 @@ import time
 from collections.abc import Hashable, Iterator, Mapping
 from typing import Callable
 
-from symsynth.game.abstraction import State, costmap_of, initial_state, quantize
+from symsynth.game.abstraction import State, costmap_of, initial_state, motion_cost, quantize
 from symsynth.game.abstraction import anchors as place_anchors
 from symsynth.game.explicit import PASS, GameGraph, Node
 from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
@@ -192,17 +192,15 @@ class LowerBound:
                            for l, tags in self.groups}
         costmap = costmap_of(scene)
         r = resolution
-
-        def pc(mode, s, t):
-            if s == t:
-                return 0
-            rules = costmap.rules(mode, s, t)
-            return min((quantize(x.cost, r) for x in rules), default=INF)
+        # every place free: no rule's condition fails (they name places of L ∪ E)
+        everywhere = frozenset((*scene.locations, *scene.else_samples))
 
         def motion(mode, S, T):
-            if not S or not T:
-                return INF
-            return max(pc(mode, s, t) for s in S for t in T)
+            """The motion's cost in units with every place free, the least it
+            has in any state (quantizing is monotone, so it commutes with the
+            min and max of `motion_cost`)."""
+            cost = motion_cost(costmap, mode, S, T, everywhere)
+            return INF if cost == INF else quantize(cost, r)
 
         anchors = functools.partial(place_anchors, scene)
 
