@@ -381,12 +381,15 @@ def environment(args):
 
 
 def parse_sizes(text):
+    """'4x6,5x7' -> [(4, 6), (5, 7)]; ValueError naming the part that is not NxM."""
     out = []
     for part in text.split(","):
         part = part.strip()
         if not part:
             continue
-        n, m = part.lower().split("x")
+        n, x, m = part.lower().partition("x")
+        if not (x and n.isdigit() and m.isdigit()):
+            raise ValueError(f"{part!r} is not NxM (e.g. 5x7)")
         out.append((int(n), int(m)))
     return out
 
@@ -414,7 +417,10 @@ def main(argv=None):
     p.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"markdown file (default {DEFAULT_OUT})")
     args = p.parse_args(argv)
     args.timeout = args.timeout or (30.0 if args.quick else 600.0)
-    sizes = parse_sizes(args.sizes) if args.sizes else (QUICK_SIZES if args.quick else SIZES)
+    try:
+        sizes = parse_sizes(args.sizes) if args.sizes else (QUICK_SIZES if args.quick else SIZES)
+    except ValueError as err:
+        p.error(f"--sizes: {err}")
     for n, m in sizes:
         if m < n + 1:
             p.error(f"size {n}x{m}: m must be >= n + 1")
@@ -430,7 +436,14 @@ def main(argv=None):
         name, _, size = item.partition("=")
         if name not in solvers or not size:
             p.error(f"--limit {item}: expected SOLVER=NxM with SOLVER among --solvers")
-        limits[name] = parse_sizes(size)[0]
+        try:
+            (limits[name],) = parse_sizes(size)
+        except ValueError as err:
+            p.error(f"--limit {item}: {err}")
+        if limits[name] not in sizes:
+            # a limit that matches no size would never stop the solver
+            p.error(f"--limit {item}: {size} is not among the sizes "
+                    f"({', '.join(f'{a}x{b}' for a, b in sizes)})")
     beyond: set[str] = set()
 
     meta = environment(args)

@@ -1,0 +1,34 @@
+"""The game benchmark's command line refuses what it would silently ignore."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+
+from game_bench import main, parse_sizes  # noqa: E402
+
+
+def test_sizes_parse():
+    assert parse_sizes("4x6, 5X7,") == [(4, 6), (5, 7)]
+    with pytest.raises(ValueError, match="'4-6' is not NxM"):
+        parse_sizes("4x6,4-6")
+
+
+@pytest.mark.parametrize("argv, message", [
+    # a limit at a size that is not run would never stop the solver
+    (["--sizes", "3x5,4x6", "--limit", "explicit=5x7"], "5x7 is not among the sizes (3x5, 4x6)"),
+    (["--sizes", "3x5", "--limit", "explicit=big"], "--limit explicit=big: 'big' is not NxM"),
+    (["--sizes", "3x5,four"], "--sizes: 'four' is not NxM"),
+    (["--sizes", "3x5", "--limit", "nosuch=3x5"], "SOLVER among --solvers"),
+])
+def test_bad_arguments_are_usage_errors(argv, message, capsys, tmp_path):
+    # --out: should the check ever go, the run it lets through must not
+    # overwrite bench/results/game.md
+    with pytest.raises(SystemExit) as exit_:
+        main(argv + ["--out", str(tmp_path / "game.md"), "--timeout", "5"])
+    assert exit_.value.code == 2
+    assert message in capsys.readouterr().err
