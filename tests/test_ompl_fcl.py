@@ -220,6 +220,19 @@ def test_location_obstacle_is_reported_by_name():
     assert planner.contacts(Mode(), HOME) == Contacts(locations=frozenset({"palm"}))
 
 
+def test_location_solids_are_one_per_distinct_shape_of_the_objects_not_held():
+    """`a` and `b` are the same block, `c` a taller one: every place gets a
+    block and a tall block, except when the tall one is held."""
+    tall = Shape("box", size=(0.05, 0.05, 0.2))
+    places = {"A": Pose((0.5, -0.2, 0.0)), "B": Pose((0.5, 0.2, 0.0)), "C": Pose((0.3, 0.0, 0.0))}
+    world = OmplFclPlanner(physical({"a": ("A", BLOCK), "b": ("B", BLOCK), "c": ("C", tall)}, places)).world
+    both = [size for _ in places for size in (BLOCK.size, tall.size)]
+    for held, sizes in ((None, both), ("a", both), ("c", [BLOCK.size] * 3)):
+        solids = world.locations(held)
+        assert solids.tags == [place for place in places for _ in range(len(sizes) // 3)]
+        assert np.allclose(2 * solids.halves, sizes)
+
+
 def hanging(length: float) -> Grasp:
     """The hand `length` above the object's frame, pointing down."""
     return Grasp("hang", Pose.from_rpy((0.0, 0.0, length), (math.pi, 0.0, 0.0)))

@@ -2,7 +2,8 @@
 
 Three kinds of solid: *movers* (the robot's link hulls, placed by forward
 kinematics, and in a holding mode the held object), *static* obstacles, and
-*location* obstacles (every object's shape but the held one at each place).
+*location* obstacles (at each place, one solid per distinct shape of the
+objects but the held one: objects of one shape touch the same things).
 For a batch of configurations the movers are placed in numpy, pairs are
 culled by their oriented bounding boxes (`bounds`), and fcl's narrow phase
 runs on the surviving pairs only, one configuration after another.
@@ -108,7 +109,8 @@ class CollisionWorld:
 
         self.static = _Placed.of([(body.name, scene_solid(body.shape), body.pose.matrix())
                                   for body in geometry.obstacles])
-        self._object_solids = {name: scene_solid(shape) for name, shape in geometry.shapes.items()}
+        solids = {shape: scene_solid(shape) for shape in geometry.shapes.values()}
+        self._object_solids = {name: solids[shape] for name, shape in geometry.shapes.items()}
         self._locations: dict[str | None, _Placed] = {}
         self._held: dict[Mode, _Held] = {}
         self._tables: dict[tuple[Mode, bool, bool], _Table] = {}
@@ -158,11 +160,14 @@ class CollisionWorld:
     # -- modes ------------------------------------------------------------------------------------
 
     def locations(self, held: str | None) -> _Placed:
-        """Location solids: every object's shape but `held`'s, at every place."""
+        """Location solids: at every place, one per distinct shape of the
+        objects but `held` (as the pybullet planner's place bodies)."""
         if held not in self._locations:
+            shapes = {shape: self._object_solids[name] for name, shape in self.geometry.shapes.items()
+                      if name != held}
             self._locations[held] = _Placed.of([
                 (place, solid, pose.matrix()) for place, pose in self.geometry.places.items()
-                for name, solid in self._object_solids.items() if name != held])
+                for solid in shapes.values()])
         return self._locations[held]
 
     def held(self, mode: Mode) -> _Held | None:
