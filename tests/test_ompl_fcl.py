@@ -26,7 +26,7 @@ from symsynth.planning.prm import build_roadmap
 from symsynth.planning.protocol import Contacts, Mode, PlannerError
 from symsynth.scene.geometry import Body, Geometry, Grasp, Pose, Robot, Shape
 from symsynth.scene.model import ObjectSpec, Scene
-from symsynth_planners.ompl_fcl import OmplFclPlanner, segment
+from symsynth_planners.ompl_fcl import OmplFclPlanner
 from symsynth_planners.ompl_fcl.bounds import overlapping
 from symsynth_planners.ompl_fcl.shapes import resolve_mesh
 
@@ -302,14 +302,6 @@ def test_oriented_boxes_overlap_exactly_when_fcl_says_so():
                            for s in (0, 1))) > 0 for k in range(n)]
     assert found.tolist() == truth
     assert 0.1 < np.mean(truth) < 0.9  # both answers occur
-
-
-def test_segment_steps_at_most_the_resolution_ends_included():
-    start, goal = np.zeros(3), np.array([0.3, 0.4, 0.0])  # 0.5 long
-    points = segment(start, goal, 0.1)
-    assert len(points) == 6 and np.allclose(points[0], start) and np.allclose(points[-1], goal)
-    assert np.allclose(np.linalg.norm(np.diff(points, axis=0), axis=1), 0.1)
-    assert len(segment(start, goal, 0.12)) == 6 and len(segment(start, start, 0.1)) == 2
 
 
 def test_motion_contacts_stop_at_a_static_collision():

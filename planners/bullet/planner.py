@@ -4,23 +4,22 @@ Each planner owns a private physics client (`World`), so several planners,
 for several scenes, can live in one process.  Collision rules are those of
 `world.py` (which bodies meet), `robot.py` (which link pairs may collide)
 and `bodies.py` (collision groups); inverse kinematics is `kinematics.py`.
-Segments are checked at `n + 1` evenly spaced configurations, both ends
-included, with `n` the least number of steps whose euclidean joint-space
-length is at most `resolution`.  Roadmaps (`prm.build_roadmap`) check
-their edges at the scene's `planner.resolution`, for static collisions
-only, with every place body switched off.
+Segments are checked at the steps of `symsynth.planning.segment`.
+Roadmaps (`prm.build_roadmap`) check their edges at the scene's
+`planner.resolution`, for static collisions only, with every place body
+switched off.
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from typing import ClassVar
 
 import numpy as np
 
 from symsynth.planning.prm import build_roadmap
 from symsynth.planning.protocol import Config, Contacts, Mode, PlannerError, Roadmap
+from symsynth.planning.segment import segment
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import Scene
 
@@ -59,7 +58,7 @@ class BulletPlanner:
     def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
         self.world.set_mode(mode)
         found = Contacts()
-        for config in self._segment(start, goal, resolution):
+        for config in segment(self._config(start), self._config(goal), resolution):
             self.world.set_config(config)
             found = found | self.world.touching()
         return found
@@ -75,7 +74,7 @@ class BulletPlanner:
 
         def motion_valid(start, goal) -> bool:
             self.world.set_mode(mode, places=False)
-            for config in self._segment(start, goal, resolution):
+            for config in segment(self._config(start), self._config(goal), resolution):
                 self.world.set_config(config)
                 if self.world.touching().static:
                     return False
@@ -83,14 +82,6 @@ class BulletPlanner:
 
         anchors = {name: self._config(config) for name, config in anchors.items()}
         return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, resolution, seconds)
-
-    def _segment(self, start: Config, goal: Config, resolution: float) -> Iterator[np.ndarray]:
-        if not resolution > 0:
-            raise PlannerError(f"resolution must be positive, got {resolution}")
-        a, b = np.asarray(self._config(start)), np.asarray(self._config(goal))
-        steps = max(1, math.ceil(float(np.linalg.norm(b - a)) / resolution))
-        for i in range(steps + 1):
-            yield a + (b - a) * (i / steps)
 
     def _config(self, config) -> tuple[float, ...]:
         values = tuple(float(v) for v in config)

@@ -4,8 +4,8 @@ python-fcl collisions (`collision`, `shapes`, `bounds`), OMPL roadmaps
 
 Built for one physical scene (`scene.geometry`); see `kinematics` for the
 configuration conventions and `collision` for which pairs are checked.
-A motion is checked at `ceil(|goal - start| / resolution)` equal steps (the
-euclidean norm in joint space), both ends included, and the check stops at
+A motion is checked at the steps of `symsynth.planning.segment` (equal,
+at most `resolution` apart, both ends included), and the check stops at
 the first static collision.  Roadmap edges are checked the same way, ends
 first and then by bisection, so that a blocked edge is rejected early.
 The planner remembers the segments it found free that way; the edge checks
@@ -16,7 +16,6 @@ the work).  Another planner object, or another resolution, checks all.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from typing import ClassVar
 
@@ -24,6 +23,7 @@ import numpy as np
 
 from symsynth.planning.prm import build_roadmap
 from symsynth.planning.protocol import Config, Contacts, Mode, PlannerError, Roadmap
+from symsynth.planning.segment import segment
 from symsynth.scene.geometry import Geometry, Pose
 
 from .collision import CollisionWorld
@@ -82,15 +82,6 @@ class OmplFclPlanner:
             return True
 
         return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, resolution, seconds)
-
-
-def segment(start: np.ndarray, goal: np.ndarray, resolution: float) -> np.ndarray:
-    """(steps + 1, d) configurations along the straight segment, at most
-    `resolution` apart (euclidean), both ends included."""
-    if resolution <= 0:
-        raise PlannerError(f"resolution must be positive, got {resolution}")
-    steps = max(1, math.ceil(float(np.linalg.norm(goal - start)) / resolution))
-    return start + (goal - start) * (np.arange(steps + 1) / steps)[:, None]
 
 
 def bisection(n: int) -> np.ndarray:

@@ -34,6 +34,7 @@ from symsynth.errors import SymsynthError
 from symsynth.execution.world import SimWorld
 from symsynth.planning.prm import build_roadmap
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError
+from symsynth.planning.segment import segment
 from symsynth.planning.verify import path_length
 from symsynth.scene.costmap import Costmap, Rule
 
@@ -60,16 +61,13 @@ class Motion:
 
 
 def steps(path: Sequence[Config], resolution: float) -> Iterator[tuple[float, ...]]:
-    """The configurations along `path`, at most `resolution` radians apart,
-    every waypoint included."""
+    """The configurations along `path`, each leg cut by the planners'
+    stepping rule (`planning.segment`), every waypoint included."""
     if len(path) == 0:
         return
     yield tuple(path[0])
     for a, b in zip(path, path[1:]):
-        a, b = np.asarray(a, float), np.asarray(b, float)
-        n = max(1, math.ceil(float(np.linalg.norm(b - a)) / resolution))
-        for i in range(1, n + 1):
-            yield tuple(a + (b - a) * (i / n))
+        yield from (tuple(q) for q in segment(a, b, resolution)[1:])
 
 
 def touched(world: SimWorld, path: Sequence[Config], resolution: float) -> set[str]:
