@@ -2,17 +2,8 @@
 end-effector link, and which of its link pairs may collide.
 
 Self-collision (URDF_USE_SELF_COLLISION) is on for every pair of links
-with collision geometry except *adjacent* ones: two links are adjacent when
-the kinematic path between them runs only through links without collision
-geometry.  Adjacent links touch by construction at their joint, so a
-contact between them says nothing.  For the Franka Panda this excludes
-exactly (link0, link1), (link1, link2), ..., (link6, link7), the parent-child
-pairs, plus (link7, panda_hand), which are joined rigidly through the
-geometry-less panda_link8 and overlap at every configuration, plus
-(panda_hand, panda_leftfinger) and (panda_hand, panda_rightfinger).  The two
-fingers are not adjacent (siblings); with the fingers open they never touch.
-Everything else is checked, e.g. link5 against link7 and the hand, which
-really meet when joint 6 is near its lower limit.
+with collision geometry except *adjacent* ones (`symsynth.planning.adjacent`),
+whose pairs are filtered out.
 """
 
 from __future__ import annotations
@@ -22,6 +13,7 @@ import math
 import numpy as np
 from symsynth.bullet import load_robot, pybullet as p
 
+from symsynth.planning.adjacent import adjacent_pairs
 from symsynth.planning.protocol import Config, PlannerError
 from symsynth.scene.geometry import Robot
 
@@ -45,7 +37,7 @@ class RobotBody:
         self.fixed = loaded.held
         self.home = tuple(float(v) for v in robot.home)
         self.links = [j for j in range(-1, len(infos)) if client.getCollisionShapeData(self.id, j)]
-        self.adjacent = self._adjacent_pairs()
+        self.adjacent = adjacent_pairs(self.links, self.parent.get)  # the base (-1) has no parent entry
         for a, b in self.adjacent:
             client.setCollisionFilterPair(self.id, self.id, a, b, 0)
         for link in range(-1, len(infos)):
@@ -61,16 +53,6 @@ class RobotBody:
         URDF frame, not the centre of mass) at the current configuration."""
         state = self.client.getLinkState(self.id, self.ee, computeForwardKinematics=True)
         return state[4], state[5]
-
-    def _adjacent_pairs(self) -> list[tuple[int, int]]:
-        pairs = []
-        for link in self.links:
-            up = self.parent.get(link, None)
-            while up is not None and up not in self.links:
-                up = self.parent.get(up)  # the base (-1) has no parent entry
-            if up is not None:
-                pairs.append((up, link))
-        return pairs
 
     def _below(self, link: int, ancestor: int) -> bool:
         while link != ancestor and link in self.parent:

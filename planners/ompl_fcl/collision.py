@@ -10,9 +10,10 @@ runs on the surviving pairs only, one configuration after another.
 
 Pairs never checked (each a fixed property of the robot or the grasp, not of
 a motion):
-* solids of the same link, and of links adjacent in the URDF: a link and
-  the nearest ancestor that has collision geometry (for the Panda, `hand`
-  and `link7` are adjacent through the geometry-less `link8`);
+* solids of the same link, and of adjacent links
+  (`symsynth.planning.adjacent`: a link and the nearest ancestor that has
+  collision geometry; for the Panda, `hand` and `link7` are adjacent
+  through the geometry-less `link8`);
 * link pairs that touch at the home configuration (`home_contacts`; none
   for the Panda at its usual home);
 * the root link against static and location obstacles: it is fixed to the
@@ -29,6 +30,7 @@ from dataclasses import dataclass
 import fcl
 import numpy as np
 
+from symsynth.planning.adjacent import adjacent_pairs
 from symsynth.planning.protocol import Config, Contacts, Mode, PlannerError
 from symsynth.scene.geometry import Geometry
 
@@ -115,7 +117,7 @@ class CollisionWorld:
         self._held: dict[Mode, _Held] = {}
         self._tables: dict[tuple[Mode, bool, bool], _Table] = {}
 
-        self.adjacent = self._adjacent_pairs()
+        self.adjacent = {frozenset(pair) for pair in adjacent_pairs(self.links, kinematics.parent_link)}
         self.home_contacts = self._touching(kinematics.home, self._pairs(self.adjacent))
         self.self_pairs = self._pairs(self.adjacent | self.home_contacts)
         n = len(self.solids)  # the held object's index among the movers
@@ -132,17 +134,6 @@ class CollisionWorld:
         while link is not None and link != ancestor:
             link = self.kinematics.parent_link(link)
         return link == ancestor
-
-    def _adjacent_pairs(self) -> set[frozenset[str]]:
-        """Each link with geometry and its nearest ancestor with geometry."""
-        pairs = set()
-        for link in self.links:
-            parent = self.kinematics.parent_link(link)
-            while parent is not None and parent not in self.links:
-                parent = self.kinematics.parent_link(parent)
-            if parent is not None:
-                pairs.add(frozenset((link, parent)))
-        return pairs
 
     def _pairs(self, excluded: set[frozenset[str]]) -> np.ndarray:
         """Solid index pairs (i < j) of different links not in `excluded`."""

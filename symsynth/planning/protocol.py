@@ -103,12 +103,12 @@ class Planner(Protocol):
 
     def contacts(self, mode: Mode, config: Config) -> Contacts:
         """Collisions of the robot (and, in a holding mode, the held object)
-        at one configuration: self-collision (adjacent links excluded), static
-        obstacles, and location obstacles."""
+        at one configuration: self-collision (adjacent links excluded,
+        `planning.adjacent`), static obstacles, and location obstacles."""
 
     def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
         """`contacts` along the straight joint-space segment, checked at steps
-        of at most `resolution` radians, both ends included."""
+        of at most `resolution` radians, both ends included (`planning.segment`)."""
 
     def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int,
                 seconds: float | None = None) -> Roadmap:
