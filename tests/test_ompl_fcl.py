@@ -27,7 +27,7 @@ from symsynth.planning.protocol import Contacts, Mode, PlannerError
 from symsynth.scene.geometry import Body, Geometry, Grasp, Pose, Robot, Shape
 from symsynth.scene.model import ObjectSpec, Scene
 from symsynth_planners.ompl_fcl import OmplFclPlanner
-from symsynth_planners.ompl_fcl.bounds import overlapping
+from symsynth_planners.ompl_fcl.bounds import axes_overlap
 from symsynth_planners.ompl_fcl.shapes import resolve_mesh
 
 PANDA = Path(pybullet_data.getDataPath()) / "franka_panda" / "panda.urdf"
@@ -296,7 +296,7 @@ def test_oriented_boxes_overlap_exactly_when_fcl_says_so():
     poses[:, :, :3, :3] = Rotation.random(2 * n, random_state=4).as_matrix().reshape(2, n, 3, 3)
     poses[:, :, :3, 3] = rng.uniform(-0.5, 0.5, (2, n, 3))
     halves = rng.uniform(0.02, 0.3, (2, n, 3))
-    found = overlapping(poses[0], halves[0], poses[1], halves[1])
+    found = axes_overlap(poses[0], halves[0], poses[1], halves[1])
     truth = [fcl.collide(*(fcl.CollisionObject(fcl.Box(*(2 * halves[s, k])),
                                                fcl.Transform(poses[s, k, :3, :3], poses[s, k, :3, 3]))
                            for s in (0, 1))) > 0 for k in range(n)]

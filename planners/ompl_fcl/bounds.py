@@ -18,24 +18,10 @@ _I1, _I2, _J1, _J2 = (_I + 1) % 3, (_I + 2) % 3, (_J + 1) % 3, (_J + 2) % 3
 _SLACK = 1e-9  # against parallel edges whose cross product vanishes
 
 
-def overlapping(pose_a: np.ndarray, half_a: np.ndarray, pose_b: np.ndarray, half_b: np.ndarray) -> np.ndarray:
-    """Boxes that no separating axis proves apart; leading shapes of the
-    poses (..., 4, 4) and half extents (..., 3) broadcast.  Bounding spheres
-    are compared first, the 15 axes only for the pairs they do not part."""
-    shape = np.broadcast_shapes(pose_a.shape[:-2], half_a.shape[:-1], pose_b.shape[:-2], half_b.shape[:-1])
-    pose_a, pose_b = (np.broadcast_to(p, shape + (4, 4)).reshape(-1, 4, 4) for p in (pose_a, pose_b))
-    half_a, half_b = (np.broadcast_to(h, shape + (3,)).reshape(-1, 3) for h in (half_a, half_b))
-    gap = pose_b[:, :3, 3] - pose_a[:, :3, 3]
-    reach = np.sqrt(np.einsum("ij,ij->i", half_a, half_a)) + np.sqrt(np.einsum("ij,ij->i", half_b, half_b))
-    near = np.flatnonzero(np.einsum("ij,ij->i", gap, gap) <= reach * reach)
-    result = np.zeros(len(gap), dtype=bool)
-    result[near] = axes_overlap(pose_a[near], half_a[near], pose_b[near], half_b[near])
-    return result.reshape(shape)
-
-
 def axes_overlap(pose_a: np.ndarray, half_a: np.ndarray, pose_b: np.ndarray,
                  half_b: np.ndarray) -> np.ndarray:
-    """The separating-axis test on (n, 4, 4) poses and (n, 3) half extents."""
+    """The separating-axis test on (n, 4, 4) poses and (n, 3) half extents:
+    true for the pairs of boxes that no axis proves apart."""
     rot_a_t = np.swapaxes(pose_a[:, :3, :3], 1, 2)
     r = rot_a_t @ pose_b[:, :3, :3]  # r[i, j] = A_i . B_j
     t = (rot_a_t @ (pose_b[:, :3, 3] - pose_a[:, :3, 3])[:, :, None])[:, :, 0]  # in A's frame
