@@ -112,6 +112,19 @@ def test_pose_algebra_matches_scipy():
     assert np.allclose((a @ a.inverse()).matrix(), np.eye(4))
 
 
+def test_angle_between_poses_is_scipys_relative_rotation_angle():
+    a = Pose.from_rpy((0.0, 0.0, 0.0), (0.4, -1.1, 2.5))
+    b = Pose.from_rpy((1.0, 2.0, -0.5), (-2.0, 0.3, 0.2))
+    ra = Rotation.from_euler("xyz", [0.4, -1.1, 2.5])
+    rb = Rotation.from_euler("xyz", [-2.0, 0.3, 0.2])
+    expected = (ra.inv() * rb).magnitude()
+    assert math.isclose(a.angle_to(b), expected, abs_tol=1e-9)
+    assert math.isclose(b.angle_to(a), expected, abs_tol=1e-9)
+    flipped = Pose(b.xyz, tuple(-2.0 * v for v in b.quat))  # the same orientation, not a unit quaternion
+    assert math.isclose(a.angle_to(flipped), expected, abs_tol=1e-9)
+    assert math.isclose(a.angle_to(Pose((5.0, 0.0, 0.0), a.quat)), 0.0, abs_tol=1e-7)  # position plays no part
+
+
 def test_grasp_pre_image_backs_off_along_the_hand_axis():
     down = Grasp("top", Pose.from_rpy((0, 0, 0.15), (math.pi, 0, 0)), approach=0.05)
     assert np.allclose(down.pre_image().xyz, (0, 0, 0.20))  # hand points down: back off upwards

@@ -76,14 +76,7 @@ def _reaches(robot: RobotBody, config: np.ndarray, pose: Pose, low, high) -> boo
         return False
     reached = end_effector(robot, config)
     error = math.dist(reached.xyz, pose.xyz)
-    return error <= POSITION and quat_angle(reached.quat, pose.quat) <= ANGLE
-
-
-def quat_angle(a, b) -> float:
-    """The rotation angle between two unit quaternions, in [0, pi]."""
-    na, nb = math.sqrt(sum(v * v for v in a)), math.sqrt(sum(v * v for v in b))
-    dot = abs(sum(x * y for x, y in zip(a, b))) / (na * nb)
-    return 2 * math.acos(min(1.0, dot))
+    return error <= POSITION and reached.angle_to(pose) <= ANGLE
 
 
 def _into_limits(config: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:

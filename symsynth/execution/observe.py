@@ -64,12 +64,5 @@ def distance(a: Pose, b: Pose) -> float:
     return math.dist(a.xyz, b.xyz)
 
 
-def angle(a: Pose, b: Pose) -> float:
-    """The rotation angle between two orientations, radians."""
-    dot = abs(sum(x * y for x, y in zip(a.quat, b.quat)))
-    norms = math.sqrt(sum(x * x for x in a.quat) * sum(y * y for y in b.quat))
-    return 2 * math.acos(min(1.0, dot / norms))
-
-
 def close(a: Pose, b: Pose) -> bool:
-    return distance(a, b) <= POSITION and angle(a, b) <= ANGLE
+    return distance(a, b) <= POSITION and a.angle_to(b) <= ANGLE

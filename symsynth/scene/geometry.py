@@ -66,6 +66,12 @@ class Pose:
     def inverse(self) -> Pose:
         return Pose.from_matrix(np.linalg.inv(self.matrix()))
 
+    def angle_to(self, other: Pose) -> float:
+        """The angle of the rotation between the two orientations, radians in [0, pi]."""
+        na, nb = math.sqrt(sum(v * v for v in self.quat)), math.sqrt(sum(v * v for v in other.quat))
+        dot = abs(sum(x * y for x, y in zip(self.quat, other.quat))) / (na * nb)
+        return 2 * math.acos(min(1.0, dot))
+
 
 def _quat_of(r: np.ndarray) -> Quat:
     trace = r[0, 0] + r[1, 1] + r[2, 2]
