@@ -124,12 +124,12 @@ def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report
                       for name, spec in (data.get("obstacles") or {}).items())
     shapes = {name: _shape(spec, base, ("objects", name), report)
               for name, spec in data["objects"].items()}
-    places = {name: pose_of(spec) for name, spec in data["locations"].items()}
-    places.update(else_places(data, places, report))
-    grasps = {name: Grasp(name, pose_of(spec), float(spec.get("approach", 0.05)))
-              for name, spec in data["grasps"].items()}
     initial = {name: pose_of(spec) for name, spec in data["objects"].items()
                if spec.get("at", "Else") == "Else" and "xyz" in spec}
+    places = {name: pose_of(spec) for name, spec in data["locations"].items()}
+    places.update(else_places(data, places, initial, report))
+    grasps = {name: Grasp(name, pose_of(spec), float(spec.get("approach", 0.05)))
+              for name, spec in data["grasps"].items()}
     settings = data.get("planner", {})
     if "seconds" in settings and "roadmap_size" in settings:
         report.add(("planner", "seconds"), "give the roadmap either a size (roadmap_size) or a time limit "
@@ -148,12 +148,13 @@ def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report
                     planner=planner)
 
 
-def else_places(data: dict[str, Any], locations: dict[str, Pose], report: Report) -> dict[str, Pose]:
+def else_places(data: dict[str, Any], locations: dict[str, Pose], initial: dict[str, Pose],
+                report: Report) -> dict[str, Pose]:
     """Else samples: the explicit `else_samples` mapping, or `else.samples`
     poses in `else.region`.
 
-    Drawn samples start with the initial pose of every object that starts at
-    Else with a pose, in object order: the robot must be able to fetch an
+    Drawn samples start with the `initial` poses (of the objects that start
+    at Else with a pose), in object order: the robot must be able to fetch an
     object where it really stands, and a costmap only has motions to
     samples (a pose that is no sample leaves the first transit to it out of
     E_p; the simulator would have to plan it at run time).  The remaining
@@ -172,10 +173,9 @@ def else_places(data: dict[str, Any], locations: dict[str, Pose], report: Report
     rng = np.random.default_rng(data.get("planner", {}).get("seed", 0))
     taken = [np.array(p.xyz[:2]) for p in locations.values()]
     samples: dict[str, Pose] = {}
-    for obj in data["objects"].values():
-        if obj.get("at", "Else") == "Else" and "xyz" in obj:
-            samples[f"e{len(samples) + 1}"] = pose = pose_of(obj)
-            taken.append(np.array(pose.xyz[:2]))
+    for pose in initial.values():
+        samples[f"e{len(samples) + 1}"] = pose
+        taken.append(np.array(pose.xyz[:2]))
     for _ in range(1000 * spec["samples"]):
         if len(samples) >= spec["samples"]:
             break
