@@ -24,7 +24,6 @@ timed, so the same run gives the same path.  The roadmap grows from
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
@@ -32,6 +31,7 @@ import numpy as np
 
 from symsynth.errors import SymsynthError
 from symsynth.execution.world import SimWorld
+from symsynth.planning.costmaps import RoadmapSearch
 from symsynth.planning.prm import build_roadmap
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError
 from symsynth.planning.segment import segment
@@ -135,23 +135,13 @@ def runtime_motion(world: SimWorld, planner: Planner, mode: Mode, goal: Config, 
 
 
 def _shortest(roadmap) -> list[tuple[float, ...]]:
-    from scipy.sparse import coo_matrix
-
-    from symsynth.planning.costmaps import dijkstra
-
-    n = len(roadmap.configs)
-    edges = np.asarray(roadmap.edges, dtype=np.int64).reshape(-1, 2)
-    graph = coo_matrix((roadmap.lengths, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
-    source, target = roadmap.anchors["start"], roadmap.anchors["goal"]
-    distances, parents = dijkstra(graph, directed=False, indices=source, return_predecessors=True)
-    if not math.isfinite(distances[target]):
+    """The shortest roadmap path from the anchor `start` to `goal` (the
+    costmaps' search, with no edge blocked)."""
+    search = RoadmapSearch(roadmap, [frozenset()] * len(roadmap.edges), ())
+    path = search.best_path(search.vertex("start"), search.vertex("goal"), frozenset())
+    if path is None:
         raise PlannerError("start and goal are not connected")
-    path, i = [], target
-    while i != source:
-        path.append(tuple(float(v) for v in roadmap.configs[i]))
-        i = parents[i]
-    path.append(tuple(float(v) for v in roadmap.configs[source]))
-    return path[::-1]
+    return [search.config(v) for v in path.vertices]
 
 
 def _shortcut(path: list[tuple[float, ...]], free) -> tuple[tuple[float, ...], ...]:
