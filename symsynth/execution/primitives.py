@@ -29,7 +29,7 @@ from symsynth.execution.motion import steps
 from symsynth.execution.world import SimWorld
 from symsynth.planning.protocol import Config, Planner
 from symsynth.planning.verify import path_length
-from symsynth.scene.geometry import Pose
+from symsynth.scene.geometry import Pose, point_text
 
 APPROACH_STEPS = 6
 WALK = 0.01  # radians between the configurations checked along the approach
@@ -100,7 +100,7 @@ def _approach(planner: Planner, at: Config, start: Pose, end: Pose, what: str) -
         config = planner.inverse_kinematics(Pose(xyz, end.quat), path[-1])
         if config is None:
             raise PrimitiveFailed(f"{what}: no inverse kinematics solution {t:.0%} of the way "
-                                  f"down the approach (end-effector at {_fmt(xyz)})")
+                                  f"down the approach (end-effector at {point_text(xyz)})")
         path.append(tuple(config))
     return tuple(path)
 
@@ -112,6 +112,3 @@ def _walk(world: SimWorld, path: Sequence[Config], ignore: set[str] = frozenset(
         hits |= world.touching(ignore)
     return hits
 
-
-def _fmt(xyz) -> str:
-    return "(" + ", ".join(f"{v:.3f}" for v in xyz) + ")"

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from symsynth.planning.costmaps import Query
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError
+from symsynth.scene.geometry import point_text
 from symsynth.scene.model import HOME, Scene
 
 
@@ -33,7 +34,7 @@ def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
             config = planner.inverse_kinematics(target, home)
             if config is None:
                 problems.append(f"{name}: unreachable (no inverse kinematics solution within the joint "
-                                f"limits for the end-effector at {_fmt(target.xyz)})")
+                                f"limits for the end-effector at {point_text(target.xyz)})")
                 continue
             contacts = planner.contacts(Mode(), config)
             if contacts.static:
@@ -75,6 +76,3 @@ def motions(scene: Scene, mode: Mode) -> tuple[Query, ...]:
             result.append(Query(f"{x}/{g}", f"{l}/{g}", never=frozenset(never)))
     return tuple(result)
 
-
-def _fmt(xyz) -> str:
-    return "(" + ", ".join(f"{v:.3f}" for v in xyz) + ")"

@@ -73,6 +73,11 @@ class Pose:
         return 2 * math.acos(min(1.0, dot))
 
 
+def point_text(xyz: Vec3) -> str:
+    """A point for messages: "(x, y, z)" in metres, to the millimetre."""
+    return "(" + ", ".join(f"{v:.3f}" for v in xyz) + ")"
+
+
 def _quat_of(r: np.ndarray) -> Quat:
     trace = r[0, 0] + r[1, 1] + r[2, 2]
     if trace > 0:
