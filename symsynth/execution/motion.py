@@ -36,7 +36,7 @@ from symsynth.planning.prm import build_roadmap
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError
 from symsynth.planning.segment import segment
 from symsynth.planning.verify import path_length
-from symsynth.scene.costmap import Costmap, Rule
+from symsynth.scene.costmap import Costmap
 
 CHECK = 4  # world checks per planner resolution step (as `costmap verify`)
 RUNTIME_SIZE = 60  # roadmap vertices for a motion planned at run time
@@ -53,7 +53,6 @@ class Motion:
 
     path: tuple[Config, ...]
     source: str
-    rule: Rule | None = None
 
     @property
     def radians(self) -> float:
@@ -99,7 +98,7 @@ def evidence_motion(world: SimWorld, costmap: Costmap, mode: Mode, start: str, g
             path = (world.config,) + path  # a robot a hair off the anchor travels the hair too
         hits = touched(world, path, resolution / CHECK)
         if not hits:
-            return Motion(path, "evidence", rule), rejected
+            return Motion(path, "evidence"), rejected
         rejected.append(f"{mode} {start} -> {goal} (free {_names(rule.free)}, cost {rule.cost:g}) "
                         f"touches {', '.join(sorted(hits))}")
     return None, rejected
