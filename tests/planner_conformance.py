@@ -318,6 +318,23 @@ class PlannerConformance:
             assert np.linalg.norm(reached[:3, 3] - target.xyz) <= 1e-3 + 1e-9, place
             assert angle_between(reached[:3, :3], target.matrix()[:3, :3]) <= 0.01 + 1e-9, place
 
+    def test_inverse_kinematics_is_a_function_of_pose_and_seed(self):
+        """The same (pose, seed) gives the same configuration after other
+        questions, and from a new planner of the same scene."""
+        geometry = scene("passage").geometry
+        targets = [pose @ geometry.grasps["top"].pre_image() for pose in geometry.places.values()]
+        planner = self.planner("passage")
+        first = [planner.inverse_kinematics(t, HOME) for t in targets]
+        assert all(c is not None for c in first)
+        # other seeds in between: the robot state a solver leaves must not leak
+        for t, c in zip(targets, first):
+            planner.inverse_kinematics(t, tuple(np.add(c, 0.3)))
+        again = [planner.inverse_kinematics(t, HOME) for t in reversed(targets)][::-1]
+        fresh = planner_class(self.planner_name)(scene("passage"))
+        anew = [fresh.inverse_kinematics(t, HOME) for t in targets]
+        for c, a, n in zip(first, again, anew):
+            assert np.array_equal(c, a) and np.array_equal(c, n), (c, a, n)
+
     def test_unreachable_pose_has_no_inverse_kinematics(self):
         """(4) `far` is 1.5 m from the shoulder; the URDF's link offsets from
         joint 2 to the hand add up to less than 1 m."""

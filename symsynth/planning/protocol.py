@@ -99,7 +99,10 @@ class Planner(Protocol):
     def inverse_kinematics(self, pose: Pose, seed: Config) -> Config | None:
         """A configuration placing the end-effector link at `pose` (world),
         verified by forward kinematics (position within 1 mm, orientation
-        within 0.01 rad), inside the joint limits; None if none was found."""
+        within 0.01 rad), inside the joint limits; None if none was found.
+        A function of (pose, seed): the same arguments give the same answer,
+        whatever was asked before (the simulator reuses approach paths, and
+        runs with one seed must repeat)."""
 
     def contacts(self, mode: Mode, config: Config) -> Contacts:
         """Collisions of the robot (and, in a holding mode, the held object)
