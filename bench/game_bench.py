@@ -425,6 +425,8 @@ def main(argv=None):
         if m < n + 1:
             p.error(f"size {n}x{m}: m must be >= n + 1")
     solvers = [s.strip() for s in args.solvers.split(",") if s.strip()]
+    if not sizes or not solvers:  # nothing to run, and --out would be overwritten with it
+        p.error("--sizes and --solvers must each name at least one")
 
     from symsynth.game.solvers import SOLVERS
     unknown = [s for s in solvers if s not in SOLVERS]
@@ -436,10 +438,15 @@ def main(argv=None):
         name, _, size = item.partition("=")
         if name not in solvers or not size:
             p.error(f"--limit {item}: expected SOLVER=NxM with SOLVER among --solvers")
+        if name in limits:
+            p.error(f"--limit {item}: {name} is already limited to {limits[name][0]}x{limits[name][1]}")
         try:
-            (limits[name],) = parse_sizes(size)
+            parsed = parse_sizes(size)
         except ValueError as err:
             p.error(f"--limit {item}: {err}")
+        if len(parsed) != 1:
+            p.error(f"--limit {item}: expected one size NxM")
+        limits[name] = parsed[0]
         if limits[name] not in sizes:
             # a limit that matches no size would never stop the solver
             p.error(f"--limit {item}: {size} is not among the sizes "

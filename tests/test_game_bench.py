@@ -24,6 +24,12 @@ def test_sizes_parse():
     (["--sizes", "3x5", "--limit", "explicit=big"], "--limit explicit=big: 'big' is not NxM"),
     (["--sizes", "3x5,four"], "--sizes: 'four' is not NxM"),
     (["--sizes", "3x5", "--limit", "nosuch=3x5"], "SOLVER among --solvers"),
+    (["--sizes", "3x5,4x6", "--limit", "explicit=3x5,4x6"], "--limit explicit=3x5,4x6: expected one size"),
+    (["--sizes", "3x5", "--limit", "explicit=,"], "--limit explicit=,: expected one size"),
+    (["--sizes", "3x5,4x6", "--limit", "explicit=3x5", "--limit", "explicit=4x6"],
+     "explicit is already limited to 3x5"),
+    (["--sizes", ","], "--sizes and --solvers must each name at least one"),
+    (["--sizes", "3x5", "--solvers", ","], "--sizes and --solvers must each name at least one"),
 ])
 def test_bad_arguments_are_usage_errors(argv, message, capsys, tmp_path):
     # --out: should the check ever go, the run it lets through must not
