@@ -33,6 +33,7 @@ from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import initial_state, letter, quantize
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import task_formula
+from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.game.symbolic import solve_symbolic
 from symsynth.game.strategy import strategy_table
 from symsynth.logic.semantics import holds
@@ -352,8 +353,12 @@ def line_files(paper_line, tmp_path_factory):
     return folder / "line.yaml"
 
 
-def test_command_runs_and_reports_json(line_files, capsys, line):
-    code = main(["simulate", str(line_files), "--human", "random", "--runs", "2", "--json"])
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_command_runs_and_reports_json(solver, line_files, capsys, line):
+    """Every solver's strategy, looked up where the runs go, completes
+    within the E_p of the (symbolic) fixture."""
+    code = main(["simulate", str(line_files), "--human", "random", "--runs", "2", "--json",
+                 "--solver", solver])
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and out["guarantee"] is True and len(out["runs"]) == 2
     assert out["cost_bound"] == line.solution.cost_bound
@@ -375,6 +380,14 @@ def test_only_the_adversary_has_every_reachable_position_explored(line_files, ca
         assert out["strategy"]["positions"] == positions
         assert out["runs"][0]["completed"] and out["runs"][0]["cost"] <= line.solution.cost_bound + 1e-6
     assert len(explored) == 1
+
+
+def test_an_unknown_planner_is_refused_before_the_solve(line_files, capsys, monkeypatch):
+    """The scene names its costmap, so no planning happens before the
+    solve; the planner is still checked first."""
+    monkeypatch.setitem(simulate_command.SOLVERS, DEFAULT_SOLVER, lambda *a, **k: pytest.fail("solved"))
+    assert main(["simulate", str(line_files), "--planner", "nosuch"]) == 2
+    assert "nosuch" in capsys.readouterr().err
 
 
 def test_budget_below_E_p_means_no_guarantee(line_files, capsys, line):

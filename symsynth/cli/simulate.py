@@ -127,6 +127,7 @@ def run(args: argparse.Namespace) -> int:
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world to simulate")
     # Every input is read and checked before the costmap and the solve.
+    planner_type = planner_class(args.planner or scene.geometry.planner.name)
     table = None
     if args.strategy is not None:
         table = _read_strategy(args.strategy, scene)
@@ -157,7 +158,11 @@ def run(args: argparse.Namespace) -> int:
     if table is not None:
         task, bound, resolution = table.task, table.cost_bound, table.resolution
         actions, budgets, positions = table.positions, table.budgets, len(table.positions)
-    else:  # the solver's strategy, looked up only where a run goes (no strategy when none wins)
+    else:
+        # The solver's strategy, looked up only where a run goes (none when
+        # none wins).  Unlike strategy_table's exploration, this does not
+        # check up front that every reachable position has an available
+        # action: a strategy that lacks one ends that run with the reason.
         task, bound, resolution = scene.task.strip(), solution.cost_bound, solution.resolution
         actions, budgets, positions = ({} if bound is None else solution.strategy), {}, None
     formula = parse_ltlf(task, source=f"{args.strategy or args.scene} (task)")
@@ -172,7 +177,7 @@ def run(args: argparse.Namespace) -> int:
         # solver stops early then).
         fallback = SOLVERS["explicit"](scene, formula, k=scene.k).strategy
     policy = Policy(actions, budgets, bound, fallback)
-    planner = planner_class(obtained.planner if obtained else args.planner or scene.geometry.planner.name)(scene)
+    planner = planner_type(scene)
     simulator = Simulator(scene, formula, policy, planner, resolution=resolution)
 
     runs, made = [], []

@@ -59,7 +59,7 @@ from symsynth.game.strategy import format_position, format_state
 from symsynth.logic import ast
 from symsynth.planning.anchors import anchor_configs
 from symsynth.planning.protocol import Mode, Planner
-from symsynth.scene.geometry import Pose
+from symsynth.scene.geometry import Pose, point_text
 from symsynth.scene.model import ELSE, HOME, Scene
 
 SLACK = 1e-6  # costmap units: float noise allowed between measured and abstract costs
@@ -154,8 +154,10 @@ class Policy:
 
     def action(self, position: Position) -> tuple[str, bool] | None:
         """(action, best effort?) or None."""
-        if position in self.actions:
+        try:  # one lookup: a lazy strategy searches on a miss
             return self.actions[position], False
+        except KeyError:
+            pass
         if self.fallback is None:
             return None
         v, q, h = position
@@ -395,7 +397,7 @@ class _Episode:
                 goal_config = self.sim.planner.inverse_kinematics(target, world.config)
                 if goal_config is None:
                     raise ActionFailed(f"no inverse kinematics solution for the end-effector at "
-                                       f"{tuple(round(x, 3) for x in target.xyz)}")
+                                       f"{point_text(target.xyz)}")
             try:
                 found = motions.runtime_motion(world, self.sim.planner, mode, tuple(goal_config),
                                                self.sim.resolution, self.seed + self.actions)
