@@ -43,6 +43,7 @@ import argparse
 import json
 import os
 import platform
+import shlex
 import signal
 import subprocess
 import sys
@@ -312,7 +313,8 @@ def report(sizes, solvers, cells, meta, args):
                          + ", ".join(f"{s} {fmt_value(v)}" for s, v in values.items())))
     lines += ["## Targets", "", "```"]
     lines += [f"{status} {msg}" for status, msg in verdicts]
-    lines += ["```", ""]
+    lines += ["```", "", "This file is rewritten by every run; notes on a run and one-off experiments "
+              "go in `game-notes.md` next to it.", ""]
     return "\n".join(lines), verdicts
 
 
@@ -454,6 +456,7 @@ def main(argv=None):
     beyond: set[str] = set()
 
     meta = environment(args)
+    meta["command"] = "`python bench/game_bench.py " + shlex.join(argv) + "`"
     cells: dict[tuple[str, int, int], Cell] = {}
     failed: dict[str, str] = {}
     bar = tqdm(total=len(sizes) * len(runnable), file=sys.stderr, unit="run")
