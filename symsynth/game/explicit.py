@@ -32,7 +32,8 @@ from symsynth.automata import SymbolicDFA, compile_ltlf
 from symsynth.game.abstraction import (State, costmap_of, human_moves, initial_state, letter,
                                        quantize, robot_moves)
 from symsynth.game.propositions import interpret_all
-from symsynth.game.solution import Solution, Step, check_parameters, task_formula, verdict
+from symsynth.game.solution import (Solution, Step, check_parameters, task_formula, verdict,
+                                   won_at_start)
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
 
@@ -68,8 +69,7 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
     v0 = initial_state(scene)
     q0 = game.read(game.dfa.initial, v0)
     if game.accepts(q0):  # ρ(v0) alone is accepted
-        return Solution(0.0, 0, resolution, budget, verdict(0, resolution, budget), k, 0,
-                        seconds | {"explore": 0.0, "solve": 0.0}, {}, (), None, scene.object_names)
+        return won_at_start(scene, k, resolution, budget, seconds | {"explore": 0.0, "solve": 0.0})
     nodes, edges = game.explore(Node(v0, q0, k, False))
     seconds["explore"] = time.perf_counter() - clock
 

@@ -94,7 +94,8 @@ from typing import Callable
 from symsynth.game.abstraction import State, costmap_of, initial_state, motion_cost, quantize
 from symsynth.game.abstraction import anchors as place_anchors
 from symsynth.game.explicit import PASS, GameGraph, Node
-from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
+from symsynth.game.solution import (Position, Solution, Step, check_parameters, task_formula, verdict,
+                                   won_at_start)
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, Scene
 
@@ -111,14 +112,14 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
     formula = task_formula(scene, formula)
     game = GameGraph(scene, formula, resolution)
     seconds = {"dfa": time.perf_counter() - clock}
+    v0 = initial_state(scene)
+    q0 = game.read(game.dfa.initial, v0)
+    if game.accepts(q0):  # ρ(v0) alone is accepted
+        return won_at_start(scene, k, resolution, budget,
+                            seconds | {"bound": 0.0, "search": 0.0, "plays": 0.0})
     clock = time.perf_counter()
     bound = LowerBound(scene, formula, game, resolution)
     seconds["bound"] = time.perf_counter() - clock
-    v0 = initial_state(scene)
-    q0 = game.read(game.dfa.initial, v0)
-    if game.accepts(q0):
-        return Solution(0.0, 0, resolution, budget, verdict(0, resolution, budget), k, 0,
-                        seconds | {"search": 0.0, "plays": 0.0}, {}, (), None, scene.object_names)
 
     clock = time.perf_counter()
     start = (v0, q0, k)

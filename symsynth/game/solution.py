@@ -79,6 +79,13 @@ class Solution:
                 "state": state_json(step.state, self.objects)}
 
 
+def won_at_start(scene: Scene, k: int, resolution: float, budget: float | None,
+                 seconds: Mapping[str, float]) -> Solution:
+    """The solution when ρ(v0) alone is accepted: E_p = 0, nothing to play."""
+    return Solution(0.0, 0, resolution, budget, verdict(0, resolution, budget), k, 0, seconds,
+                    {}, (), None, scene.object_names)
+
+
 def check_parameters(scene: Scene, k: int | None, resolution: float) -> int:
     """The human's moves (default: the scene's k), after checking k and the resolution."""
     k = scene.k if k is None else k
