@@ -19,7 +19,8 @@ import pytest
 from gamegen import random_scene
 from symsynth.game.abstraction import initial_state
 from symsynth.game.explicit import GameGraph, Node, _dijkstra, solve_explicit
-from symsynth.game.forward import LowerBound, solve_forward
+from symsynth.game.bound import LowerBound
+from symsynth.game.forward import solve_forward
 from symsynth.game.solvers import SOLVERS
 from symsynth.game.strategy import reachable_positions, worst_units
 from symsynth.logic import parse_ltlf
@@ -206,7 +207,7 @@ def test_strategy_is_lazy_for_positions_off_the_proof():
 def _bound_holds_everywhere(scene, k):
     formula = parse_ltlf(scene.task)
     game = GameGraph(scene, formula, 1.0)
-    bound = LowerBound(scene, formula, game, 1.0)
+    bound = LowerBound(game, formula)
     v0 = initial_state(scene)
     q0 = game.read(game.dfa.initial, v0)
     if game.accepts(q0):
@@ -245,7 +246,7 @@ def test_bound_is_off_for_temporal_conjuncts():
     scene = random_scene(200)
     assert scene.task == "F(at(block, l2) & F(at(block, l1)))"
     formula = parse_ltlf(scene.task)
-    assert not LowerBound(scene, formula, GameGraph(scene, formula, 1.0), 1.0).enabled
+    assert not LowerBound(GameGraph(scene, formula, 1.0), formula).enabled
 
 
 def test_long_plays_do_not_hit_the_recursion_limit():

@@ -5,7 +5,7 @@ Only positions that play near the optimum reaches are looked at.  The
 search answers one question, "is val(p) <= b?", depth first, with a memo of
 what is proven about each position:
 
-- `lo(p)`: val(p) >= lo(p).  Initially the lower bound L(p) (`LowerBound`);
+- `lo(p)`: val(p) >= lo(p).  Initially the lower bound L(p) (`bound.LowerBound`);
   raised by every failed question: at a robot position to
   min over actions of c + lo(after), at a human position to the largest lo
   of its replies.  These are Bellman's equations applied to lower bounds, so
@@ -53,51 +53,25 @@ Why it is exact
 The strategy (`Strategy`) is lazy: an entry whose hi equals its lo is
 optimal; at any other position the value is searched when it is looked up.
 
-The lower bound (`LowerBound`) is 0 for any task, except F(p) with p a
-conjunction of propositional parts (no temporal operator: the DFA has not
-accepted iff no state so far satisfied p, so some future state must).  For
-each location l of interest with conjuncts `at(X, l)`, let C(l) be the
-objects carrying all of l's tags.
-
-- L0(v): against a human who always passes (the human may, so val is at
-  least this), every location l whose atoms do not all hold needs its own
-  final object c in C(l), hence a drop at l, the chain of transfers that
-  carries c from where it stands to l (`carry`: a shortest path over places
-  whose hops cost the cheapest rule of the motion, max over its start
-  anchors; a change of grasp on the way, or a drop and a grab, counted 0),
-  a grab (unless c is held) and a first transit to c (unless held or
-  aimed at), from the cheapest start set.  Different locations need
-  different drops, chains, objects, grabs and first transits, so the sum
-  over l of the cheapest c is a lower bound.
-- When p is only `at(X, l)` atoms (l in L), each human move adds `strike`:
-  the robot wins with a drop, so the state before its last action is a
-  *brink*: holding some o in C(l) over l, every other location's atoms
-  holding.  The human who passes until its turn comes at a brink and then
-  takes one placed object to Else (it does not accept: that location's
-  atoms stop holding) leaves the robot L0 >= drop + strike to pay to the
-  next brink.  Summing the segments between brinks, val >= L0(v) + h *
-  strike at the human's turn, and at the robot's unless v is itself a
-  brink (then the robot wins before the human can strike: L0(v)).
+The lower bound is `bound.LowerBound`.
 """
 
 from __future__ import annotations
 
-import functools
-import heapq
 import math
+import operator
 import sys
 import threading
 import time
-from collections.abc import Hashable, Iterator, Mapping
-from typing import Callable
+from collections.abc import Callable, Hashable, Iterator, Mapping
 
-from symsynth.game.abstraction import State, costmap_of, initial_state, motion_cost, quantize
-from symsynth.game.abstraction import anchors as place_anchors
+from symsynth.game.abstraction import State, initial_state
+from symsynth.game.bound import LowerBound
 from symsynth.game.explicit import PASS, GameGraph, Node
 from symsynth.game.solution import (Position, Solution, Step, check_parameters, task_formula, verdict,
                                    won_at_start)
 from symsynth.logic import ast
-from symsynth.scene.model import ELSE, EMPTY, HAND, Scene
+from symsynth.scene.model import Scene
 
 INF = math.inf
 
@@ -118,7 +92,7 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
         return won_at_start(scene, k, resolution, budget,
                             seconds | {"bound": 0.0, "search": 0.0, "plays": 0.0})
     clock = time.perf_counter()
-    bound = LowerBound(scene, formula, game, resolution)
+    bound = LowerBound(game, formula)
     seconds["bound"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
@@ -141,254 +115,6 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
     return Solution(None if units is None else units * resolution, units, resolution, budget,
                     realizable, k, search.positions(), seconds, strategy, principal, counter,
                     scene.object_names, stats)
-
-
-# -- the lower bound ---------------------------------------------------------------
-
-def _propositional(f: ast.Formula) -> bool:
-    """No temporal operator (nor `last`) in `f`."""
-    if isinstance(f, (ast.Atom, ast.Const)):
-        return True
-    if isinstance(f, ast.Not):
-        return _propositional(f.arg)
-    if isinstance(f, (ast.And, ast.Or, ast.Implies, ast.Equiv)):
-        return _propositional(f.left) and _propositional(f.right)
-    return False
-
-
-def _conjuncts(f: ast.Formula) -> list[ast.Formula]:
-    if isinstance(f, ast.And):
-        return _conjuncts(f.left) + _conjuncts(f.right)
-    return [f]
-
-
-class LowerBound:
-    """An admissible lower bound on the value of a position (module doc)."""
-
-    def __init__(self, scene: Scene, formula: ast.Formula, game: GameGraph, resolution: float):
-        self.scene = scene
-        self.enabled = False
-        self.strike = 0
-        self._cache: dict[State, float] = {}
-        if not isinstance(formula, ast.Eventually):
-            return
-        parts = _conjuncts(formula.arg)
-        if not all(_propositional(part) for part in parts):
-            return  # e.g. F(a & F b): after a, a need not hold again
-        groups: dict[str, set[str]] = {}
-        pattern = True  # every conjunct is at(X, l) with l a location of interest
-        for part in parts:
-            p = game.props.get(part.key) if isinstance(part, ast.Atom) else None
-            if p is not None and p.kind == "at" and p.location in scene.locations:
-                groups.setdefault(p.location, set()).add(p.tag)
-            else:
-                pattern = False
-        if not groups:
-            return
-        self.enabled = True
-        names = self.names = scene.object_names
-        self.groups = sorted(groups.items())
-        # objects that may end up at l: they carry every tag asked at l
-        self.candidates = {l: tuple(i for i, o in enumerate(scene.objects) if tags <= o.tags)
-                           for l, tags in self.groups}
-        costmap = costmap_of(scene)
-        r = resolution
-        # every place free: no rule's condition fails (they name places of L ∪ E)
-        everywhere = frozenset((*scene.locations, *scene.else_samples))
-
-        def motion(mode, S, T):
-            """The motion's cost in units with every place free, the least it
-            has in any state (quantizing is monotone, so it commutes with the
-            min and max of `motion_cost`)."""
-            cost = motion_cost(costmap, mode, S, T, everywhere)
-            return INF if cost == INF else quantize(cost, r)
-
-        anchors = functools.partial(place_anchors, scene)
-
-        places = tuple(scene.locations) + (ELSE,)
-        grasps = scene.grasps
-        self.grab = quantize(scene.grab_cost, r)
-        self.drop = quantize(scene.drop_cost, r)
-        # first transit to an object standing at x (any grasp), from any
-        # start set the robot can have with an empty hand
-        self.transit = {}
-        for x in places:
-            best = INF
-            for g in grasps:
-                T = anchors(x, g)
-                starts = [scene.anchors] + [anchors(y, h) for y in places for h in grasps
-                                            if not (y == x and y != ELSE and h == g)]
-                best = min(best, min(motion(EMPTY, S, T) for S in starts))
-            self.transit[x] = best
-        # the first transit when the robot may be anywhere (hand empty, ee = Else)
-        self.from_anywhere = {x: min(motion(EMPTY, scene.anchors, anchors(x, g)) for g in grasps)
-                              for x in places}
-        # carrying o from place x to location l: the cheapest chain of
-        # transfers, with free changes of grasp at locations (a drop and a
-        # grab, not counted) and at x (the first grab picks the grasp)
-        self.carry = {}
-        for i, o in enumerate(names):
-            hop = {}
-            for g in grasps:
-                for y in places:
-                    for l in scene.locations:
-                        if l != y:
-                            hop[(y, g), l] = motion(f"{o}/{g}", anchors(y, g), (f"{l}/{g}",))
-            for x in places:
-                dist = _shortest(x, grasps, scene.locations, hop)
-                for g in grasps:
-                    for l in scene.locations:
-                        self.carry[i, (x, g), l] = dist.get((l, g), INF) if l != x else 0
-                for l in scene.locations:
-                    self.carry[i, x, l] = min(self.carry[i, (x, g), l] for g in grasps)
-        # from an empty hand aimed at (y, g), y a location: the least cost of
-        # reaching an object at Else, over transits and detours that carry the
-        # aimed object elsewhere (grab, transfers, drop) first: Dijkstra over
-        # (place, grasp)
-        self.to_else = {}
-        if pattern:
-            hop = {}
-            for y in places:
-                for g in grasps:
-                    S = anchors(y, g)
-                    for x in places:
-                        for h in grasps:
-                            if (x, h) != (y, g) or x == ELSE:
-                                hop[(y, g), (x, h)] = motion(EMPTY, S, anchors(x, h))
-                    if y != ELSE:
-                        for w in scene.locations:
-                            if w != y:
-                                c = self.grab + self.drop + min(self.carry[i, (y, g), w]
-                                                                for i in range(len(names)))
-                                hop[(y, g), (w, g)] = min(hop.get(((y, g), (w, g)), INF), c)
-            to_else = _to_else(hop)
-            self.to_else = {(y, g): to_else.get((y, g), INF) for y in scene.locations for g in grasps}
-        self.strike = self._strike() if pattern else 0
-
-    def _strike(self) -> float:
-        """What each human move can add at least (module doc): the least, over
-        the states one drop from the win (holding o over l, every other
-        location's atoms holding), of the most a move of one placed object
-        to Else makes the bound grow by."""
-        grasps = self.scene.grasps
-        locations = self.scene.locations
-        any_place = min(self.transit.values())
-        best = INF
-        for l, _ in self.groups:
-            for o in self.candidates[l]:
-                # holding o over l, the robot must put o down somewhere (y)
-                # before any transit: then go to Else at once, or via
-                # another transit first
-                to_else = min(self.carry[o, (l, g), y] + self.to_else[y, g]
-                              for g in grasps for y in locations)
-                worst = 0
-                for other, _ in self.groups:
-                    if other == l:
-                        continue
-                    standing = [c for c in self.candidates[other] if c != o]
-                    if not standing:
-                        worst = INF  # no such state
-                        break
-                    damage = INF
-                    for c1 in standing:  # the object the human takes to Else
-                        d = self.carry[c1, ELSE, other] + self.grab + to_else
-                        for c in self.candidates[other]:
-                            if c == o:  # held over l
-                                d = min(d, min(self.carry[c, (l, g), other] for g in grasps))
-                            elif c != c1:
-                                d = min(d, min(self.carry[c, x, other] for x in self.transit)
-                                        + self.grab + any_place)
-                        damage = min(damage, self.drop + d)
-                    worst = max(worst, damage)
-                best = min(best, worst)
-        return 0 if best == INF else best
-
-    def __call__(self, v: State, h: int, robot: bool) -> float:
-        """The bound at (v, h) when it is the robot's turn (`robot`) or the human's."""
-        if not self.enabled:
-            return 0
-        entry = self._cache.get(v)
-        if entry is None:
-            entry = self._cache[v] = self._compute(v)
-        value, brink = entry
-        if robot and brink:  # the robot wins with its next drop, before any strike
-            return value
-        return value + h * self.strike
-
-    def _compute(self, v: State) -> tuple[float, bool]:
-        """(L0(v), whether v is a brink: one drop from the win)."""
-        at, grip, ee = v.at, v.grip, v.ee
-        total = 0
-        missing = []
-        for l, _ in self.groups:
-            here = [i for i, a in enumerate(at) if a == l]
-            cands = self.candidates[l]
-            if here and here[0] in cands:
-                continue  # every atom at l holds
-            missing.append(l)
-            best = INF
-            for i in cands:
-                if at[i] == HAND:
-                    cost = self.drop + self.carry[i, (ee, grip), l]
-                else:
-                    aimed = isinstance(ee, tuple) and ee[0] == self.names[i]
-                    cost = (self.drop + self.carry[i, at[i], l] + self.grab
-                            + (0 if aimed else self.transit[at[i]]))
-                best = min(best, cost)
-            total += best
-            if total == INF:
-                return INF, False
-        held = v.held()
-        brink = (missing == [ee] and held is not None and held in self.candidates[ee])
-        if missing and held is None and ee == ELSE:
-            # the first action is a transit from anywhere: either the first
-            # transit to some final object (counted above from the cheapest
-            # start) or one more
-            total += min((self.from_anywhere[a] - self.transit[a] for a in at
-                          if self.transit[a] < INF), default=0)
-        return total, brink
-
-
-def _to_else(hop) -> dict:
-    """Least cost from each (place, grasp) to a transit that ends at Else,
-    with `hop`: (place, grasp) -> (place, grasp) -> cost.  One Dijkstra
-    backwards from every (Else, grasp)."""
-    into: dict = {}
-    for (a, b), c in hop.items():
-        if c < INF:
-            into.setdefault(b, []).append((a, c))
-    dist: dict = {}
-    heap = [(0, node) for node in into if node[0] == ELSE]
-    while heap:
-        d, node = heapq.heappop(heap)
-        if node in dist:
-            continue
-        dist[node] = d
-        for prev, c in into.get(node, ()):
-            if prev not in dist:
-                heapq.heappush(heap, (d + c, prev))
-    return dist
-
-
-def _shortest(x, grasps, locations, hop) -> dict:
-    """Dijkstra from (x, any grasp) over (place, grasp): hops between places
-    at `hop` cost, grasp changes free at locations."""
-    dist = {}
-    heap = [(0, x, g) for g in grasps]
-    while heap:
-        d, y, g = heapq.heappop(heap)
-        if (y, g) in dist:
-            continue
-        dist[y, g] = d
-        if y != x:
-            for h in grasps:
-                if (y, h) not in dist:
-                    heapq.heappush(heap, (d, y, h))
-        for l in locations:
-            c = hop.get(((y, g), l), INF)
-            if c < INF and (l, g) not in dist:
-                heapq.heappush(heap, (d + c, l, g))
-    return dist
 
 
 # -- the search ----------------------------------------------------------------------
@@ -528,7 +254,7 @@ class Search:
 
     def _ranked(self, i: int) -> list[tuple[float, int, str, int]]:
         """`_estimates` in increasing order (`robot_options`' order on ties)."""
-        return sorted(self._estimates(i), key=_first)
+        return sorted(self._estimates(i), key=operator.itemgetter(0))
 
     def _bellman_robot(self, i: int) -> None:
         """lo := min over actions of c + lo(after), if larger: still a lower bound."""
@@ -725,7 +451,7 @@ class Search:
                 if (left == 0) if j < 0 else not self.robot(j, left - 1):
                     break  # replies are within `left` (proven): this one is `left`
             else:
-                raise AssertionError("internal error: no reply of the value")
+                raise RuntimeError("internal error: no reply of the value")
             if action != PASS:
                 play.append(Step("human", action, 0.0, state))
             if j < 0:
@@ -768,7 +494,7 @@ class Search:
                 play.append(Step("robot" if robot else "human", action, units * r, state))
             i, robot = options[e], not robot
             if i < 0:
-                raise AssertionError("internal error: the counter play reached a win")
+                raise RuntimeError("internal error: the counter play reached a win")
         return tuple(play)
 
     def _lost(self, i: int) -> bool:
@@ -823,10 +549,6 @@ def _deep(function, *args):
 
 DEPTH = 200_000  # Python frames
 STACK = 1 << 29  # bytes of C stack for the searching thread
-
-
-def _first(x):
-    return x[0]
 
 
 class Strategy(Mapping):
