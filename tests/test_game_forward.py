@@ -103,9 +103,11 @@ def test_resolution_and_budget():
         _same(scene, 2, resolution=r)
     expected = solve_explicit(scene)
     for budget in (expected.cost_bound - 1, expected.cost_bound):
-        _, found = _same(scene, 2, budget=budget)
-        if found.realizable is False:
-            assert found.counter_play == found.principal_play
+        _same(scene, 2, budget=budget)  # realizable compared there
+    # over budget, the counter play is a play of the strategy that costs too much
+    found = solve_forward(scene, budget=expected.cost_bound - 1)
+    assert found.realizable is False
+    assert sum(s.cost for s in found.counter_play if s.who == "robot") == expected.cost_bound
 
 
 # -- special answers ------------------------------------------------------------------
@@ -229,6 +231,20 @@ def test_bound_is_admissible_on_the_family(n, m, k):
     """At every reachable position, human or robot turn, any h."""
     bound, checked = _bound_holds_everywhere(pattern_scene(n, m, k=k), k)
     assert bound.enabled and bound.strike > 0 and checked > 100
+
+
+@pytest.mark.parametrize("grasps", [("top",), ("top", "side")])
+def test_bound_is_exact_for_one_object_without_human(grasps):
+    """One block and k = 0: nothing stands in its way and nobody moves it,
+    so the value is the bound's own sum (first transit from anywhere, grab,
+    the cheapest chain of transfers, drop); a bound that is admissible but
+    weak (0, say) fails here, and the search would only get slower."""
+    for m in (2, 3, 4, 6):
+        for seed in range(3):
+            scene = pattern_scene(1, m, k=0, seed=seed, grasps=grasps)
+            formula = parse_ltlf(scene.task)
+            bound = LowerBound(GameGraph(scene, formula, 1.0), formula)
+            assert bound(initial_state(scene), 0, False) == solve_explicit(scene).units, (m, seed)
 
 
 def test_bound_is_admissible_on_random_scenes():
