@@ -328,7 +328,7 @@ def _ratio(e: Cell | None, y: Cell | None) -> str:
     return ""
 
 
-def _target_speedup(sizes, cells, solvers, solver="symbolic"):
+def _target_speedup(sizes, cells, solvers, solver):
     what = (f"(a) {solver} >= {TARGET_SPEEDUP:.0f}x faster than explicit at the largest size "
             "explicit finishes")
     if "explicit" not in solvers or solver not in solvers:
@@ -338,6 +338,8 @@ def _target_speedup(sizes, cells, solvers, solver="symbolic"):
         return "FAIL", f"{what}: explicit finished no size"
     n, m = done[-1]
     e, y = cells[("explicit", n, m)], cells.get((solver, n, m))
+    if y is not None and y.status == "n/a":
+        return "SKIP", f"{what}: {solver} not run at {n}x{m} (--limit)"
     if y is None or not y.ok:
         return "FAIL", f"{what}: at {n}x{m} explicit {e.solve_s:.2f} s, {solver} {y.status if y else 'not run'}"
     ratio = e.solve_s / y.solve_s if y.solve_s else float("inf")
@@ -345,7 +347,7 @@ def _target_speedup(sizes, cells, solvers, solver="symbolic"):
             f"{what}: at {n}x{m}, explicit {e.solve_s:.2f} s / {solver} {y.solve_s:.3f} s = {ratio:.1f}x")
 
 
-def _target_size(sizes, cells, solvers, args, solver="symbolic"):
+def _target_size(sizes, cells, solvers, args, solver):
     n, m, k = TARGET_SIZE
     what = f"(b) {n} objects x {m} locations x k={k} solved by {solver} in < {TARGET_SECONDS:.0f} s"
     if solver not in solvers or (n, m) not in sizes or args.k != k:
@@ -418,7 +420,13 @@ def main(argv=None):
                    help="run SOLVER only up to size NxM (in the order of --sizes); repeatable")
     p.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"markdown file (default {DEFAULT_OUT})")
     args = p.parse_args(argv)
+    if args.timeout is not None and not args.timeout > 0:
+        p.error(f"--timeout {args.timeout:g}: expected a positive number of seconds")
     args.timeout = args.timeout or (30.0 if args.quick else 600.0)
+    if args.k < 0:
+        p.error(f"--k {args.k}: expected a number of human moves >= 0")
+    if not args.mem_limit >= 0:
+        p.error(f"--mem-limit {args.mem_limit:g}: expected GB >= 0 (0: no limit)")
     try:
         sizes = parse_sizes(args.sizes) if args.sizes else (QUICK_SIZES if args.quick else SIZES)
     except ValueError as err:

@@ -9,7 +9,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
 
-from game_bench import main, parse_sizes  # noqa: E402
+from game_bench import Cell, _target_speedup, main, parse_sizes  # noqa: E402
 
 
 def test_sizes_parse():
@@ -29,12 +29,31 @@ def test_sizes_parse():
     (["--sizes", "3x5,4x6", "--limit", "explicit=3x5", "--limit", "explicit=4x6"],
      "explicit is already limited to 3x5"),
     (["--sizes", ","], "--sizes and --solvers must each name at least one"),
+    (["--sizes", "3x5", "--k", "-1"], "--k -1: expected a number of human moves >= 0"),
+    (["--sizes", "3x5", "--timeout", "0"], "--timeout 0: expected a positive number"),
+    (["--sizes", "3x5", "--mem-limit", "-2"], "--mem-limit -2: expected GB >= 0"),
     (["--sizes", "3x5", "--solvers", ","], "--sizes and --solvers must each name at least one"),
 ])
 def test_bad_arguments_are_usage_errors(argv, message, capsys, tmp_path):
     # --out: should the check ever go, the run it lets through must not
     # overwrite bench/results/game.md
     with pytest.raises(SystemExit) as exit_:
-        main(argv + ["--out", str(tmp_path / "game.md"), "--timeout", "5"])
+        main(["--out", str(tmp_path / "game.md"), "--timeout", "5"] + argv)  # argv has the last word
     assert exit_.value.code == 2
     assert message in capsys.readouterr().err
+
+
+def test_a_solver_limited_below_the_largest_size_is_no_failure():
+    """--limit forward=1x2: the speed-up target has no forward cell at 2x3,
+    where explicit finished last; it is skipped, as the size target is."""
+    sizes = [(1, 2), (2, 3)]
+    cells = {("explicit", 1, 2): Cell("explicit", 1, 2, 3, solve_s=1.0),
+             ("explicit", 2, 3): Cell("explicit", 2, 3, 3, solve_s=2.0),
+             ("forward", 1, 2): Cell("forward", 1, 2, 3, solve_s=0.05),
+             ("forward", 2, 3): Cell("forward", 2, 3, 3, status="n/a")}
+    status, message = _target_speedup(sizes, cells, ["explicit", "forward"], "forward")
+    assert status == "SKIP" and "forward not run at 2x3" in message
+    cells["forward", 2, 3] = Cell("forward", 2, 3, 3, solve_s=0.1)
+    assert _target_speedup(sizes, cells, ["explicit", "forward"], "forward")[0] == "PASS"  # 20x
+    cells["forward", 2, 3] = Cell("forward", 2, 3, 3, status="TO")
+    assert _target_speedup(sizes, cells, ["explicit", "forward"], "forward")[0] == "FAIL"
