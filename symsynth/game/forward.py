@@ -161,7 +161,7 @@ class Search:
                     lo_r = max(lo_r, self.lo_r[j])
                     lo_h = max(lo_h, self.lo_h[j])
             self.lo_r.append(lo_r)
-            self.lo_h.append(max(lo_h, lo_r) if h == 0 else lo_h)
+            self.lo_h.append(max(lo_h, lo_r))  # the human may pass
         return i
 
     # -- moves ------------------------------------------------------------------------
@@ -184,6 +184,14 @@ class Search:
                 -1 if node is None else self.id((node.v, node.q, node.h))
                 for _, node, _, _ in self.game.moves(Node(v, q, h, False))]
         return out
+
+    def steps(self, i: int, robot: bool) -> list[tuple[str, int, State, int]]:
+        """(action, units, state after, id after or -1 for a win) of each
+        move at i, in the order of `game.moves`: for writing plays."""
+        v, q, h = self.keys[i]
+        after = ([j for _, _, j in self.robot_options(i)] if robot else self.human_options(i))
+        return [(action, units, state, j)
+                for (action, _, units, state), j in zip(self.game.moves(Node(v, q, h, robot)), after)]
 
     # -- "val <= b?" ----------------------------------------------------------------------
     def robot(self, i: int, b: int) -> bool:
@@ -445,9 +453,7 @@ class Search:
         i, left = self.id(start), units
         while True:
             # the human's turn at i, of value `left`: the first reply of that value
-            v, q, h = self.keys[i]
-            moves = self.game.moves(Node(v, q, h, False))
-            for (action, _, _, state), j in zip(moves, self.human_options(i)):
+            for action, _, state, j in self.steps(i, robot=False):
                 if (left == 0) if j < 0 else not self.robot(j, left - 1):
                     break  # replies are within `left` (proven): this one is `left`
             else:
@@ -457,10 +463,7 @@ class Search:
             if j < 0:
                 return tuple(play)
             _, chosen = self.hi_r[j]
-            v, q, h = self.keys[j]
-            moves = self.game.moves(Node(v, q, h, True))
-            (units_a, state, i), = [(u, w, nxt) for (a, _, u, w), (_, _, nxt)
-                                    in zip(moves, self.robot_options(j)) if a == chosen]
+            (units_a, state, i), = [(u, w, nxt) for a, u, w, nxt in self.steps(j, robot=True) if a == chosen]
             play.append(Step("robot", chosen, units_a * r, state))
             if i < 0:
                 return tuple(play)
@@ -479,20 +482,17 @@ class Search:
         i, robot, seen = self.id(start), False, set()
         while (i, robot) not in seen:
             seen.add((i, robot))
-            v, q, h = self.keys[i]
-            moves = self.game.moves(Node(v, q, h, robot))
+            steps = self.steps(i, robot)
             if robot:
-                options = [j for _, _, j in self.robot_options(i)]
-                if not options:
+                if not steps:
                     break
-                e = min(range(len(moves)), key=lambda x: moves[x][2])
+                step = min(steps, key=operator.itemgetter(1))  # the first of the fewest units
             else:
-                options = self.human_options(i)
-                e = next(x for x, j in enumerate(options) if j >= 0 and self._lost(j))
-            action, _, units, state = moves[e]
+                step = next(x for x in steps if x[3] >= 0 and self._lost(x[3]))
+            action, units, state, after = step
             if action != PASS:
                 play.append(Step("robot" if robot else "human", action, units * r, state))
-            i, robot = options[e], not robot
+            i, robot = after, not robot
             if i < 0:
                 raise RuntimeError("internal error: the counter play reached a win")
         return tuple(play)
