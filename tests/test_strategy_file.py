@@ -24,7 +24,7 @@ from symsynth.game.abstraction import (State, human_moves, initial_state, letter
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solvers import SOLVERS
 from symsynth.game.strategy import (FORMAT, InconsistentStrategy, MissingPosition, read_strategy,
-                                    reachable_positions, worst_units, write_strategy)
+                                    reachable_positions, strategy_table, worst_units, write_strategy)
 from symsynth.logic import parse_ltlf
 from symsynth.scene import scene_from_data
 from test_game_explicit import PICK
@@ -136,6 +136,8 @@ def solve_and_write(tmp_path, solver, scene, task=None, **options):
     count = write_strategy(target, scene, task, solution)
     file = read_strategy(target)
     assert count == len(file.positions)
+    # what simulate uses instead of the file when it solves the game itself
+    assert file == strategy_table(scene, task, solution)
     return solution, file
 
 

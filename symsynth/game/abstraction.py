@@ -1,7 +1,7 @@
 """The game of spec/game-semantics.md §2–§5 as explicit, executable code.
 
 One abstract state at a time: which moves the robot and the human have from
-it, what they cost, and which atoms hold in it.  Both solvers are checked
+it, what they cost, and which atoms hold in it.  Every solver is checked
 against this module; it is written to be read next to the spec.
 
 Names of actions (the spec's, with the object added to `grab` and `drop`

@@ -21,8 +21,8 @@ tried largest lo first, so a failure shows early.
 
 The initial position is asked with b = lo, then with the raised lo, until
 the answer is yes: then lo = hi = E_p.  With the bound off (0, for a task
-it does not understand) that is many rounds: the bundled arch takes 17 s
-here against 1.7 s for the explicit solver.
+it does not understand) that is many rounds: on the bundled arch the
+forward solver is slower than the explicit one (README, game benchmark).
 
 Why it is exact
 ---------------
@@ -447,7 +447,7 @@ class Search:
     # -- plays ------------------------------------------------------------------------------
     def principal_play(self, start: Key, units: int) -> tuple[Step, ...]:
         """The strategy against the human's worst replies (the first reply of
-        largest value, the pass first), as the explicit solver plays it."""
+        largest value, the pass first), the rule the explicit solver plays by."""
         r = self.game.resolution
         play: list[Step] = []
         i, left = self.id(start), units

@@ -1,6 +1,6 @@
 """What a solver returns (spec §6, §8): the value, the verdict, a strategy and plays.
 
-Shared by the explicit and the symbolic solver, so their answers compare
+Shared by every solver (`game.solvers`), so their answers compare
 field by field.  Plays list robot actions and human moves; a human pass is
 not a step (between two robot steps the human passed).
 """

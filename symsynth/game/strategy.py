@@ -164,7 +164,8 @@ def worst_units(choices: Mapping[Position, Choice]) -> dict[Position, int | None
 
 @dataclass(frozen=True)
 class StrategyFile:
-    """A strategy file read back: its header and position -> action."""
+    """A strategy file's content, its header and position -> action: read
+    back (`read_strategy`) or built without the file (`strategy_table`)."""
 
     scene: str
     task: str
