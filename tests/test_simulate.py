@@ -221,6 +221,20 @@ def test_a_block_dropped_between_places_is_else_and_the_robot_plans_at_run_time(
     assert {d.kind for d in run.divergences} <= {"outside"}
 
 
+def test_a_block_moved_again_off_every_place_is_reached_by_planning_again(line):
+    """The robot, off every anchor after planning its way to a block off
+    every place, is sent to the block again once the human moved it to
+    another such pose: it plans again (it is not 'already there', which
+    would repeat the transit until the run gives up)."""
+    human = script((0, "b", Pose((0.45, 0.25, 0.0))), ("transit(b,top)", "b", Pose((0.40, -0.30, 0.0))))
+    run = line.sim.run(human, max_actions=30)
+    assert run.completed, run.reason
+    transits = [s for s in run.steps if s.action == "transit(b,top)"]
+    assert [s.source for s in transits] == ["runtime", "runtime"]
+    assert all(s.state.ee == ("b", "top") for s in transits)
+    assert {d.kind for d in run.divergences} <= {"outside"}
+
+
 def test_scripted_moves_the_world_or_k_forbid_are_refused(line):
     """Onto an occupied location (illegal) and beyond k: refused and reported."""
     human = script(*[(0, "b", "l1")] + [(i, "b", "Else") for i in range(1, 8)])

@@ -389,7 +389,7 @@ class _Episode:
                                                       self.sim.resolution)
             for message in rejected:
                 self._diverge("evidence", f"{action}: the evidence path of {message}", index)
-        if found is None and self.anchor == goal:
+        if found is None and goal is not None and self.anchor == goal:  # both None: off every anchor
             found = motions.Motion((world.config,), "none")
         if found is None:
             goal_config = self.sim.anchors.get(goal) if goal else None
