@@ -24,6 +24,7 @@ from PIL import Image
 from symsynth.cli import main
 from symsynth.cli import simulate as simulate_command
 from symsynth.errors import InputError
+from symsynth.execution import motion as motion_module
 from symsynth.execution.human import AdversarialHuman, NoHuman, RandomHuman, ScriptedHuman, read_script
 from symsynth.execution.observe import observe
 from symsynth.execution.primitives import APPROACH_STEPS
@@ -233,6 +234,22 @@ def test_a_block_moved_again_off_every_place_is_reached_by_planning_again(line):
     assert [s.source for s in transits] == ["runtime", "runtime"]
     assert all(s.state.ee == ("b", "top") for s in transits)
     assert {d.kind for d in run.divergences} <= {"outside"}
+
+
+def test_an_evidence_path_into_a_block_off_every_place_is_outside_not_a_soundness_bug(line, monkeypatch):
+    """b dropped at (0.48, 0), between l4 and the centre, on no place: the
+    rule for carrying w1 from l1 to l4 assumes no place free, so it held by
+    its own terms, but no rule can say where b is; its path through b is
+    rejected as outside the abstraction.  (Run-time planning is replaced by
+    a straight move: how the robot gets there is not the question.)"""
+    monkeypatch.setattr(motion_module, "runtime_motion",
+                        lambda world, planner, mode, goal, resolution, seed:
+                        motion_module.Motion((world.config, tuple(goal)), "runtime"))
+    run = line.sim.run(script((0, "b", Pose((0.48, 0.0, 0.0)))))
+    assert run.completed and run.sound
+    rejected = [d for d in run.divergences if "the evidence path of" in d.message]
+    assert rejected and all(d.kind == "outside" and d.message.endswith("but b stands on no place")
+                            for d in rejected)
 
 
 def test_scripted_moves_the_world_or_k_forbid_are_refused(line):

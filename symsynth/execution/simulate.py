@@ -30,7 +30,9 @@ compared with the abstraction:
   successor state;
 - `outside`: the step started where the abstraction has no motion (an
   object off every place, the robot off every anchor), so the abstract cost
-  is no bound for it;
+  is no bound for it; an evidence path rejected then is `outside` too, as
+  no rule's assumptions (which places are free) describe an object off
+  every place;
 - `contact`: a primitive's approach penetrated something other than the
   object the fingers close around.
 
@@ -387,8 +389,11 @@ class _Episode:
             free = self._free(obj)
             found, rejected = motions.evidence_motion(world, scene.costmap, mode, self.anchor, goal, free,
                                                       self.sim.resolution)
-            for message in rejected:
-                self._diverge("evidence", f"{action}: the evidence path of {message}", index)
+            for message in rejected:  # a soundness bug only where the rule describes the world
+                if outside:
+                    self._diverge("outside", f"{action}: the evidence path of {message}, but {outside}", index)
+                else:
+                    self._diverge("evidence", f"{action}: the evidence path of {message}", index)
         if found is None and goal is not None and self.anchor == goal:  # both None: off every anchor
             found = motions.Motion((world.config,), "none")
         if found is None:
