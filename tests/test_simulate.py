@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -43,6 +44,8 @@ from symsynth.scene.costmap import Costmap, Rule, write_costmap
 from symsynth.scene import load_scene
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import ELSE, HAND
+
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
 
 
 class Setup:
@@ -485,9 +488,14 @@ def test_command_records_a_gif_of_the_first_run(line_files, tmp_path, capsys):
     assert "not a writable directory" in capsys.readouterr().err
 
 
-def test_gui_without_a_display_is_one_message(line_files, capsys, monkeypatch):
+def test_gui_without_a_display_is_one_message_before_any_planning(line_files, capsys, monkeypatch):
     monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.setitem(simulate_command.SOLVERS, DEFAULT_SOLVER, lambda *a, **k: pytest.fail("solved"))
     assert main(["simulate", str(line_files), "--gui"]) == 2
+    assert "needs a display" in capsys.readouterr().err
+    # scenes/line.yaml names no costmap: none is computed either
+    monkeypatch.setattr(simulate_command, "obtain_costmap", lambda *a, **k: pytest.fail("planned"))
+    assert main(["simulate", str(SCENES / "line.yaml"), "--gui"]) == 2
     assert "needs a display" in capsys.readouterr().err
 
 

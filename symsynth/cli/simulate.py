@@ -119,10 +119,12 @@ def run(args: argparse.Namespace) -> int:
     from symsynth.execution.human import AdversarialHuman, NoHuman, RandomHuman, ScriptedHuman, read_script
     from symsynth.execution.record import Recorder
     from symsynth.execution.simulate import SLACK, Policy, Simulator
+    from symsynth.execution.world import check_display
     from symsynth.planning.registry import planner_class
 
     if args.record is not None:
         check_writable(args.record, "recording")
+    check_display(args.gui)
     scene = load_scene(args.scene)
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world to simulate")
