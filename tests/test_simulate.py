@@ -26,7 +26,8 @@ from symsynth.cli import main
 from symsynth.cli import simulate as simulate_command
 from symsynth.errors import InputError
 from symsynth.execution import motion as motion_module
-from symsynth.execution.human import AdversarialHuman, NoHuman, RandomHuman, ScriptedHuman, read_script
+from symsynth.execution.human import (AdversarialHuman, NoHuman, RandomHuman, Request, ScriptedHuman, Turn,
+                                      read_script)
 from symsynth.execution.observe import observe
 from symsynth.execution.primitives import APPROACH_STEPS
 from symsynth.execution.record import Recorder
@@ -366,6 +367,16 @@ def test_script_files_are_read_with_their_errors_located(line, tmp_path):
         odd.write_text(f"moves:\n  - {{after: 0, move: b, to: [{value}, 0.1]}}\n")
         with pytest.raises(InputError, match=f"{odd}:2: moves.0.to: expected finite numbers"):
             read_script(odd, line.scene)
+
+
+def test_a_count_written_as_a_float_comes_due(line, tmp_path):
+    """`after: 2.0` is a count (YAML reads a float, the schema takes it as
+    an integer): the move fires once two robot actions are done."""
+    path = tmp_path / "human.yaml"
+    path.write_text("moves:\n  - {after: 2.0, move: b, to: l3}\n")
+    human = read_script(path, line.scene)
+    assert human.choose(Turn(None, 1, "grab(w1)", ())) is None
+    assert human.choose(Turn(None, 2, "transfer(l4)", ())) == Request("b", "l3", 0)
 
 
 def test_a_scripted_move_that_never_comes_due_is_reported(line):

@@ -200,7 +200,11 @@ def read_script(path: str | Path, scene: Scene) -> ScriptedHuman:
             elif isinstance(to, list):
                 xyz = tuple(float(v) for v in to) + ((0.0,) if len(to) == 2 else ())
                 to = Pose(xyz)
-            after = entry["after"].replace(" ", "") if isinstance(entry["after"], str) else entry["after"]
+            after = entry["after"]
+            if isinstance(after, str):
+                after = after.replace(" ", "")
+            else:
+                after = int(after)  # the schema's integers include 1.0, which a count compares as 1
             entries.append({"after": after, "move": entry["move"], "to": to})
         if len(entries) > scene.k:
             report.add(("moves",), f"{len(entries)} moves, but the human has only k = {scene.k}; "
