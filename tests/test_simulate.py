@@ -520,15 +520,22 @@ def test_a_primitive_the_robot_cannot_carry_out_ends_the_run_with_its_reason(lin
     assert [s.source for s in run.steps] == ["evidence"]  # the transit before it went through
 
 
-def test_without_a_winning_strategy_best_effort_still_completes(paper_arch, tmp_path, capsys):
+@pytest.fixture(scope="module")
+def arch_sg_file(paper_arch, tmp_path_factory):
+    """Arch with its start-goal costmap, as files: E_p is infinite for k = 5."""
+    scene, costmaps = paper_arch
+    folder = tmp_path_factory.mktemp("arch")
+    text = open("scenes/arch.yaml").read().replace("name: ompl-fcl", "name: pybullet")
+    (folder / "arch.yaml").write_text(text + "\ncostmap: arch.costmap.json\n")
+    write_costmap(costmaps["sg"], folder / "arch.costmap.json")
+    return folder / "arch.yaml"
+
+
+def test_without_a_winning_strategy_best_effort_still_completes(arch_sg_file, capsys):
     """Arch, start-goal costmap, k = 5: E_p is infinite.  Without a human the
     best-effort robot (the explicit solver's actions with fewer human moves
     left) still builds the arch."""
-    scene, costmaps = paper_arch
-    text = open("scenes/arch.yaml").read().replace("name: ompl-fcl", "name: pybullet")
-    (tmp_path / "arch.yaml").write_text(text + "\ncostmap: arch.costmap.json\n")
-    write_costmap(costmaps["sg"], tmp_path / "arch.costmap.json")
-    path = str(tmp_path / "arch.yaml")
+    path = str(arch_sg_file)
     assert main(["simulate", path]) == 1
     assert "no strategy wins against every human" in capsys.readouterr().out
     assert main(["simulate", path, "--best-effort", "--json"]) == 0
@@ -546,3 +553,10 @@ def test_a_script_plays_from_its_first_entry_in_every_run(line_files, tmp_path, 
     assert main(["simulate", str(line_files), "--human", str(script_file), "--runs", "2", "--json"]) == 0
     runs = json.loads(capsys.readouterr().out)["runs"]
     assert [r["trace"][0]["action"] for r in runs] == ["move(w1,center)"] * 2
+
+
+def test_without_a_winning_strategy_the_adversary_is_refused(arch_sg_file, capsys):
+    """The adversary chooses by the budgets of the positions a winning
+    strategy reaches; without one it would choose at random."""
+    assert main(["simulate", str(arch_sg_file), "--best-effort", "--human", "adversarial"]) == 2
+    assert "--human adversarial: no strategy wins" in capsys.readouterr().err

@@ -49,7 +49,9 @@ Without --strategy the game is solved first, reusing the cached costmap
 is infinite or above --budget, no guarantee holds: the command says so and
 stops, unless --best-effort, which runs anyway (where the strategy has no
 action, it plays the explicit solver's action for the same state with
-fewer human moves left, as if the human had fewer moves left).
+fewer human moves left, as if the human had fewer moves left).  The
+adversary needs a winning strategy's budgets: with E_p infinite it is
+refused.
 
 Each run reports completed or not, the measured cost, E_p, the trace of
 abstract states and actions, and every divergence between the abstraction
@@ -172,6 +174,10 @@ def run(args: argparse.Namespace) -> int:
     if not guarantee and not args.best_effort:
         print(_no_guarantee(bound, args.budget) + "; add --best-effort to run anyway")
         return 1
+    if bound is None and args.human == "adversarial":  # strategy_table explores nothing then
+        raise InputError("--human adversarial: no strategy wins against every human (E_p is infinite), so "
+                         "there are no budgets for the adversary to choose its moves by; run best effort "
+                         "against none, random or a script")
     fallback = None
     if bound is None:  # a finite E_p over the budget still has its strategy everywhere it leads
         # The explicit solver's strategy covers every reachable position of
