@@ -560,3 +560,14 @@ def test_without_a_winning_strategy_the_adversary_is_refused(arch_sg_file, capsy
     strategy reaches; without one it would choose at random."""
     assert main(["simulate", str(arch_sg_file), "--best-effort", "--human", "adversarial"]) == 2
     assert "--human adversarial: no strategy wins" in capsys.readouterr().err
+
+
+def test_without_a_winning_strategy_the_explicit_solver_runs_once(arch_sg_file, capsys, monkeypatch):
+    """Its strategy is the best-effort fallback: solving again gives the same."""
+    explicit, calls = SOLVERS["explicit"], []
+    monkeypatch.setitem(simulate_command.SOLVERS, "explicit",
+                        lambda *a, **k: calls.append(a) or explicit(*a, **k))
+    assert main(["simulate", str(arch_sg_file), "--best-effort", "--solver", "explicit", "--json"]) == 0
+    run = json.loads(capsys.readouterr().out)["runs"][0]
+    assert run["completed"] and run["best_effort_actions"] == run["robot_actions"] > 0
+    assert len(calls) == 1

@@ -183,7 +183,10 @@ def run(args: argparse.Namespace) -> int:
         # The explicit solver's strategy covers every reachable position of
         # finite value, also when the initial one has none (the symbolic
         # solver stops early then).
-        fallback = SOLVERS["explicit"](scene, formula, k=scene.k).strategy
+        if args.strategy is None and args.solver == "explicit":
+            fallback = solution.strategy  # solved just now, with the same task, k and resolution
+        else:
+            fallback = SOLVERS["explicit"](scene, formula, k=scene.k).strategy
     policy = Policy(actions, budgets, bound, fallback)
     planner = planner_type(scene)
     simulator = Simulator(scene, formula, policy, planner, resolution=resolution)
