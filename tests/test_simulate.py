@@ -444,6 +444,16 @@ def test_budget_below_E_p_means_no_guarantee(line_files, capsys, line):
     assert code == 1 and "guarantee  NONE" in out and "budget 1: EXCEEDED" in out and "completed;" in out
 
 
+def test_the_guarantee_is_the_solvers_verdict(line_files, capsys, line):
+    """A budget a hair (5e-7) below E_p: solve says it is not realizable
+    (in whole units), and simulate gives no guarantee either."""
+    budget = repr(line.solution.cost_bound - 5e-7)
+    main(["solve", str(line_files), "--budget", budget, "--json"])
+    assert json.loads(capsys.readouterr().out)["realizable"] is False
+    assert main(["simulate", str(line_files), "--budget", budget]) == 1
+    assert f"No guarantee: E_p = {line.solution.cost_bound:g} exceeds the budget {budget}" in capsys.readouterr().out
+
+
 def test_strategy_file_gives_the_same_run(line_files, tmp_path, capsys):
     strategy = tmp_path / "s.json"
     assert main(["solve", str(line_files), "-o", str(strategy)]) == 0

@@ -14,6 +14,7 @@ from symsynth.cli.options import check_writable
 from symsynth.cli.solve import costmap_json, costmap_report
 from symsynth.errors import InputError
 from symsynth.game.propositions import interpret_all
+from symsynth.game.solution import verdict
 from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.game.strategy import StrategyFile, format_state, read_strategy, strategy_table
 from symsynth.logic import parse_ltlf
@@ -160,17 +161,17 @@ def run(args: argparse.Namespace) -> int:
         if args.human == "adversarial":  # it weighs its moves by the budgets of every position reached
             table = strategy_table(scene, scene.task, solution)
     if table is not None:
-        task, bound, resolution = table.task, table.cost_bound, table.resolution
+        task, bound, units, resolution = table.task, table.cost_bound, table.units, table.resolution
         actions, budgets, positions = table.positions, table.budgets, len(table.positions)
     else:
         # The solver's strategy, looked up only where a run goes (none when
         # none wins).  Unlike strategy_table's exploration, this does not
         # check up front that every reachable position has an available
         # action: a strategy that lacks one ends that run with the reason.
-        task, bound, resolution = scene.task.strip(), solution.cost_bound, solution.resolution
+        task, bound, units, resolution = scene.task.strip(), solution.cost_bound, solution.units, solution.resolution
         actions, budgets, positions = ({} if bound is None else solution.strategy), {}, None
     formula = parse_ltlf(task, source=f"{args.strategy or args.scene} (task)")
-    guarantee = bound is not None and (args.budget is None or bound <= args.budget + SLACK)
+    guarantee = bound is not None and (args.budget is None or verdict(units, resolution, args.budget))
     if not guarantee and not args.best_effort:
         print(_no_guarantee(bound, args.budget) + "; add --best-effort to run anyway")
         return 1
@@ -259,7 +260,7 @@ def _read_strategy(path: Path, scene: Scene) -> StrategyFile:
 def _no_guarantee(bound: float | None, budget: float | None) -> str:
     if bound is None:
         return "No guarantee: no strategy wins against every human (E_p is infinite)"
-    return f"No guarantee: E_p = {bound:g} exceeds the budget {budget:g}"
+    return f"No guarantee: E_p = {bound:.12g} exceeds the budget {budget:.12g}"
 
 
 def _report(scene: Scene, args: argparse.Namespace, positions: int | None, bound: float | None,
