@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from symsynth.execution.motion import CHECK, runtime_motion, steps
+from symsynth.execution.motion import CHECK, _shortcut, runtime_motion, steps
 from symsynth.planning.protocol import Contacts, Mode
 
 START, GOAL = (0.2, 0.2), (0.8, 0.2)
@@ -53,3 +53,27 @@ def test_a_blocked_straight_motion_goes_around_the_wall_on_the_roadmaps_shortest
     assert motion.radians < 2.5  # the greedy shortcut leaves no long detour
     again = runtime_motion(WallWorld(), FreePlanner(), Mode(), GOAL, RESOLUTION, seed=0)
     assert again.path == motion.path
+
+
+def test_the_shortcut_keeps_the_farthest_free_waypoint_from_each_kept_one():
+    """A hand-made path up the wall's left side, over it and down: from
+    each kept waypoint the next is the farthest one a free straight segment
+    reaches, so every kept segment is free and no kept waypoint reaches
+    any but its successor in a straight line."""
+    path = [(0.2, 0.2), (0.25, 0.4), (0.3, 0.6), (0.35, 0.75), (0.45, 0.8), (0.5, 0.85), (0.55, 0.8),
+            (0.65, 0.75), (0.7, 0.6), (0.75, 0.4), (0.8, 0.2)]
+    world = WallWorld()
+
+    def free(a, b) -> bool:
+        for q in steps((a, b), RESOLUTION / CHECK):
+            world.set_config(q)
+            if world.touching():
+                return False
+        return True
+
+    kept = _shortcut(path, free)
+    assert kept[0] == path[0] and kept[-1] == path[-1]
+    assert [path.index(q) for q in kept] == sorted(path.index(q) for q in kept)  # waypoints, in order
+    assert all(free(a, b) for a, b in zip(kept, kept[1:]))
+    assert not any(free(kept[i], kept[j]) for i in range(len(kept)) for j in range(i + 2, len(kept)))
+    assert len(kept) < len(path)

@@ -16,7 +16,6 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -46,7 +45,7 @@ from symsynth.scene import load_scene
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import ELSE, HAND
 
-SCENES = Path(__file__).resolve().parents[1] / "scenes"
+from conftest import PLANNERS, ROADMAP, SCENES
 
 
 class Setup:
@@ -103,6 +102,14 @@ def check_run(setup: Setup, run, *, exact_worst_case: bool = False, allowed=froz
             assert math.isclose(step.measured, scene.geometry.per_radian * step.radians, rel_tol=1e-9)
         elif step.source == "primitive":
             assert step.measured == (scene.grab_cost if step.action.startswith("grab") else scene.drop_cost)
+
+
+def edited(name: str, old: str, new: str) -> str:
+    """The text of `scenes/NAME.yaml` with `old` replaced by `new` (which
+    must be there: a scene rewritten since must not quietly keep `old`)."""
+    text = (SCENES / f"{name}.yaml").read_text(encoding="utf-8")
+    assert old in text, f"scenes/{name}.yaml no longer has {old!r}"
+    return text.replace(old, new)
 
 
 def script(*moves):
@@ -187,6 +194,7 @@ def test_random_humans(name, seed, request):
     setup = request.getfixturevalue(name)
     run = setup.sim.run(RandomHuman(seed, 0.5), seed)
     check_run(setup, run)
+    assert sum(s.who == "human" for s in run.steps) >= 1  # the runs above move (1 to 5 times)
 
 
 @pytest.mark.parametrize("name", ["arch", "line"])
@@ -392,7 +400,7 @@ def line_files(paper_line, tmp_path_factory):
     """The small line scene as files: scene YAML next to its costmap."""
     scene, costmaps = paper_line
     folder = tmp_path_factory.mktemp("line")
-    text = open("scenes/line.yaml").read().replace("roadmap_size: 150", "roadmap_size: 60")
+    text = edited("line", "roadmap_size: 150", f"roadmap_size: {ROADMAP}")
     (folder / "line.yaml").write_text(text + "\ncostmap: line.costmap.json\n")
     write_costmap(costmaps["recursive"], folder / "line.costmap.json")
     return folder / "line.yaml"
@@ -468,13 +476,13 @@ def test_strategy_file_gives_the_same_run(line_files, tmp_path, capsys):
 def test_a_strategy_for_another_scene_is_refused_before_any_planning(line_files, tmp_path, capsys,
                                                                       monkeypatch):
     strategy = tmp_path / "s.json"
-    assert main(["solve", "scenes/toy.yaml", "-o", str(strategy)]) == 0
+    assert main(["solve", str(SCENES / "toy.yaml"), "-o", str(strategy)]) == 0
     capsys.readouterr()
     assert main(["simulate", str(line_files), "--strategy", str(strategy)]) == 2
     assert "not a strategy for scene 'line'" in capsys.readouterr().err
     # scenes/line.yaml names no costmap: the strategy is refused before one is computed
     monkeypatch.setattr(simulate_command, "obtain_costmap", lambda *a, **k: pytest.fail("planned"))
-    assert main(["simulate", "scenes/line.yaml", "--strategy", str(strategy)]) == 2
+    assert main(["simulate", str(SCENES / "line.yaml"), "--strategy", str(strategy)]) == 2
     assert "not a strategy for scene 'line'" in capsys.readouterr().err
 
 
@@ -535,7 +543,7 @@ def arch_sg_file(paper_arch, tmp_path_factory):
     """Arch with its start-goal costmap, as files: E_p is infinite for k = 5."""
     scene, costmaps = paper_arch
     folder = tmp_path_factory.mktemp("arch")
-    text = open("scenes/arch.yaml").read().replace("name: ompl-fcl", "name: pybullet")
+    text = edited("arch", "name: ompl-fcl", f"name: {PLANNERS['arch']}")
     (folder / "arch.yaml").write_text(text + "\ncostmap: arch.costmap.json\n")
     write_costmap(costmaps["sg"], folder / "arch.costmap.json")
     return folder / "arch.yaml"
