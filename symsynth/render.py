@@ -7,7 +7,7 @@ pose), and every place is marked by a thin square on the table, green for a
 location of interest and orange for an Else sample, labelled with its name
 (the label's box lies above and to the right of the place, so the place
 itself stays visible).  An object is coloured by its first tag that names a
-colour in `COLOURS`, else by a palette in object order.
+colour in `execution.world.COLOURS`, else by a palette in object order.
 
 The camera looks at the centre of the places from the front-right, far
 enough to see the robot; `render_scene` returns it (`Camera`) so that a

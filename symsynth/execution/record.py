@@ -15,7 +15,7 @@ from PIL import Image, ImageDraw, ImageFont
 
 from symsynth.errors import InputError
 from symsynth.execution.world import SimWorld
-from symsynth.render import Camera, default_camera, label_places, snapshot
+from symsynth.render import default_camera, label_places, snapshot
 
 CAMERA_DISTANCE = 1.3  # metres: closer than the scene picture's, the robot at work fills the frame
 STRIDE = 0.25  # radians between frames along a motion
@@ -24,11 +24,10 @@ HOLD_MS = 600  # ... the frames after a human move and the last one
 
 
 class Recorder:
-    def __init__(self, world: SimWorld, path: Path, *, width: int = 480, height: int = 360,
-                 camera: Camera | None = None) -> None:
+    def __init__(self, world: SimWorld, path: Path, *, width: int = 480, height: int = 360) -> None:
         self.world = world
         self.path = Path(path)
-        self.camera = camera or default_camera(world.scene, width, height, distance=CAMERA_DISTANCE)
+        self.camera = default_camera(world.scene, width, height, distance=CAMERA_DISTANCE)
         self.frames: list[Image.Image] = []
         self.durations: list[int] = []
 

@@ -121,9 +121,8 @@ class SimWorld:
         self.held, self.grasp = name, grasp
         self.set_config(self.config)
 
-    def detach(self) -> str:
-        name, self.held, self.grasp = self.held, None, None
-        return name
+    def detach(self) -> None:
+        self.held, self.grasp = None, None
 
     def blocked(self, name: str, pose: Pose) -> set[str]:
         """What object `name` would penetrate at `pose`: other objects, the
