@@ -208,7 +208,7 @@ def run(args: argparse.Namespace) -> int:
         elif args.human == "adversarial":
             human = AdversarialHuman(seed, policy.budget)
         else:
-            human = ScriptedHuman(script.entries, script.source)  # from its first entry
+            human = ScriptedHuman(script.entries)  # from its first entry
         record = recorder if args.record is not None and i == 0 else None
         runs.append(simulator.run(human, seed, recorder=record, gui=args.gui))
     bar.close()

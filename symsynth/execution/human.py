@@ -124,9 +124,8 @@ class ScriptedHuman:
 
     name = "script"
 
-    def __init__(self, entries: Sequence[dict[str, Any]], source: str = "script") -> None:
+    def __init__(self, entries: Sequence[dict[str, Any]]) -> None:
         self.entries = list(entries)
-        self.source = source
         self.next = 0
 
     def choose(self, turn: Turn) -> Request | None:
@@ -140,9 +139,9 @@ class ScriptedHuman:
         self.next += 1
         return Request(entry["move"], entry["to"], self.next - 1)
 
-    @property
-    def pending(self) -> list[dict[str, Any]]:
-        return self.entries[self.next:]
+    def unfired(self) -> list[tuple[int, dict[str, Any]]]:
+        """The entries that have not fired, numbered from 1 as in the script."""
+        return list(enumerate(self.entries[self.next:], start=self.next + 1))
 
 
 # -- script files --------------------------------------------------------------
@@ -210,7 +209,7 @@ def read_script(path: str | Path, scene: Scene) -> ScriptedHuman:
             report.add(("moves",), f"{len(entries)} moves, but the human has only k = {scene.k}; "
                        "the moves beyond k would be refused")
     report.raise_if_any()
-    return ScriptedHuman(entries, str(path))
+    return ScriptedHuman(entries)
 
 
 def _action_names(scene: Scene) -> Callable[[str], bool]:

@@ -50,7 +50,7 @@ from typing import Any
 from symsynth.errors import SymsynthError
 from symsynth.execution import motion as motions
 from symsynth.execution import primitives
-from symsynth.execution.human import Human, Option, Request, Turn
+from symsynth.execution.human import Human, Option, Request, ScriptedHuman, Turn
 from symsynth.execution.observe import observe, place_at
 from symsynth.execution.record import STRIDE, Recorder
 from symsynth.execution.world import SimWorld
@@ -256,8 +256,8 @@ class _Episode:
 
     def _end(self, completed: bool, reason: str) -> Run:
         self.run.completed, self.run.reason = completed, reason
-        first = getattr(self.human, "next", 0) + 1  # a script's moves that never came due
-        for n, entry in enumerate(getattr(self.human, "pending", ()), start=first):
+        unfired = self.human.unfired() if isinstance(self.human, ScriptedHuman) else ()
+        for n, entry in unfired:  # a script's moves that never came due
             self.run.refused.append(f"script move {n} ({entry['move']} to {_where(entry['to'])}): "
                                     f"never came due (after {entry['after']})")
         self._frame(("done: " if completed else "stopped: ") + reason, hold=True)
@@ -465,6 +465,6 @@ def _parse(action: str) -> tuple[str, list[str]]:
     return match.group(1), match.group(2).split(",")
 
 
-def _where(to) -> str:
-    return f"({', '.join(f'{v:g}' for v in to.xyz)})" if isinstance(to, Pose) else to
+def _where(to: str | Pose) -> str:
+    return point_text(to.xyz) if isinstance(to, Pose) else to
 
