@@ -195,7 +195,7 @@ class Simulator:
         self.anchors = anchor_configs(planner, scene)
         self.approaches = primitives.Approaches(planner)  # grab and drop paths, shared by the runs
         self.per_radian = scene.geometry.per_radian
-        self.resolution = scene.geometry.planner.resolution
+        self.planner_step = scene.geometry.planner.resolution  # radians; `resolution` quantizes costs
 
     def run(self, human: Human, seed: int = 0, *, recorder: Callable[[SimWorld], Recorder] | None = None,
             gui: bool = False, max_actions: int = MAX_ACTIONS) -> Run:
@@ -388,7 +388,7 @@ class _Episode:
         if self.anchor is not None and goal is not None:
             free = self._free(obj)
             found, rejected = motions.evidence_motion(world, scene.costmap, mode, self.anchor, goal, free,
-                                                      self.sim.resolution)
+                                                      self.sim.planner_step)
             for message in rejected:  # a soundness bug only where the rule describes the world
                 if outside:
                     self._diverge("outside", f"{action}: the evidence path of {message}, but {outside}", index)
@@ -405,7 +405,7 @@ class _Episode:
                                        f"{point_text(target.xyz)}")
             try:
                 found = motions.runtime_motion(world, self.sim.planner, mode, tuple(goal_config),
-                                               self.sim.resolution, self.seed + self.actions)
+                                               self.sim.planner_step, self.seed + self.actions)
             except motions.MotionFailed as error:
                 raise ActionFailed(str(error)) from None
         measured = self.sim.per_radian * found.radians
