@@ -86,6 +86,7 @@ class SimWorld:
             self._body(mark, pose @ Pose((0.0, 0.0, 0.0005)), colour, collision=False)
         self.held: str | None = None
         self.grasp: str | None = None
+        self._in_hand = self._centre = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))  # (xyz, quat), set by attach
         self.config: tuple[float, ...] = ()
         self.set_config(geometry.robot.home)
 
@@ -101,8 +102,12 @@ class SimWorld:
                                 f"{len(self.joints)} controlled joints")
         self.client.resetJointStatesMultiDof(self.robot, self.joints, [[v] for v in config])
         self.config = config
-        if self.held is not None:
-            self._place_body(self.held, self.ee_pose() @ self.geometry.grasps[self.grasp].pose.inverse())
+        if self.held is not None:  # pybullet's transform product: Pose's (numpy) cost more than the rest
+            ee = self.ee_pose()
+            xyz, quat = self.client.multiplyTransforms(ee.xyz, ee.quat, *self._in_hand)
+            self.poses[self.held] = Pose(tuple(xyz), tuple(quat))
+            centre = self.client.multiplyTransforms(xyz, quat, *self._centre)
+            self.client.resetBasePositionAndOrientation(self.bodies[self.held], *centre)
 
     def ee_pose(self) -> Pose:
         """The end-effector link frame (the URDF frame) in the world."""
@@ -119,6 +124,10 @@ class SimWorld:
 
     def attach(self, name: str, grasp: str) -> None:
         self.held, self.grasp = name, grasp
+        in_hand = self.geometry.grasps[grasp].pose.inverse()  # the object's frame in the hand's
+        centre = self.geometry.shapes[name].centre_offset()
+        self._in_hand = (in_hand.xyz, in_hand.quat)
+        self._centre = (centre.xyz, centre.quat)
         self.set_config(self.config)
 
     def detach(self) -> None:
