@@ -24,7 +24,7 @@ class WallWorld:
     def set_config(self, config) -> None:
         self.config = tuple(float(v) for v in config)
 
-    def touching(self) -> set[str]:
+    def touching(self, obstacles: bool = True) -> set[str]:  # the wall is an object: always checked
         x, y = self.config
         return {"wall"} if 0.45 < x < 0.55 and y < 0.7 else set()
 

@@ -109,9 +109,9 @@ def runtime_motion(world: SimWorld, planner: Planner, mode: Mode, goal: Config, 
     """A path from the robot's configuration to `goal` in the current world."""
     start = world.config
 
-    def valid(q) -> bool:
+    def valid(q) -> bool:  # the world for the objects where they stand, the planner for the rest
         world.set_config(q)
-        return not world.touching() and not planner.contacts(mode, tuple(q)).static
+        return not world.touching(obstacles=False) and not planner.contacts(mode, tuple(q)).static
 
     def free(a, b) -> bool:
         return all(valid(q) for q in steps((a, b), resolution / CHECK))

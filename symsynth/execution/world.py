@@ -142,21 +142,22 @@ class SimWorld:
         self._place_body(name, before)
         return hits
 
-    def touching(self, ignore: Iterable[str] = ()) -> set[str]:
+    def touching(self, ignore: Iterable[str] = (), *, obstacles: bool = True) -> set[str]:
         """What the robot and the held object penetrate at the current
         configuration: object names, obstacle names; `ignore` leaves
-        objects out (the one the fingers close around)."""
+        objects out (the one the fingers close around), `obstacles=False`
+        the static obstacles (for a caller that asks the planner about them)."""
         ignore = set(ignore) | ({self.held} if self.held else set())
         found = set()
         for name, body in self.bodies.items():
             if name not in ignore and self._penetrates(self.robot, body):
                 found.add(name)
-        for body, name in self.obstacles.items():
+        for body, name in self.obstacles.items() if obstacles else ():
             if any(c[3] != -1 and c[8] < -PENETRATION
                    for c in self.client.getClosestPoints(self.robot, body, 0.0)):
                 found.add(name)
         if self.held is not None:
-            found |= self._hits(self.bodies[self.held], ignore=ignore, robot=False)
+            found |= self._hits(self.bodies[self.held], ignore=ignore, robot=False, obstacles=obstacles)
         return found
 
     # -- helpers --------------------------------------------------------------
@@ -177,10 +178,11 @@ class SimWorld:
         raise SymsynthError(f"object {name!r} starts at {ELSE} without a pose, and every Else sample "
                             "is taken: give it one (xyz)")
 
-    def _hits(self, body: int, ignore: set[str], robot: bool = True) -> set[str]:
+    def _hits(self, body: int, ignore: set[str], robot: bool = True, obstacles: bool = True) -> set[str]:
         found = {name for name, other in self.bodies.items()
                  if name not in ignore and other != body and self._penetrates(body, other)}
-        found |= {name for other, name in self.obstacles.items() if self._penetrates(body, other)}
+        if obstacles:
+            found |= {name for other, name in self.obstacles.items() if self._penetrates(body, other)}
         if robot and self._penetrates(body, self.robot):
             found.add("robot")
         return found
