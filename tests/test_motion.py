@@ -37,6 +37,9 @@ class FreePlanner:
     def contacts(self, mode: Mode, config) -> Contacts:
         return Contacts()
 
+    def motion_contacts(self, mode: Mode, start, goal, resolution: float) -> Contacts:
+        return Contacts()
+
 
 def test_a_blocked_straight_motion_goes_around_the_wall_on_the_roadmaps_shortest_path():
     world = WallWorld()

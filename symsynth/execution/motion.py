@@ -15,7 +15,9 @@ evidence path was rejected): first the straight joint-space segment; else
 a roadmap grown by the shared OMPL PRM builder (`planning/prm.py`) in the
 current world -- a configuration is valid when the planner finds no
 self- or static collision and the world finds no penetration of an object
-where it really stands -- searched for its shortest start-goal path, which
+where it really stands; a segment asks the planner once for all its steps
+(`motion_contacts`, which a planner may batch), then the world step by
+step -- searched for its shortest start-goal path, which
 is then shortened greedily (from each waypoint, straight to the farthest
 later one the segment to which is free).  Everything is seeded, nothing is
 timed, so the same run gives the same path.  The roadmap grows from
@@ -113,8 +115,14 @@ def runtime_motion(world: SimWorld, planner: Planner, mode: Mode, goal: Config, 
         world.set_config(q)
         return not world.touching(obstacles=False) and not planner.contacts(mode, tuple(q)).static
 
-    def free(a, b) -> bool:
-        return all(valid(q) for q in steps((a, b), resolution / CHECK))
+    def free(a, b) -> bool:  # the planner's question for the whole segment at once (batched)
+        if planner.motion_contacts(mode, tuple(a), tuple(b), resolution / CHECK).static:
+            return False
+        for q in steps((a, b), resolution / CHECK):
+            world.set_config(q)
+            if world.touching(obstacles=False):
+                return False
+        return True
 
     try:
         if tuple(start) == tuple(goal):
