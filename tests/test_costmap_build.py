@@ -109,12 +109,39 @@ def test_every_evidence_path_verifies_and_a_tampered_one_fails():
     reasons = sorted(f.reason for f in failures)
     assert any("touches P" in r for r in reasons)
     assert any(r.startswith("cost ") for r in reasons)
-    # a path that starts on P itself and goes straight up to l1: it still touches P
+    # a path that starts on P itself and goes straight up to l1: not from the anchor, and it still touches P
     path = ((0.5, 0.3), (0.5, 0.4), (0.5, 0.5))
     inside = dataclasses.replace(rule, free=frozenset(), path=path,
                                  cost=scene.geometry.per_radian * path_length(path))
     _, failures = verify_costmap(Costmap({key: (inside,)}), scene, planner, 0.005, progress=False)
-    assert [f.reason for f in failures] == ["touches P, which the rule assumes may be occupied"]
+    assert [f.reason for f in failures] == ["starts at (0.500, 0.300), not at anchor l2/top (0.800, 0.100)",
+                                            "touches P, which the rule assumes may be occupied"]
+
+
+def test_a_path_that_does_not_join_the_anchors_fails():
+    """Holding b from l2/top (0.8, 0.1) to l1/top (0.5, 0.5) needs P free; a
+    short path elsewhere, touching nothing, at its own cost, proves nothing."""
+    scene = gap_scene()
+    planner = PlanarPlanner(scene)
+    key = ("b/top", "l2/top", "l1/top")
+    rule, = build(scene, "recursive").motions[key]
+
+    def priced(path):
+        return dataclasses.replace(rule, free=frozenset(), path=path,
+                                   cost=scene.geometry.per_radian * path_length(path))
+
+    elsewhere = priced(((0.1, 0.1), (0.15, 0.1)))
+    _, failures = verify_costmap(Costmap({key: (elsewhere,)}), scene, planner, 0.005, progress=False)
+    assert [f.reason for f in failures] == ["starts at (0.100, 0.100), not at anchor l2/top (0.800, 0.100)",
+                                            "ends at (0.150, 0.100), not at anchor l1/top (0.500, 0.500)"]
+    # the built path with only its ends moved 1 cm (still clear of everything): both ends fail, nothing else
+    shifted = [tuple(q) for q in rule.path]
+    shifted[0], shifted[-1] = (0.81, 0.1), (0.5, 0.51)
+    moved = dataclasses.replace(rule, path=tuple(shifted),
+                                cost=scene.geometry.per_radian * path_length(shifted))
+    _, failures = verify_costmap(Costmap({key: (moved,)}), scene, planner, 0.005, progress=False)
+    assert [f.reason for f in failures] == ["starts at (0.810, 0.100), not at anchor l2/top (0.800, 0.100)",
+                                            "ends at (0.500, 0.510), not at anchor l1/top (0.500, 0.500)"]
 
 
 def test_motions_follow_the_spec():

@@ -1,11 +1,22 @@
 """Re-check a costmap's evidence paths (`symsynth costmap verify`).
 
-A rule `(F, c, path)` of a motion claims: with every place outside `F`
-occupied (except the places the motion's `never` set says cannot be), the
-robot can follow `path`, and it costs `c`.  Each path is checked again, at
-a finer resolution than the one it was built with, against the static
-obstacles and exactly those location obstacles; its cost is recomputed.  A
-failure is a bug in a planner or in the costmap algorithms.
+A rule `(F, c, path)` of a motion from anchor `s` to anchor `t` claims: with
+every place outside `F` occupied (except the places the motion's `never` set
+says cannot be, as `build.physical_queries` gives them), the robot can
+follow `path` from `s`'s configuration to `t`'s, and it costs `c`.  Each
+path's end points are compared with the anchors' configurations, the path
+is checked again, at a finer resolution than the one it was built with,
+against the static obstacles and exactly those location obstacles, and its
+cost is recomputed.  A failure is a bug in a planner or in the costmap
+algorithms.
+
+The anchors' configurations are the verifying planner's inverse kinematics
+solutions (`anchor_configs`), so a costmap must be verified with the
+planner that built it: another planner's solutions for the same poses
+differ, and every rule would fail its end points.  (Comparing end-effector
+poses instead would need forward kinematics, which the `Planner` protocol
+does not have, and a check that all paths through an anchor use one
+configuration there, since the robot's motions chain at anchors.)
 """
 
 from __future__ import annotations
@@ -17,10 +28,16 @@ from dataclasses import dataclass
 import numpy as np
 from tqdm import tqdm
 
-from symsynth.planning.anchors import anchor_configs, motions
+from symsynth.planning.anchors import anchor_configs
+from symsynth.planning.build import mode_anchors, physical_queries
+from symsynth.planning.costmaps import Query
 from symsynth.planning.protocol import Mode, Planner
 from symsynth.scene.costmap import Costmap
+from symsynth.scene.geometry import point_text
 from symsynth.scene.model import Scene
+
+#: How far (radians, per joint) a path's end may be from its anchor's configuration.
+ANCHOR_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -43,16 +60,13 @@ def path_length(path) -> float:
 def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution: float,
                    progress: bool = True) -> tuple[int, list[Failure]]:
     """(rules checked, failures).  `resolution` is the step along each path
-    (the command passes a quarter of the scene's planner resolution)."""
-    queries = {}
-    for mode_name in scene.modes:
-        for query in motions(scene, Mode.parse(mode_name)):
-            queries[(mode_name, query.start, query.goal)] = query
+    (the command passes a quarter of the scene's planner resolution);
+    `planner` must be the one that built the costmap (module doc)."""
     places = frozenset(scene.locations + scene.else_samples)
     per_radian = scene.geometry.per_radian
     failures: list[Failure] = []
     configs = anchor_configs(planner, scene)
-    at_start: dict[tuple[str, str], frozenset[str]] = {}
+    queries: dict[str, dict[tuple[str, str], Query]] = {}  # mode -> (start, goal) -> query, as built
     checked = 0
     items = [(key, i, rule) for key, rules in costmap.motions.items() for i, rule in enumerate(rules)]
     for (mode_name, start, goal), i, rule in tqdm(items, desc="verify", unit="rule", disable=not progress,
@@ -60,23 +74,28 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
         fail: Callable[[str], None] = lambda reason: failures.append(  # noqa: E731
             Failure(mode_name, start, goal, i, reason))
         checked += 1
-        query = queries.get((mode_name, start, goal))
+        if mode_name not in scene.modes:
+            fail("not a motion of this scene")
+            continue
+        mode = Mode.parse(mode_name)
+        if mode_name not in queries:
+            anchors = mode_anchors(planner, mode, configs)
+            queries[mode_name] = {(q.start, q.goal): q for q in physical_queries(
+                scene, mode, {name: touched for name, (_, touched) in anchors.items()})}
+        query = queries[mode_name].get((start, goal))
         if query is None:
             fail("not a motion of this scene")
             continue
         if rule.path is None or len(rule.path) == 0:
             fail("no evidence path")
             continue
+        for end, point, anchor in (("starts", rule.path[0], start), ("ends", rule.path[-1], goal)):
+            if not _same_config(point, configs[anchor]):
+                fail(f"{end} at {point_text(point)}, not at anchor {anchor} {point_text(configs[anchor])}")
         if not math.isclose(rule.cost, per_radian * path_length(rule.path), rel_tol=1e-9, abs_tol=1e-9):
             fail(f"cost {rule.cost} but the path is {path_length(rule.path):.6f} rad "
                  f"x {per_radian} per radian = {per_radian * path_length(rule.path):.6f}")
-        mode = Mode.parse(mode_name)
-        # what the start anchor's configuration touches cannot be occupied
-        # (build.physical_queries); the anchor's, not the path's first point,
-        # which the costmap file could put anywhere
-        if (mode_name, start) not in at_start:
-            at_start[mode_name, start] = planner.contacts(mode, configs[start]).locations
-        allowed = rule.free | query.never | at_start[mode_name, start]
+        allowed = rule.free | query.never
         for a, b in zip(rule.path, rule.path[1:] or rule.path):
             contacts = planner.motion_contacts(mode, tuple(a), tuple(b), resolution)
             if contacts.static:
@@ -87,3 +106,8 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
                 fail(f"touches {', '.join(sorted(touched))}, which the rule assumes may be occupied")
                 break
     return checked, failures
+
+
+def _same_config(a, b) -> bool:
+    """Equal up to rounding (the path's ends are the roadmap's anchor vertices)."""
+    return len(a) == len(b) and bool(np.allclose(a, b, rtol=0.0, atol=ANCHOR_TOLERANCE))
