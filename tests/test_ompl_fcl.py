@@ -511,6 +511,12 @@ def test_unconnectable_anchors_with_a_time_limit_are_named_after_three_times_the
         build_roadmap(LIMITS, wall_free, clear_of_wall, {"ok": (0.1, 0.1)}, 5, 0, STEP, seconds=0.0)
 
 
+def test_a_resolution_that_is_not_a_positive_number_is_a_planner_error():
+    for resolution in (0.0, -1.0, float("nan")):
+        with pytest.raises(PlannerError, match="resolution > 0"):
+            build_roadmap(LIMITS, wall_free, clear_of_wall, {"ok": (0.1, 0.1)}, 5, 0, resolution)
+
+
 def test_unconnectable_anchors_are_named():
     """A wall from bottom to top: the west anchors can never reach the east
     side, where most of the square is."""

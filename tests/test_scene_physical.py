@@ -166,6 +166,39 @@ def test_physical_problems_name_file_line_and_key(tmp_path, edit, expected):
     assert expected in problems(tmp_path, BASE.replace(old, new))
 
 
+@pytest.mark.parametrize("edit, expected", [
+    # an endless roadmap growth, an OMPL traceback, a robot nowhere
+    (("roadmap_size: 50,", "seconds: .inf,"),
+     "scene.yaml:19: planner.seconds: expected a finite number, found .inf"),
+    (("resolution: 0.1", "resolution: .nan"),
+     "scene.yaml:19: planner.resolution: expected a finite number, found .nan"),
+    (("robot: {}", "robot: {home: [0, .nan, 0, -2.356, 0, 1.571, 0.785]}"),
+     "scene.yaml:2: robot.home.1: expected a finite number, found .nan"),
+    (("l1: {xyz: [0.5, 0.1, 0]}", "l1: {xyz: [0.5, -.inf, 0]}"),
+     "scene.yaml:10: locations.l1.xyz.1: expected a finite number, found -.inf"),
+    (("costs: {per_radian: 10, grab: 4, drop: 6}", "costs: {per_radian: 10, grab: .inf, drop: 6}"),
+     "scene.yaml:18: costs.grab: expected a finite number, found .inf"),
+])
+def test_numbers_that_are_not_finite_are_reported(tmp_path, edit, expected):
+    old, new = edit
+    assert old in BASE
+    found = problems(tmp_path, BASE.replace(old, new))
+    assert expected in found and "1 problem in the scene" in found
+
+
+def test_a_number_the_schema_refuses_is_reported_once(tmp_path):
+    found = problems(tmp_path, BASE.replace("roadmap_size: 50, resolution: 0.1",
+                                            "roadmap_size: .inf, resolution: .nan"))
+    assert "2 problems in the scene" in found
+    assert "planner.roadmap_size: expected integer, found inf" in found
+    assert "planner.resolution: expected a finite number, found .nan" in found
+
+
+def test_an_abstract_scene_with_an_infinite_cost_is_reported(tmp_path):
+    text = "name: a\nobjects: {w: {at: l1}}\nlocations: [l1]\nprimitives: {grab: .inf}\n"
+    assert "scene.yaml:4: primitives.grab: expected a finite number, found .inf" in problems(tmp_path, text)
+
+
 def test_missing_mesh_file_is_reported(tmp_path):
     text = BASE.replace("box: [0.04, 0.16, 0.06]", "mesh: {file: meshes/lintel.obj}")
     assert "objects.b.mesh.file: mesh file" in problems(tmp_path, text)

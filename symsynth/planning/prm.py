@@ -73,7 +73,7 @@ def build_roadmap(limits: np.ndarray, valid: Validity, motion_valid: MotionValid
     limits = np.asarray(limits, dtype=float)
     if limits.ndim != 2 or limits.shape[1] != 2 or np.any(limits[:, 0] > limits[:, 1]):
         raise PlannerError(f"joint limits must be (d, 2) with lower <= upper, got {limits.tolist()}")
-    if size < 1 or resolution <= 0:
+    if not (size >= 1 and resolution > 0):  # written so that NaN fails too
         raise PlannerError(f"roadmap size must be >= 1 and resolution > 0, got {size} and {resolution}")
     if seconds is not None and not seconds > 0:
         raise PlannerError(f"a roadmap time limit must be positive, got {seconds} s")

@@ -1,15 +1,18 @@
 """Load and validate a scene file (YAML, spec §7).
 
-Validation is a JSON Schema for the shape, then checks of meaning (names
-that must exist, one object per location, the task's atoms).  Every problem
-is collected and reported at once as `file:line: key.path: what was
-expected`; nothing here raises a traceback for bad input.
+Validation is a JSON Schema for the shape, every number finite (YAML has
+.inf and .nan), then checks of meaning (names that must exist, one object
+per location, the task's atoms).  Every problem is collected and reported
+at once as `file:line: key.path: what was expected`; nothing here raises a
+traceback for bad input.
 """
 
 from __future__ import annotations
 
 import copy
 import dataclasses
+import math
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -105,9 +108,16 @@ def scene_from_data(data: Any, source: Path | None = None,
         report.raise_if_any()
     is_physical = "robot" in data
     schema = PHYSICAL_SCHEMA if is_physical else SCHEMA
+    flagged = set()
     for error in sorted(jsonschema.Draft202012Validator(schema).iter_errors(data),
                         key=lambda e: list(map(str, e.absolute_path))):
         report.add(tuple(error.absolute_path), _schema_message(error, is_physical))
+        flagged.add(tuple(error.absolute_path))
+    # JSON Schema's bounds let YAML's .inf and .nan through (nan > 0 is false,
+    # so is nan <= 0); the costmap, a format of its own, checks its numbers itself
+    for where, value in _non_finite({key: v for key, v in data.items() if key != "costmap"}):
+        if where not in flagged:
+            report.add(where, f"expected a finite number, found {_yaml_float(value)}")
     report.raise_if_any()
     if "costs" in data and "primitives" in data:
         report.add(("primitives",), "give grab and drop costs either in costs or in primitives, not both")
@@ -156,6 +166,23 @@ def scene_from_data(data: Any, source: Path | None = None,
     report.raise_if_any()
     checks.raise_if_any()
     return dataclasses.replace(scene, costmap=loaded)
+
+
+def _non_finite(data: Any, path: KeyPath = ()) -> Iterator[tuple[KeyPath, float]]:
+    """The key path and value of every float in `data` that is not finite."""
+    if isinstance(data, float) and not math.isfinite(data):
+        yield path, data
+    elif isinstance(data, dict):
+        for key, value in data.items():
+            yield from _non_finite(value, path + (key,))
+    elif isinstance(data, list):
+        for i, value in enumerate(data):
+            yield from _non_finite(value, path + (i,))
+
+
+def _yaml_float(value: float) -> str:
+    """A non-finite float as YAML writes it (.inf, -.inf, .nan)."""
+    return ".nan" if math.isnan(value) else ("-.inf" if value < 0 else ".inf")
 
 
 def _check_task(scene: Scene, report: Report) -> None:

@@ -37,7 +37,6 @@ cache key, so a costmap cached with one limit is not reused for another
 
 from __future__ import annotations
 
-import math
 import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 from typing import Any, Protocol
@@ -236,8 +235,6 @@ def _robot(spec: dict[str, Any], base: Path, report: Report) -> Robot | None:
     if len(home) != len(joints):
         report.add(("robot", "home"), f"expected {len(joints)} joint values ({', '.join(joints)}), "
                    f"found {len(home)}")
-    if not all(math.isfinite(v) for v in home):
-        report.add(("robot", "home"), "joint values must be finite")
     return Robot(urdf=urdf, base=pose_of(spec.get("base", {})), home=home, ee_link=ee_link or "",
                  joints=joints, fixed=tuple(sorted(fixed.items())))
 
