@@ -12,7 +12,7 @@ import contextlib
 import ctypes
 import os
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 from symsynth.errors import SymsynthError
@@ -59,6 +59,12 @@ def client(gui: bool = False) -> bullet_client.BulletClient:
 
 # -- symsynth shapes as PyBullet shapes (frames as pybullet wants: centred) -------------
 
+#: The mesh files pybullet's shapes read, by extension (trimesh reads more, .ply
+#: and .glb among them: pybullet refuses those collision shapes, and makes an
+#: empty visual shape of them without a word).
+MESH_SUFFIXES = (".obj", ".stl")
+
+
 def collision_shape(client, shape: Shape, *, concave: bool = False) -> int:
     """A pybullet collision shape id for `shape`, centred as pybullet wants."""
     if shape.kind == "box":
@@ -67,11 +73,8 @@ def collision_shape(client, shape: Shape, *, concave: bool = False) -> int:
         return client.createCollisionShape(pybullet.GEOM_CYLINDER, radius=shape.radius, height=shape.height)
     if shape.kind == "mesh" and shape.mesh is not None:
         flags = pybullet.GEOM_FORCE_CONCAVE_TRIMESH if concave else 0
-        shape_id = client.createCollisionShape(pybullet.GEOM_MESH, fileName=str(shape.mesh),
-                                               meshScale=[shape.scale] * 3, flags=flags)
-        if shape_id < 0:
-            raise SymsynthError(f"pybullet could not load the mesh {shape.mesh}")
-        return shape_id
+        return _mesh(shape, lambda: client.createCollisionShape(pybullet.GEOM_MESH, fileName=str(shape.mesh),
+                                                                meshScale=[shape.scale] * 3, flags=flags))
     raise SymsynthError(f"unknown shape kind {shape.kind!r} (expected box, cylinder or mesh)")
 
 
@@ -83,8 +86,22 @@ def visual_shape(client, shape: Shape, colour: tuple[float, float, float, float]
     if shape.kind == "cylinder":
         return client.createVisualShape(pybullet.GEOM_CYLINDER, radius=shape.radius, length=shape.height,
                                         rgbaColor=colour)
-    return client.createVisualShape(pybullet.GEOM_MESH, fileName=str(shape.mesh),
-                                    meshScale=[shape.scale] * 3, rgbaColor=colour)
+    return _mesh(shape, lambda: client.createVisualShape(pybullet.GEOM_MESH, fileName=str(shape.mesh),
+                                                         meshScale=[shape.scale] * 3, rgbaColor=colour))
+
+
+def _mesh(shape: Shape, create: Callable[[], int]) -> int:
+    """`create()`, a pybullet shape of the mesh file of `shape`; a file
+    pybullet cannot read is a `SymsynthError` naming it (pybullet raises
+    its own bare "createCollisionShape failed.")."""
+    path = shape.mesh
+    if path.suffix.lower() not in MESH_SUFFIXES:
+        raise SymsynthError(f"pybullet cannot read the mesh {path}: it reads {' and '.join(MESH_SUFFIXES)} "
+                            "files only; convert it (trimesh.load(file).export('mesh.obj'))")
+    try:
+        return create()
+    except pybullet.error as problem:
+        raise SymsynthError(f"pybullet could not load the mesh {path}: {problem}") from None
 
 
 # -- the robot ---------------------------------------------------------------------
@@ -114,10 +131,11 @@ def load_robot(client, robot: Robot, *, flags: int = 0,
     joint not named in `fixed`; the fixed ones are set to their value and
     every other movable joint to 0.  Problems raise `error` naming the URDF.
     """
-    body = client.loadURDF(str(robot.urdf), basePosition=robot.base.xyz,
-                           baseOrientation=robot.base.quat, useFixedBase=True, flags=flags)
-    if body < 0:
-        raise error(f"pybullet could not load the robot URDF {robot.urdf}")
+    try:
+        body = client.loadURDF(str(robot.urdf), basePosition=robot.base.xyz,
+                               baseOrientation=robot.base.quat, useFixedBase=True, flags=flags)
+    except pybullet.error as problem:  # it raises rather than return -1
+        raise error(f"pybullet could not load the robot URDF {robot.urdf}: {problem}") from None
     infos = tuple(client.getJointInfo(body, j) for j in range(client.getNumJoints(body)))
     joint_index = {info[1].decode(): j for j, info in enumerate(infos)}
     link_index = {info[12].decode(): j for j, info in enumerate(infos)}

@@ -200,7 +200,8 @@ def _shape(spec: dict[str, Any], base: Path, where: tuple, report: Report) -> Sh
     elif not _has_triangles(mesh):
         # read here, once for every consumer: pybullet crashes on some files it cannot parse
         report.add(where + ("mesh", "file"), f"mesh file {str(mesh)!r} has no triangles "
-                   "(expected a mesh trimesh can read: .obj, .stl, .ply, ...)")
+                   "(expected a triangle mesh in an .obj or .stl file: pybullet, which the simulator "
+                   "and its planner use, reads no other)")
     return Shape("mesh", mesh=mesh, scale=float(spec["mesh"].get("scale", 1.0)))
 
 
