@@ -14,6 +14,8 @@ culling (`bounds`).
   surface: something entirely inside it without touching it is not a contact.
 * Boxes and cylinders are fcl primitives, lifted by `Shape.centre_offset()`
   (their frame is the centre of the bottom face).
+* Mesh files are read by `symsynth.scene.mesh.load_mesh`, once per file
+  version (the scene loader has read the scene's already).
 * URDF mesh references: `package://a/b.obj` and `a/b.obj` resolve against
   the URDF's directory, as `a/b.obj` or, failing that, `b.obj` (a ROS
   package name as first component).
@@ -31,6 +33,7 @@ import yourdfpy
 
 from symsynth.planning.protocol import PlannerError
 from symsynth.scene.geometry import Shape
+from symsynth.scene.mesh import load_mesh
 
 
 @dataclass(frozen=True)
@@ -76,18 +79,6 @@ def _bounded(geometry: fcl.CollisionGeometry, mesh: trimesh.Trimesh) -> Solid:
     bounds = mesh.bounding_box_oriented.primitive
     return Solid(geometry, np.eye(4), np.asarray(bounds.transform, dtype=float),
                  np.asarray(bounds.extents, dtype=float) / 2)
-
-
-def load_mesh(path: Path, scale=1.0) -> trimesh.Trimesh:
-    """One mesh from a file (a multi-part file is concatenated), scaled."""
-    try:
-        mesh = trimesh.load(str(path), force="mesh")
-    except (OSError, ValueError) as error:
-        raise PlannerError(f"cannot load mesh {path}: {error}") from error
-    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
-        raise PlannerError(f"mesh {path} has no triangles")
-    factors = np.broadcast_to(np.asarray(scale, dtype=float), (3,))
-    return mesh.copy().apply_transform(np.diag([*factors, 1.0]))
 
 
 def scene_solid(shape: Shape) -> Solid:

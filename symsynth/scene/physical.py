@@ -44,6 +44,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from symsynth.scene.geometry import Body, Geometry, Grasp, PlannerSettings, Pose, Robot, Shape
+from symsynth.scene.mesh import MeshError, load_mesh
 
 NUMBER = {"type": "number"}
 POSITIVE = {"type": "number", "exclusiveMinimum": 0}
@@ -197,11 +198,14 @@ def _shape(spec: dict[str, Any], base: Path, where: tuple, report: Report) -> Sh
     mesh = base / spec["mesh"]["file"]
     if not mesh.is_file():
         report.add(where + ("mesh", "file"), f"mesh file {str(mesh)!r} not found")
-    elif not _has_triangles(mesh):
-        # read here, once for every consumer: pybullet crashes on some files it cannot parse
-        report.add(where + ("mesh", "file"), f"mesh file {str(mesh)!r} has no triangles "
-                   "(expected a triangle mesh in an .obj or .stl file: pybullet, which the simulator "
-                   "and its planner use, reads no other)")
+    else:
+        # read here, with the scene's other problems, before any planner does
+        # (pybullet crashes on some files it cannot parse); read once (`mesh.py`)
+        try:
+            load_mesh(mesh)
+        except MeshError as error:
+            report.add(where + ("mesh", "file"), f"{error} (expected a triangle mesh in an .obj or .stl "
+                       "file: pybullet, which the simulator and its planner use, reads no other)")
     return Shape("mesh", mesh=mesh, scale=float(spec["mesh"].get("scale", 1.0)))
 
 
@@ -249,12 +253,3 @@ def _find_urdf(name: str, base: Path) -> Path | None:
     bundled = Path(pybullet_data.getDataPath()) / name
     return bundled if bundled.is_file() else None
 
-
-def _has_triangles(path: Path) -> bool:
-    import trimesh  # only physical scenes with meshes need it
-
-    try:
-        mesh = trimesh.load(str(path), force="mesh")
-    except Exception:  # noqa: BLE001 - any reader failure means "not a mesh"
-        return False
-    return isinstance(mesh, trimesh.Trimesh) and len(mesh.faces) > 0
