@@ -22,13 +22,16 @@ hand.  The planners need not agree numerically, only on these facts:
 * (3) a gap between two posts: the empty hand passes, a long held object
   collides statically;
 * (4) a location obstacle is every shape but the held one's: the held
-  object's own place is no obstacle to it.
+  object's own place is no obstacle to it;
+* a planner that declares `time_limited` grows its roadmap for the
+  `seconds` it is given.
 """
 
 from __future__ import annotations
 
 import functools
 import math
+import time
 import xml.etree.ElementTree as ElementTree
 from collections.abc import Sequence
 from pathlib import Path
@@ -414,6 +417,17 @@ class PlannerConformance:
         start, goal = self.anchor("passage", "A"), self.anchor("passage", "B")
         first, second = (self.planner("passage").roadmap(Mode(), {"A": start, "B": goal}, 10, 3) for _ in "12")
         assert np.array_equal(first.configs, second.configs) and np.array_equal(first.edges, second.edges)
+
+    def test_a_time_limit_grows_the_roadmap_for_that_long(self):
+        """A planner that says it honours `seconds` (`time_limited`) grows
+        for that long, well past the `size` it is also given."""
+        planner = self.planner("table")
+        if not getattr(type(planner), "time_limited", False):
+            pytest.skip(f"the {self.planner_name} planner has no roadmap time limit")
+        start = time.perf_counter()
+        roadmap = planner.roadmap(Mode(), {"home": HOME}, 5, 0, seconds=0.3)
+        assert time.perf_counter() - start >= 0.3
+        assert len(roadmap.configs) > 5 + 1
 
     # --- (3) a held object too long for a gap
 
