@@ -96,6 +96,30 @@ def test_an_object_starting_at_else_stands_on_the_first_sample(tmp_path):
     assert more.else_samples == ("e1",) and more.geometry.places["e1"] == Pose((0.3, 0.3, 0.0))
 
 
+REGION = """else:
+  samples: 3
+  region: {min: [0.3, -0.4], max: [0.7, 0.4]}
+  clearance: 0.12
+"""
+
+
+def test_an_object_at_else_off_the_given_samples_is_reported(tmp_path):
+    """b starts at Else at (0.3, 0.3): given samples must include that pose,
+    or the costmap has no motion to where b stands."""
+    assert REGION in BASE
+    off = problems(tmp_path, BASE.replace(REGION, "else_samples:\n  e1: {xyz: [0.6, 0.3, 0]}\n"))
+    assert ("scene.yaml:7: objects.b.xyz: b starts at Else at (0.300, 0.300, 0.000), which is not one of "
+            "else_samples (e1); add its pose to else_samples") in off
+    turned = problems(tmp_path, BASE.replace(REGION, "else_samples:\n  e1: {xyz: [0.3, 0.3, 0], rpy: [0, 0, 1]}\n"))
+    assert "objects.b.xyz: b starts at Else at (0.300, 0.300, 0.000), which is not one of else_samples" in turned
+    none = problems(tmp_path, BASE.replace(REGION, ""))
+    assert "objects.b.xyz: b starts at Else at (0.300, 0.300, 0.000), which is not an Else sample: the scene " \
+           "has none" in none
+    given = load(tmp_path, BASE.replace(REGION, "else_samples:\n  e1: {xyz: [0.6, 0.3, 0]}\n"
+                                                "  e2: {xyz: [0.30, 0.3, 0.0]}\n"), "given.yaml")
+    assert given.else_samples == ("e1", "e2") and given.geometry.places["e2"] == given.geometry.initial["b"]
+
+
 def test_too_many_else_samples_is_reported(tmp_path):
     text = BASE.replace("samples: 3", "samples: 40")
     assert "could not place 40 samples" in problems(tmp_path, text)

@@ -43,7 +43,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from symsynth.scene.geometry import Body, Geometry, Grasp, PlannerSettings, Pose, Robot, Shape
+from symsynth.scene.geometry import Body, Geometry, Grasp, PlannerSettings, Pose, Robot, Shape, point_text
 from symsynth.scene.mesh import MeshError, load_mesh
 
 NUMBER = {"type": "number"}
@@ -127,7 +127,14 @@ def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report
     initial = {name: pose_of(spec) for name, spec in data["objects"].items()
                if spec.get("at", "Else") == "Else" and "xyz" in spec}
     places = {name: pose_of(spec) for name, spec in data["locations"].items()}
-    places.update(else_places(data, places, initial, report))
+    samples = else_places(data, places, initial, report)
+    for name, pose in initial.items():  # drawn samples start with these; given ones must have them
+        if not any(_same_pose(pose, sample) for sample in samples.values()):
+            where = ("one of else_samples (" + ", ".join(samples) + ")" if samples
+                     else "an Else sample: the scene has none (no else_samples, no else region)")
+            report.add(("objects", name, "xyz"), f"{name} starts at Else at {point_text(pose.xyz)}, which is "
+                       f"not {where}; add its pose to else_samples, so that the costmap reaches it")
+    places.update(samples)
     grasps = {name: Grasp(name, pose_of(spec), float(spec.get("approach", 0.05)))
               for name, spec in data["grasps"].items()}
     settings = data.get("planner", {})
@@ -161,7 +168,9 @@ def else_places(data: dict[str, Any], locations: dict[str, Pose], initial: dict[
     samples are drawn uniformly in the region (seeded by the planner seed),
     each at least `clearance` (default 0.1 m) from every location and every
     earlier sample.  With more such objects than `samples`, each still gets
-    its sample."""
+    its sample.  Explicit samples must include those poses themselves
+    (`geometry_from_data` reports one that is missing, as it does when the
+    scene has no Else samples at all)."""
     if "else_samples" in data:
         return {name: pose_of(spec) for name, spec in data["else_samples"].items()}
     spec = data.get("else")
@@ -187,6 +196,11 @@ def else_places(data: dict[str, Any], locations: dict[str, Pose], initial: dict[
         report.add(("else", "region"), f"could not place {spec['samples']} samples {clearance} m apart "
                    "from each other and from the locations; enlarge the region or lower clearance")
     return samples
+
+
+def _same_pose(a: Pose, b: Pose) -> bool:
+    """Equal up to rounding (1 µm, 1 µrad): the same numbers written differently."""
+    return bool(np.allclose(a.xyz, b.xyz, rtol=0.0, atol=1e-6)) and a.angle_to(b) <= 1e-6
 
 
 def _shape(spec: dict[str, Any], base: Path, where: tuple, report: Report) -> Shape:
