@@ -239,3 +239,24 @@ def test_a_roadmap_time_limit_reaches_the_planner_and_the_cache_key(tmp_path, mo
 def test_a_time_limit_with_a_planner_that_has_none_is_one_message():
     with pytest.raises(PlannerError, match="the planar planner has no roadmap time limit"):
         compute_costmap(timed_scene(1.5), "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+
+
+class CountedPlanar(PlanarPlanner):
+    """The planar planner, counting how often it is built."""
+
+    built = 0
+
+    def __init__(self, scene):
+        CountedPlanar.built += 1
+        super().__init__(scene)
+
+
+def test_a_time_limit_is_refused_before_the_planner_is_built(monkeypatch):
+    """(the pybullet planner loads its URDF when built), and before the cache key is hashed"""
+    CountedPlanar.built = 0
+    with pytest.raises(PlannerError, match="the planar planner has no roadmap time limit"):
+        compute_costmap(timed_scene(1.5), "sg", "planar", progress=False, planner_factory=CountedPlanar)
+    monkeypatch.setattr(cache, "cache_path", lambda *args: pytest.fail("the cache key was computed"))
+    with pytest.raises(PlannerError, match="the planar planner has no roadmap time limit"):
+        obtain_costmap(timed_scene(1.5), "sg", "planar", progress=False, planner_factory=CountedPlanar)
+    assert CountedPlanar.built == 0

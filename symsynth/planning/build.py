@@ -99,10 +99,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     seed = settings.seed if seed is None else seed
     stats = Stats()
     clock = time.perf_counter()
-    planner = (planner_factory or planner_class(name))(scene)
-    if settings.seconds is not None and not getattr(planner, "time_limited", False):
-        raise PlannerError(f"the {name} planner has no roadmap time limit: give the scene's planner a "
-                           f"roadmap_size instead of seconds")
+    planner = _factory(scene, name, planner_factory)(scene)
     configs = anchor_configs(planner, scene)
     clock = stats.add("anchors", clock)
 
@@ -142,6 +139,19 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     bar.close()
     stats.rules = sum(len(r) for found in result.values() for r in found.values())
     return {method: Costmap(dict(sorted(found.items()))) for method, found in result.items()}, stats
+
+
+def _factory(scene: Scene, name: str, planner_factory: Callable[[Scene], Planner] | None
+             ) -> Callable[[Scene], Planner]:
+    """The planner's class (or the factory given), checked before it is
+    built (the pybullet planner loads its URDF then): an unknown name fails,
+    and so does a roadmap time limit for a planner whose class does not
+    declare `time_limited` (protocol.Planner.roadmap)."""
+    factory = planner_factory or planner_class(name)
+    if scene.geometry.planner.seconds is not None and not getattr(factory, "time_limited", False):
+        raise PlannerError(f"the {name} planner has no roadmap time limit: give the scene's planner a "
+                           f"roadmap_size instead of seconds")
+    return factory
 
 
 def _roadmaps(scene: Scene, name: str, planner: Planner, jobs: list, settings, seed: int, workers: int,
@@ -247,8 +257,7 @@ def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | 
     """The cached costmap of a physical scene, or a new one (then cached)."""
     name = planner_name or scene.geometry.planner.name
     seed = scene.geometry.planner.seed if seed is None else seed
-    if planner_factory is None:
-        planner_class(name)  # an unknown planner fails before anything is hashed or computed
+    _factory(scene, name, planner_factory)  # fails before anything is hashed or computed
     path = cache.cache_path(scene, method, name, seed) if use_cache else None
     hit = None if path is None else cache.cached(path)
     if hit is not None:
