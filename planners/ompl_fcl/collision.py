@@ -111,8 +111,7 @@ class CollisionWorld:
 
         self.static = _Placed.of([(body.name, scene_solid(body.shape), body.pose.matrix())
                                   for body in geometry.obstacles])
-        solids = {shape: scene_solid(shape) for shape in geometry.shapes.values()}
-        self._object_solids = {name: solids[shape] for name, shape in geometry.shapes.items()}
+        self._shape_solids = {shape: scene_solid(shape) for shape in geometry.shapes.values()}  # one a shape
         self._locations: dict[str | None, _Placed] = {}
         self._held: dict[Mode, _Held] = {}
         self._tables: dict[tuple[Mode, bool, bool], _Table] = {}
@@ -154,11 +153,10 @@ class CollisionWorld:
         """Location solids: at every place, one per distinct shape of the
         objects but `held` (as the pybullet planner's place bodies)."""
         if held not in self._locations:
-            shapes = {shape: self._object_solids[name] for name, shape in self.geometry.shapes.items()
-                      if name != held}
+            shapes = dict.fromkeys(shape for name, shape in self.geometry.shapes.items() if name != held)
             self._locations[held] = _Placed.of([
-                (place, solid, pose.matrix()) for place, pose in self.geometry.places.items()
-                for solid in shapes.values()])
+                (place, self._shape_solids[shape], pose.matrix()) for place, pose in self.geometry.places.items()
+                for shape in shapes])
         return self._locations[held]
 
     def held(self, mode: Mode) -> _Held | None:
@@ -166,11 +164,11 @@ class CollisionWorld:
         if mode.object is None:
             return None
         if mode not in self._held:
-            if mode.object not in self._object_solids or mode.grasp not in self.geometry.grasps:
+            if mode.object not in self.geometry.shapes or mode.grasp not in self.geometry.grasps:
                 raise PlannerError(
-                    f"mode {mode}: objects are {', '.join(sorted(self._object_solids))}, "
+                    f"mode {mode}: objects are {', '.join(sorted(self.geometry.shapes))}, "
                     f"grasps are {', '.join(sorted(self.geometry.grasps))}")
-            solid = self._object_solids[mode.object]
+            solid = self._shape_solids[self.geometry.shapes[mode.object]]
             in_hand = np.linalg.inv(self.geometry.grasps[mode.grasp].pose.matrix())
             self._held[mode] = _Held(solid, in_hand, fcl.CollisionObject(solid.geometry, fcl.Transform()))
         return self._held[mode]
