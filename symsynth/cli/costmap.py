@@ -33,7 +33,10 @@ and seed; same seed, same file), so 'symsynth solve SCENE' reuses it.
   symsynth costmap verify FILE --scene SCENE [--planner NAME]
 
 re-checks every rule's evidence path at 4x finer resolution against the
-static obstacles and the location obstacles the rule assumes, and its cost.
+static obstacles and the location obstacles the rule assumes, its cost, and
+that it starts and ends at its anchors.  Anchors are the planner's inverse
+kinematics solutions, so give the --planner that built the costmap (default:
+the scene's); with another planner every path misses its anchors.
 Exit status 1 if a path fails (a bug in a planner or the algorithms).
 
 Planners: {', '.join(planner_names()) or 'none installed'} (entry points 'symsynth.planners';
