@@ -45,13 +45,19 @@ with _silenced_stdout():
     from pybullet_utils import bullet_client  # noqa: E402
 
 
+def check_display(gui: bool) -> None:
+    """Fail if a window is asked for and there is no display to show it on
+    (callers check before long work, not only when the window opens)."""
+    if gui and not os.environ.get("DISPLAY") and sys.platform.startswith("linux"):
+        raise SymsynthError("a window needs a display, and DISPLAY is not set; "
+                            "leave --gui out (the simulation runs headless)")
+
+
 def client(gui: bool = False) -> bullet_client.BulletClient:
     """A new PyBullet client of its own: headless, or with a window
     (`gui=True`, which needs a display)."""
     if gui:
-        if not os.environ.get("DISPLAY") and sys.platform.startswith("linux"):
-            raise SymsynthError("a window needs a display, and DISPLAY is not set; "
-                                "leave --gui out (the simulation runs headless)")
+        check_display(gui)
         return bullet_client.BulletClient(connection_mode=pybullet.GUI)
     with _silenced_stdout():
         return bullet_client.BulletClient(connection_mode=pybullet.DIRECT)

@@ -122,7 +122,7 @@ def run(args: argparse.Namespace) -> int:
     from symsynth.execution.human import AdversarialHuman, NoHuman, RandomHuman, ScriptedHuman, read_script
     from symsynth.execution.record import Recorder
     from symsynth.execution.simulate import SLACK, Policy, Simulator
-    from symsynth.execution.world import check_display
+    from symsynth.bullet import check_display
     from symsynth.planning.registry import planner_class
 
     if args.record is not None:

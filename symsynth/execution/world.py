@@ -23,8 +23,6 @@ the simulator when it plans at run time.
 
 from __future__ import annotations
 
-import os
-import sys
 from collections.abc import Iterable, Sequence
 
 from symsynth import bullet
@@ -49,14 +47,6 @@ MARK_THICKNESS = 0.002
 PENETRATION = 1e-3  # metres: shallower contacts are touching, not colliding
 
 
-def check_display(gui: bool) -> None:
-    """Fail now, not after the costmap and the solve, if a window is asked
-    for and there is no display to show it on."""
-    if gui and not os.environ.get("DISPLAY") and sys.platform.startswith("linux"):
-        raise SymsynthError("a window needs a display, and DISPLAY is not set; "
-                            "leave --gui out (the simulation runs headless)")
-
-
 class SimWorld:
     """One scene in a private PyBullet client (`gui=True`: a window)."""
 
@@ -64,7 +54,6 @@ class SimWorld:
         geometry = scene.geometry
         if geometry is None:
             raise SymsynthError(f"scene {scene.name!r} has no geometry (not a physical scene)")
-        check_display(gui)
         self.scene = scene
         self.geometry = geometry
         self.client = bullet.client(gui=gui)
