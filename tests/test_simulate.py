@@ -395,15 +395,19 @@ def test_a_scripted_move_that_never_comes_due_is_reported(line):
 
 # -- the command ------------------------------------------------------------------------
 
+def as_files(tmp_path_factory, name: str, text: str, costmap: Costmap):
+    """A scene's YAML `text` as NAME.yaml next to its costmap, in a new folder."""
+    folder = tmp_path_factory.mktemp(name)
+    (folder / f"{name}.yaml").write_text(text + f"\ncostmap: {name}.costmap.json\n")
+    write_costmap(costmap, folder / f"{name}.costmap.json")
+    return folder / f"{name}.yaml"
+
+
 @pytest.fixture(scope="module")
 def line_files(paper_line, tmp_path_factory):
     """The small line scene as files: scene YAML next to its costmap."""
-    scene, costmaps = paper_line
-    folder = tmp_path_factory.mktemp("line")
     text = edited("line", "roadmap_size: 150", f"roadmap_size: {ROADMAP}")
-    (folder / "line.yaml").write_text(text + "\ncostmap: line.costmap.json\n")
-    write_costmap(costmaps["recursive"], folder / "line.costmap.json")
-    return folder / "line.yaml"
+    return as_files(tmp_path_factory, "line", text, paper_line[1]["recursive"])
 
 
 @pytest.mark.parametrize("solver", SOLVERS)
@@ -541,12 +545,8 @@ def test_a_primitive_the_robot_cannot_carry_out_ends_the_run_with_its_reason(lin
 @pytest.fixture(scope="module")
 def arch_sg_file(paper_arch, tmp_path_factory):
     """Arch with its start-goal costmap, as files: E_p is infinite for k = 5."""
-    scene, costmaps = paper_arch
-    folder = tmp_path_factory.mktemp("arch")
     text = edited("arch", "name: ompl-fcl", f"name: {PLANNERS['arch']}")
-    (folder / "arch.yaml").write_text(text + "\ncostmap: arch.costmap.json\n")
-    write_costmap(costmaps["sg"], folder / "arch.costmap.json")
-    return folder / "arch.yaml"
+    return as_files(tmp_path_factory, "arch", text, paper_arch[1]["sg"])
 
 
 def test_without_a_winning_strategy_best_effort_still_completes(arch_sg_file, capsys):
