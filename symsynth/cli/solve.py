@@ -10,7 +10,7 @@ from pathlib import Path
 from symsynth.cli import options
 from symsynth.cli.options import check_writable
 from symsynth.errors import InputError
-from symsynth.game.abstraction import Motion, State, initial_state, motions, robot_moves
+from symsynth.game.abstraction import Move, State, initial_state, motions, robot_moves
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import Solution, Step, task_formula
 from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
@@ -230,7 +230,7 @@ def stuck_reasons(scene: Scene, v: State) -> list[str]:
     return reasons + [_why(scene, m) for m in wanted]
 
 
-def _why(scene: Scene, m: Motion) -> str:
+def _why(scene: Scene, m: Move) -> str:
     action, mode = m.action, m.mode
     if not m.goals:
         return f"{action}: the object is at {ELSE} and the scene has no else_samples"

@@ -41,7 +41,6 @@ The first two are soundness bugs; `Run.sound` is false when one occurred.
 
 from __future__ import annotations
 
-import re
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -54,7 +53,8 @@ from symsynth.execution.human import Human, Option, Request, ScriptedHuman, Turn
 from symsynth.execution.observe import observe, place_at
 from symsynth.execution.record import STRIDE, Recorder
 from symsynth.execution.world import SimWorld
-from symsynth.game.abstraction import State, human_moves, robot_moves, state_json
+from symsynth.game.abstraction import (Move, State, action_name, anchors, legal_human_moves, legal_robot_moves,
+                                       state_json)
 from symsynth.game.explicit import GameGraph
 from symsynth.game.solution import Position
 from symsynth.game.strategy import format_position, format_state
@@ -67,7 +67,6 @@ from symsynth.scene.model import ELSE, HOME, Scene
 SLACK = 1e-6  # costmap units: float noise allowed between measured and abstract costs
 MAX_ACTIONS = 500
 SOUNDNESS = ("cost", "evidence")
-_ACTION = re.compile(r"^(transit|grab|transfer|drop)\((.*)\)$")
 
 
 @dataclass(frozen=True)
@@ -285,10 +284,10 @@ class _Episode:
     def _options(self, v: State, q, h: int) -> tuple[Option, ...]:
         """Every abstract human move, once per physical target it can have."""
         options = []
-        for action, w in human_moves(self.scene, v):
-            obj, target = action[len("move("):-1].split(",")
-            for place in self._targets(obj, target):
-                options.append(Option(action, obj, self.scene.geometry.places[place], self._after(w, q, h - 1)))
+        for move in legal_human_moves(self.scene, v):
+            for place in self._targets(move.obj, move.location):
+                options.append(Option(move.action, move.obj, self.scene.geometry.places[place],
+                                      self._after(move.after, q, h - 1)))
         return tuple(options)
 
     def _targets(self, obj: str, target: str) -> list[str]:
@@ -324,34 +323,34 @@ class _Episode:
         else:
             place, pose = request.to, self.scene.geometry.places[request.to]
         target = place if place in self.scene.locations else ELSE
-        action = f"move({request.obj},{target})"
-        legal = {a: w for a, w in human_moves(self.scene, v)}
-        if action not in legal:
-            self.run.refused.append(f"{what}: {action} is not a legal human move in "
-                                    f"{format_state(v, self.scene.object_names)}")
+        move = next((m for m in legal_human_moves(self.scene, v) if (m.obj, m.location) == (request.obj, target)),
+                    None)
+        if move is None:
+            self.run.refused.append(f"{what}: {action_name('move', request.obj, target)} is not a legal human "
+                                    f"move in {format_state(v, self.scene.object_names)}")
             return None
         blocked = self.world.blocked(request.obj, pose)
         if blocked:
             self.run.refused.append(f"{what}: it would penetrate {', '.join(sorted(blocked))}")
             return None
-        return Option(action, request.obj, pose, self._after(legal[action], q, h - 1))
+        return Option(move.action, move.obj, pose, self._after(move.after, q, h - 1))
 
     # -- the robot --------------------------------------------------------------
 
     def _robot_turn(self, v: State, action: str) -> State:
-        moves = {a: (w, c) for a, w, c in robot_moves(self.scene, v)}
-        if action not in moves:
+        """Carry out the robot move the abstraction names `action` in `v`."""
+        move = next((m for m in legal_robot_moves(self.scene, v) if m.action == action), None)
+        if move is None:
             raise ActionFailed(f"not available in {format_state(v, self.scene.object_names)}")
-        expected, abstract = moves[action]
-        kind, args = _parse(action)
+        expected, abstract = move.after, move.cost
         index = len(self.run.steps) + 1
         caption = f"{index}. robot {action}"
-        if kind in ("grab", "drop"):
-            if kind == "grab":
-                done = primitives.grab(self.world, self.sim.approaches, args[0], expected.grip)
+        if move.kind in ("grab", "drop"):
+            if move.kind == "grab":
+                done = primitives.grab(self.world, self.sim.approaches, move.obj, move.grasp)
             else:
-                done = primitives.drop(self.world, self.sim.approaches, args[1])
-            measured = self.scene.grab_cost if kind == "grab" else self.scene.drop_cost
+                done = primitives.drop(self.world, self.sim.approaches, move.location)
+            measured = self.scene.grab_cost if move.kind == "grab" else self.scene.drop_cost
             self._follow(done.path, caption, measured)
             if done.touched:
                 self._diverge("contact", f"{action}: the approach penetrates {', '.join(sorted(done.touched))}",
@@ -359,7 +358,7 @@ class _Episode:
             step = Step("robot", action, observe(self.scene, self.world), abstract, measured, done.radians,
                         "primitive")
         else:
-            step = self._move(kind, args, v, action, abstract, index, caption)
+            step = self._move(move, index, caption)
         self.run.steps.append(step)
         self.actions += 1
         self.last = action
@@ -369,20 +368,19 @@ class _Episode:
                           f"{format_state(expected, self.scene.object_names)}")
         return step.state
 
-    def _move(self, kind: str, args: list[str], v: State, action: str, abstract: float, index: int,
-              caption: str) -> Step:
+    def _move(self, move: Move, index: int, caption: str) -> Step:
+        """A transit or transfer: along an evidence path, or planned at run time."""
         world, scene = self.world, self.scene
-        if kind == "transit":
-            obj, grasp = args
+        action, abstract, obj, grasp = move.action, move.cost, move.obj, move.grasp
+        if move.kind == "transit":  # to the object where it really stands, which may be on no place
             mode = Mode()
             place = place_at(scene, world.poses[obj])
             target = world.poses[obj] @ scene.geometry.grasps[grasp].pre_image()
         else:
-            obj, grasp = world.held, world.grasp
             mode = Mode(obj, grasp)
-            place = args[0]
+            place = move.location
             target = scene.geometry.places[place] @ scene.geometry.grasps[grasp].pre_image()
-        goal = None if place is None else f"{place}/{grasp}"
+        goal = None if place is None else anchors(scene, place, grasp)[0]  # one of move.goals
         outside = self._outside(obj, goal)
         found = None
         if self.anchor is not None and goal is not None:
@@ -456,13 +454,6 @@ class _Episode:
 
     def _diverge(self, kind: str, message: str, step: int | None = None) -> None:
         self.run.divergences.append(Divergence(step or len(self.run.steps), kind, message))
-
-
-def _parse(action: str) -> tuple[str, list[str]]:
-    match = _ACTION.match(action)
-    if match is None:
-        raise ActionFailed(f"unknown action {action!r}")
-    return match.group(1), match.group(2).split(",")
 
 
 def _where(to: str | Pose) -> str:

@@ -10,6 +10,12 @@ for readability):
 - robot: `transit(o,g)`, `grab(o)`, `transfer(l)`, `drop(o,l)`;
 - human: `move(o,t)` (a pass is not a move and is not listed here).
 
+A name is what strategy files, run records and scripts hold; what a move
+does -- its object, grasp, location, mode and anchors -- is a `Move`, which
+`legal_robot_moves` and `legal_human_moves` list for a state.  Whoever
+holds a name and a state (the simulator, a strategy read from a file) finds
+the move by its name among those, rather than reading the name apart.
+
 Costs are the spec's, in costmap units; `quantize` turns one into the
 integer units the solvers add up.
 """
@@ -19,6 +25,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from symsynth.errors import InputError
 from symsynth.game.propositions import Proposition
@@ -68,52 +75,100 @@ def quantize(cost: float, resolution: float) -> int:
 
 # -- robot (spec §4, §5) --------------------------------------------------------
 
-@dataclass(frozen=True)
-class Motion:
-    """A transit or transfer the rules of spec §4 allow from a state, before
-    its cost: it moves in `mode` from the anchors `starts` to `goals`, serving
-    the object with index `serves`, and leads to `after`."""
+class Move(NamedTuple):
+    """One move of the game from a state (spec §4), with what it does:
 
+    - `kind`: `transit`, `grab`, `transfer`, `drop` (the robot's) or `move`
+      (the human's); `action`: its name (`action_name`);
+    - `obj`, `serves`: the object it reaches, grabs, carries, drops or moves,
+      and that object's index in `scene.objects`;
+    - `grasp`: the grasp a transit reaches and a grab closes, or the one the
+      held object is held by (transfer, drop); None for a human move;
+    - `location`: where the object is then: the location a transfer carries
+      it to or a drop sets it down on, the target of a human move (a
+      location or `ELSE`); for a transit or grab, where it stands
+      (`at[o]`);
+    - `mode`, `starts`, `goals`: a transit's or transfer's mode and anchors
+      (spec §5: it moves in `mode` from one of `starts` to one of
+      `goals`); None and () for the others;
+    - `after`: the state it leads to;
+    - `cost`: a robot move's cost in costmap units (spec §5; inf: not
+      available); None for a human move.
+
+    (A named tuple rather than a frozen dataclass: the explicit solver makes
+    one per edge of the game, and a named tuple is made several times
+    faster.)
+    """
+
+    kind: str
     action: str
-    mode: str
-    starts: tuple[str, ...]
-    goals: tuple[str, ...]
+    obj: str
     serves: int
+    grasp: str | None
+    location: str
     after: State
+    mode: str | None = None
+    starts: tuple[str, ...] = ()
+    goals: tuple[str, ...] = ()
+    cost: float | None = None
 
 
-def motions(scene: Scene, v: State) -> list[Motion]:
-    """The transits (hand empty) or transfers (holding) allowed from `v`."""
+def action_name(kind: str, *args: str) -> str:
+    """The name of an action: `kind(a1,...,an)`, e.g. `transit(w1,top)`."""
+    return f"{kind}({','.join(args)})"
+
+
+def motions(scene: Scene, v: State) -> list[Move]:
+    """The transits (hand empty) or transfers (holding) spec §4 allows from
+    `v`, with their cost: inf for those no costmap rule makes available."""
     names = scene.object_names
     held = v.held()
+    S = starts(scene, v)
+    moves = []
     if held is None:
-        return [Motion(f"transit({o},{g})", EMPTY, starts(scene, v), anchors(scene, v.at[i], g), i,
-                       State(v.at, None, (o, g)))
-                for i, o in enumerate(names) if v.at[i] != HAND
-                for g in scene.grasps if v.ee != (o, g)]
+        for i, o in enumerate(names):
+            if v.at[i] == HAND:
+                continue
+            for g in scene.grasps:
+                if v.ee != (o, g):
+                    T = anchors(scene, v.at[i], g)
+                    moves.append(Move("transit", action_name("transit", o, g), o, i, g, v.at[i],
+                                      State(v.at, None, (o, g)), EMPTY, S, T, _motion(scene, v, EMPTY, S, T, i)))
+        return moves
     o, g = names[held], v.grip
-    return [Motion(f"transfer({l})", f"{o}/{g}", starts(scene, v), anchors(scene, l, g), held,
-                   State(v.at, g, l))
-            for l in scene.locations if l not in v.at and v.ee != l]
+    mode = f"{o}/{g}"
+    for l in scene.locations:
+        if l not in v.at and v.ee != l:
+            T = anchors(scene, l, g)
+            moves.append(Move("transfer", action_name("transfer", l), o, held, g, l, State(v.at, g, l),
+                              mode, S, T, _motion(scene, v, mode, S, T, held)))
+    return moves
 
 
-def robot_moves(scene: Scene, v: State) -> list[tuple[str, State, float]]:
-    """Every available robot action from `v` as (action, next state, cost).
+def legal_robot_moves(scene: Scene, v: State) -> list[Move]:
+    """Every available robot move from `v`, with its cost.
 
-    Actions of infinite cost are not available and are left out.
+    Moves of infinite cost are not available and are left out.
     """
-    moves = [(m.action, m.after, _motion(scene, v, m.mode, m.starts, m.goals, m.serves))
-             for m in motions(scene, v)]
+    moves = motions(scene, v)
     held = v.held()
     if held is None and isinstance(v.ee, tuple):
         o, g = v.ee
         i = scene.object_names.index(o)
-        moves.append((f"grab({o})", State(_replace(v.at, i, HAND), g, v.at[i]), scene.grab_cost))
+        moves.append(Move("grab", action_name("grab", o), o, i, g, v.at[i],
+                          State(_replace(v.at, i, HAND), g, v.at[i]), cost=scene.grab_cost))
     elif held is not None and v.ee in scene.locations and v.ee not in v.at:
         o = scene.object_names[held]
         at = _replace(v.at, held, v.ee)
-        moves.append((f"drop({o},{v.ee})", State(at, None, (o, v.grip)), scene.drop_cost))
-    return [m for m in moves if m[2] != math.inf]
+        moves.append(Move("drop", action_name("drop", o, v.ee), o, held, v.grip, v.ee,
+                          State(at, None, (o, v.grip)), cost=scene.drop_cost))
+    return [m for m in moves if m.cost != math.inf]
+
+
+def robot_moves(scene: Scene, v: State) -> list[tuple[str, State, float]]:
+    """Every available robot action from `v` as (action, next state, cost):
+    `legal_robot_moves` by name."""
+    return [(m.action, m.after, m.cost) for m in legal_robot_moves(scene, v)]
 
 
 def anchors(scene: Scene, place: str, grasp: str) -> tuple[str, ...]:
@@ -176,8 +231,8 @@ def costmap_of(scene: Scene) -> Costmap:
 
 # -- human (spec §4) ------------------------------------------------------------
 
-def human_moves(scene: Scene, v: State) -> list[tuple[str, State]]:
-    """Every human move from `v` as (action, next state); passing is not one."""
+def legal_human_moves(scene: Scene, v: State) -> list[Move]:
+    """Every human move from `v`; passing is not one."""
     moves = []
     aligned = v.ee if v.grip is not None else None  # a held object's place
     for i, o in enumerate(scene.object_names):
@@ -187,8 +242,15 @@ def human_moves(scene: Scene, v: State) -> list[tuple[str, State]]:
             if t != ELSE and (t in v.at or t == aligned):
                 continue  # also excludes t = at[o]
             ee = ELSE if isinstance(v.ee, tuple) and v.ee[0] == o else v.ee
-            moves.append((f"move({o},{t})", State(_replace(v.at, i, t), v.grip, ee)))
+            moves.append(Move("move", action_name("move", o, t), o, i, None, t,
+                              State(_replace(v.at, i, t), v.grip, ee)))
     return moves
+
+
+def human_moves(scene: Scene, v: State) -> list[tuple[str, State]]:
+    """Every human move from `v` as (action, next state): `legal_human_moves`
+    by name."""
+    return [(m.action, m.after) for m in legal_human_moves(scene, v)]
 
 
 # -- propositions (spec §3) -----------------------------------------------------
