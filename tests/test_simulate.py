@@ -32,13 +32,15 @@ from symsynth.execution.primitives import APPROACH_STEPS
 from symsynth.execution.record import Recorder
 from symsynth.execution.simulate import Policy, Simulator
 from symsynth.execution.world import SimWorld
-from symsynth.game.abstraction import initial_state, letter, quantize
+from symsynth.game.abstraction import (human_moves, initial_state, legal_human_moves, legal_robot_moves,
+                                       letter, quantize, robot_moves)
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import task_formula
 from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.game.symbolic import solve_symbolic
 from symsynth.game.strategy import strategy_table
 from symsynth.logic.semantics import holds
+from symsynth.planning.build import compute_costmaps
 from symsynth.planning.registry import planner_class
 from symsynth.scene.costmap import Costmap, Rule, write_costmap
 from symsynth.scene import load_scene
@@ -289,6 +291,101 @@ def test_grab_and_drop_approaches_are_solved_once_per_simulation(line, monkeypat
     assert {s.source for s in other.steps} <= {"evidence", "primitive"}  # no inverse kinematics elsewhere
     moves = [[(s.action, s.radians, s.measured, s.state) for s in r.steps] for r in (first, again, other)]
     assert moves[0] == moves[1] == moves[2]
+
+
+# -- the moves the simulator carries out are the abstraction's ----------------------------
+
+@pytest.fixture(scope="module")
+def turned(tmp_path_factory):
+    """The small line scene with a second grasp, `turned`: `top` turned a
+    quarter about the vertical.  The two grasps differ by 90 degrees, which γ
+    tells apart (observe.ANGLE), so a move carried out with the other grasp
+    reads as another state; so does one carried out to another place."""
+    top = "  top: {xyz: [0.0, 0.0, 0.2034], rpy: [3.14159265, 0.0, 0.0], approach: 0.07}\n"
+    text = edited("line", top, top + top.replace("top:", "turned:").replace("0.0, 0.0]", "0.0, 1.57079633]"))
+    text = text.replace("roadmap_size: 150", f"roadmap_size: {ROADMAP}")
+    assert f"roadmap_size: {ROADMAP}" in text
+    path = tmp_path_factory.mktemp("turned") / "line.yaml"
+    path.write_text(text)
+    scene = load_scene(path)
+    assert scene.grasps == ("top", "turned")
+    costmaps, _ = compute_costmaps(scene, ("recursive",), PLANNERS["line"], progress=False)
+    return dataclasses.replace(scene, costmap=costmaps["recursive"])
+
+
+class _Actions:
+    """A robot that plays the actions `left` in order, whatever the position
+    (a strategy's lookup that misses once they are played)."""
+
+    def __init__(self):
+        self.left = []
+
+    def __getitem__(self, position):
+        if not self.left:
+            raise KeyError(position)
+        return self.left.pop(0)
+
+
+class _Mover:
+    """A human who passes until `after` robot actions are done, then makes
+    the first offered move named `action`, keeping the names offered."""
+
+    name = "mover"
+
+    def __init__(self, after, action):
+        self.after, self.action, self.offered = after, action, None
+
+    def choose(self, turn):
+        if turn.actions != self.after or self.offered is not None:
+            return None
+        self.offered = {o.action for o in turn.options}
+        return next((o for o in turn.options if o.action == self.action), None)
+
+
+def test_every_move_carried_out_in_the_world_is_the_abstractions_move(turned):
+    """From four states of line with two grasps (start; at w1 by the turned
+    grasp; holding w1 by it; holding it over l3), every robot move, looked
+    up by its name as a strategy file gives it, and every human move, is
+    carried out in the world after the robot actions that lead there (the
+    world forbids none of these human moves).  γ of the world then reads
+    the abstraction's successor state (`Move.after`), and a robot move is
+    charged the abstraction's cost (`Move.cost`, also `robot_moves`'s) and
+    measures no more.  A move carried out with the other grasp, a transfer,
+    drop or human move to another place would read as another state (each
+    was tried: this test fails)."""
+    scene = turned
+    formula = task_formula(scene, None)
+    robot = _Actions()
+    sim = Simulator(scene, formula, Policy(robot, {}, None), planner_class(PLANNERS["line"])(scene))
+    prefix = ["transit(w1,turned)", "grab(w1)", "transfer(l3)"]
+    v, states = initial_state(scene), []
+    for action in [None] + prefix:
+        if action is not None:
+            v, = [m.after for m in legal_robot_moves(scene, v) if m.action == action]
+        states.append(v)
+    kinds = set()
+    for n, v in enumerate(states):
+        moves, human_names = legal_robot_moves(scene, v), {m.action for m in legal_human_moves(scene, v)}
+        assert [(m.action, m.after, m.cost) for m in moves] == robot_moves(scene, v)
+        assert [(m.action, m.after) for m in legal_human_moves(scene, v)] == human_moves(scene, v)
+        for move in moves:
+            kinds.add(move.kind)
+            robot.left = prefix[:n] + [move.action]
+            run = sim.run(NoHuman())
+            assert run.reason.startswith("the strategy has no action"), (move.action, run.reason)
+            assert run.divergences == [], move.action
+            step = run.steps[-1]
+            assert [s.action for s in run.steps] == prefix[:n] + [move.action]
+            assert (step.action, step.state, step.abstract) == (move.action, move.after, move.cost)
+            assert step.measured <= move.cost + 1e-6 and math.isfinite(move.cost)
+        for move in legal_human_moves(scene, v):
+            human, robot.left = _Mover(n, move.action), prefix[:n]
+            run = sim.run(human)
+            assert human.offered == human_names  # the world forbids none of them here
+            kinds.add(move.kind)
+            assert run.divergences == [] and [s.who for s in run.steps] == ["robot"] * n + ["human"], move.action
+            assert (run.steps[-1].action, run.steps[-1].state) == (move.action, move.after)
+    assert kinds == {"transit", "grab", "transfer", "drop", "move"}
 
 
 # -- soundness checks can fail --------------------------------------------------------
