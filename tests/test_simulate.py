@@ -388,6 +388,24 @@ def test_every_move_carried_out_in_the_world_is_the_abstractions_move(turned):
     assert kinds == {"transit", "grab", "transfer", "drop", "move"}
 
 
+def test_a_strategy_naming_an_action_the_state_has_not_ends_the_run_saying_so(line):
+    """As a strategy file for another task could: the run stops with the
+    reason, not the program."""
+    robot = _Actions()
+    sim = Simulator(line.scene, line.formula, Policy(robot, {}, None), line.planner)
+    reasons = []
+    for action in ("grab(w1)", "fly(w1)", "transit(w9,top)"):
+        robot.left = [action]
+        run = sim.run(NoHuman())
+        assert not run.completed and run.steps == []
+        reasons.append(run.reason)
+    assert reasons[0] == ("grab(w1) failed: not available in at: b=Else w1=l1 w2=l2 | grip=none | ee=Else "
+                          "(available there: transit(b,top), transit(w1,top), transit(w2,top))")
+    for action, reason in zip(("fly(w1)", "transit(w9,top)"), reasons[1:]):
+        assert reason == f"{action} failed: no robot action of this scene has this name (transit(o,g), grab(o), " \
+                         "transfer(l) or drop(o,l) with the scene's names)"
+
+
 # -- soundness checks can fail --------------------------------------------------------
 
 def _tampered(costmap: Costmap, change) -> Costmap:

@@ -33,6 +33,7 @@ from typing import Any, Protocol
 import jsonschema
 
 from symsynth.errors import InputError
+from symsynth.game.abstraction import robot_action_names
 from symsynth.game.solution import Position
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import ELSE, Scene
@@ -180,7 +181,7 @@ def read_script(path: str | Path, scene: Scene) -> ScriptedHuman:
     entries = []
     if not report.problems:
         targets = scene.locations + (ELSE,) + scene.else_samples
-        actions = _action_names(scene)
+        actions = robot_action_names(scene)
         for i, entry in enumerate(data["moves"]):
             where = ("moves", i)
             if entry["move"] not in scene.object_names:
@@ -190,7 +191,7 @@ def read_script(path: str | Path, scene: Scene) -> ScriptedHuman:
             if isinstance(to, str) and to not in targets:
                 report.add(where + ("to",), f"unknown place {to!r}; expected one of {', '.join(targets)} "
                            "or [x, y] / [x, y, z]")
-            if isinstance(entry["after"], str) and not actions(entry["after"]):
+            if isinstance(entry["after"], str) and entry["after"].replace(" ", "") not in actions:
                 report.add(where + ("after",), f"{entry['after']!r} is no robot action of this scene; "
                            "expected a number of robot actions, or transit(o,g), grab(o), transfer(l) "
                            "or drop(o,l) with the scene's names")
@@ -210,13 +211,6 @@ def read_script(path: str | Path, scene: Scene) -> ScriptedHuman:
                        "the moves beyond k would be refused")
     report.raise_if_any()
     return ScriptedHuman(entries)
-
-
-def _action_names(scene: Scene) -> Callable[[str], bool]:
-    objects, grasps, locations = scene.object_names, scene.grasps, scene.locations
-    names = ({f"transit({o},{g})" for o in objects for g in grasps} | {f"grab({o})" for o in objects}
-             | {f"transfer({l})" for l in locations} | {f"drop({o},{l})" for o in objects for l in locations})
-    return lambda text: text.replace(" ", "") in names
 
 
 def _schema_message(error: jsonschema.ValidationError) -> str:

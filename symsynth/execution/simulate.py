@@ -54,7 +54,7 @@ from symsynth.execution.observe import observe, place_at
 from symsynth.execution.record import STRIDE, Recorder
 from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import (Move, State, action_name, anchors, legal_human_moves, legal_robot_moves,
-                                       state_json)
+                                       robot_action_names, state_json)
 from symsynth.game.explicit import GameGraph
 from symsynth.game.solution import Position
 from symsynth.game.strategy import format_position, format_state
@@ -339,9 +339,14 @@ class _Episode:
 
     def _robot_turn(self, v: State, action: str) -> State:
         """Carry out the robot move the abstraction names `action` in `v`."""
-        move = next((m for m in legal_robot_moves(self.scene, v) if m.action == action), None)
+        moves = legal_robot_moves(self.scene, v)
+        move = next((m for m in moves if m.action == action), None)
+        if move is None and action not in robot_action_names(self.scene):
+            raise ActionFailed("no robot action of this scene has this name (transit(o,g), grab(o), "
+                               "transfer(l) or drop(o,l) with the scene's names)")
         if move is None:
-            raise ActionFailed(f"not available in {format_state(v, self.scene.object_names)}")
+            raise ActionFailed(f"not available in {format_state(v, self.scene.object_names)} "
+                               f"(available there: {', '.join(m.action for m in moves) or 'none'})")
         expected, abstract = move.after, move.cost
         index = len(self.run.steps) + 1
         caption = f"{index}. robot {action}"

@@ -118,6 +118,16 @@ def action_name(kind: str, *args: str) -> str:
     return f"{kind}({','.join(args)})"
 
 
+def robot_action_names(scene: Scene) -> frozenset[str]:
+    """The name of every robot action of `scene`, available or not, in any
+    state."""
+    objects, grasps, locations = scene.object_names, scene.grasps, scene.locations
+    return frozenset([action_name("transit", o, g) for o in objects for g in grasps]
+                     + [action_name("grab", o) for o in objects]
+                     + [action_name("transfer", l) for l in locations]
+                     + [action_name("drop", o, l) for o in objects for l in locations])
+
+
 def motions(scene: Scene, v: State) -> list[Move]:
     """The transits (hand empty) or transfers (holding) spec §4 allows from
     `v`, with their cost: inf for those no costmap rule makes available."""
