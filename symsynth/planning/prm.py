@@ -31,7 +31,8 @@ Conventions, and what OMPL 2.x's Python bindings make us do:
   `i < j`, sorted, and compute the euclidean lengths ourselves.
 
 An anchor is connected when it lies in the roadmap's largest connected
-component.  Growth continues, `size // 2` milestones at a time, up to
+component (`outside_largest_component`; a caller may judge connection
+otherwise, see `build_roadmap`'s `outside`).  Growth continues, `size // 2` milestones at a time, up to
 `GROWTH * size` sampled milestones (with a time limit: `seconds / 2` at a
 time, up to `GROWTH * seconds`); anchors still outside after that raise
 `PlannerError` naming them.
@@ -57,11 +58,12 @@ NEIGHBOURS = 10  # PRM's k: each new milestone tries its k nearest
 
 Validity = Callable[[np.ndarray], bool]
 MotionValidity = Callable[[np.ndarray, np.ndarray], bool]
+Outside = Callable[[Roadmap], list[str]]
 
 
 def build_roadmap(limits: np.ndarray, valid: Validity, motion_valid: MotionValidity,
                   anchors: Mapping[str, Config], size: int, seed: int, resolution: float,
-                  seconds: float | None = None) -> Roadmap:
+                  seconds: float | None = None, outside: Outside | None = None) -> Roadmap:
     """A PRM roadmap of the anchors plus about `size` sampled milestones, or
     (when `seconds` is given, and then `size` is not used) the milestones
     added in `seconds` of growth.
@@ -69,7 +71,17 @@ def build_roadmap(limits: np.ndarray, valid: Validity, motion_valid: MotionValid
     `limits` is (d, 2), lower and upper bound per joint; `valid(q)` is false
     for a configuration in static collision; `motion_valid(a, b)` checks the
     straight segment (its callers step along it at `resolution` radians,
-    which is also given to OMPL as its checking resolution)."""
+    which is also given to OMPL as its checking resolution).
+
+    `outside(roadmap)` names the anchors a grown roadmap leaves unconnected
+    (default `outside_largest_component`); growth goes on while it names
+    any, and the error names them.  PRM offers each new milestone's k
+    nearest earlier milestones to `motion_valid`, whatever it answered
+    before, so a caller that checks edges itself later (lazily) passes a
+    `motion_valid` that accepts every motion and judges connection in its
+    `outside`: it then sees every candidate edge, of which the ones its own
+    check accepts are exactly the edges an eager `motion_valid` would have
+    kept (same vertices, in the same order)."""
     limits = np.asarray(limits, dtype=float)
     if limits.ndim != 2 or limits.shape[1] != 2 or np.any(limits[:, 0] > limits[:, 1]):
         raise PlannerError(f"joint limits must be (d, 2) with lower <= upper, got {limits.tolist()}")
@@ -81,17 +93,18 @@ def build_roadmap(limits: np.ndarray, valid: Validity, motion_valid: MotionValid
     draws = _Draws(limits, valid, points, seed)
     prm, space_info, _alive = _prm(limits, valid, motion_valid, draws, resolution)
 
+    judge = outside_largest_component if outside is None else outside
     budget = _Budget(len(points), size, seconds)
     while True:
         _grow(prm, draws, budget.done(prm))
         roadmap = _read(prm, space_info, draws, index)
-        outside = _unconnected(roadmap)
-        if not outside:
+        left = judge(roadmap)
+        if not left:
             return roadmap
         if budget.spent():
             raise PlannerError(
                 f"anchors not connected to the roadmap after {budget.describe(prm)} "
-                f"(k = {NEIGHBOURS}, seed {seed}): {', '.join(outside)}")
+                f"(k = {NEIGHBOURS}, seed {seed}): {', '.join(left)}")
         budget.extend()
 
 
@@ -282,7 +295,7 @@ def _read(prm: og.PRM, space_info: ob.SpaceInformation, draws: _Draws,
     return Roadmap(configs=configs, edges=edges, lengths=lengths, anchors=dict(anchors))
 
 
-def _unconnected(roadmap: Roadmap) -> list[str]:
+def outside_largest_component(roadmap: Roadmap) -> list[str]:
     """Anchors outside the largest connected component (ties: the component
     of the lowest vertex)."""
     n = len(roadmap.configs)
