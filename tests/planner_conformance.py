@@ -10,7 +10,8 @@ premise *without* the planner: forward kinematics read from the URDF
 hand.  The planners need not agree numerically, only on these facts:
 
 * the robot at home touches nothing; the hand inside the base or inside the
-  table is a static collision;
+  table is a static collision; a motion's check stops at its first static
+  contact, naming only the places touched before it;
 * inverse kinematics meets the pose within 1 mm and 0.01 rad, inside the
   joint limits, and answers None for a pose out of reach (an anchor there is
   a `PlannerError` naming it);
@@ -478,6 +479,18 @@ class PlannerConformance:
         planner = self.planner("single")
         assert planner.contacts(Mode(), config) == Contacts(locations=frozenset({"x"}))
         assert planner.contacts(Mode("a", "top"), config) == Contacts()
+
+    def test_motion_contacts_stop_at_the_first_static_contact(self):
+        """From the finger in the block (x, no static contact) into the table
+        (static): x, touched before the table, is named; from the table
+        back, the first configuration is static and nothing is named."""
+        config = self.finger_in_block()
+        assert inside_box(URDF.point(INTO_TABLE, PALM), TABLE.pose, TABLE.shape.size, margin=0.015)
+        planner = self.planner("single")
+        assert planner.contacts(Mode(), config) == Contacts(locations=frozenset({"x"}))
+        assert planner.motion_contacts(Mode(), config, INTO_TABLE, RESOLUTION) == \
+            Contacts(static=True, locations=frozenset({"x"}))
+        assert planner.motion_contacts(Mode(), INTO_TABLE, config, RESOLUTION) == Contacts(static=True)
 
     def test_motion_contacts_include_both_ends(self):
         config = self.finger_in_block()

@@ -4,7 +4,8 @@ Each planner owns a private physics client (`World`), so several planners,
 for several scenes, can live in one process.  Collision rules are those of
 `world.py` (which bodies meet), `robot.py` (which link pairs may collide)
 and `bodies.py` (collision groups); inverse kinematics is `kinematics.py`.
-Segments are checked at the steps of `symsynth.planning.segment`.
+Segments are checked at the steps of `symsynth.planning.segment`, up to
+the first static contact.
 Roadmaps (`prm.build_roadmap`) check their edges at the scene's
 `planner.resolution`, for static collisions only, with every place body
 switched off.
@@ -56,12 +57,17 @@ class BulletPlanner:
         return self.world.touching()
 
     def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
+        """Stops at the first static contact, with the locations touched
+        before that configuration (the protocol's rule, as ompl-fcl)."""
         self.world.set_mode(mode)
-        found = Contacts()
+        locations: set[str] = set()
         for config in segment(self._config(start), self._config(goal), resolution):
             self.world.set_config(config)
-            found = found | self.world.touching()
-        return found
+            found = self.world.touching()
+            if found.static:
+                return Contacts(True, frozenset(locations))
+            locations |= found.locations
+        return Contacts(False, frozenset(locations))
 
     def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int,
                 seconds: float | None = None) -> Roadmap:

@@ -18,7 +18,7 @@ Conventions both built-in planners follow (and the suite checks):
 * the held object is not checked against the end-effector link and the
   links below it (the fingers hold it), but against the rest of the robot;
 * when `Contacts.static` is true, `locations` may be incomplete (the check
-  stops early);
+  stops early; for `motion_contacts`, exactly where is fixed below);
 * "at most `resolution` radians" is the euclidean norm in joint space, and
   the roadmap's edges are checked at `geometry.planner.resolution`;
 * an unknown object or grasp in a mode raises `PlannerError`.
@@ -111,7 +111,12 @@ class Planner(Protocol):
 
     def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
         """`contacts` along the straight joint-space segment, checked at steps
-        of at most `resolution` radians, both ends included (`planning.segment`)."""
+        of at most `resolution` radians, both ends included (`planning.segment`).
+
+        The check stops at the first configuration with a static contact (the
+        whole motion is unusable): the answer is then `static=True` with the
+        locations touched by the configurations before that one, not by it
+        or any after it (from a start in static collision: none)."""
 
     def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int,
                 seconds: float | None = None) -> Roadmap:
