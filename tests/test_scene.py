@@ -7,7 +7,9 @@ import textwrap
 import pytest
 
 from symsynth.errors import InputError
-from symsynth.scene import Costmap, Rule, load_costmap, load_scene, write_costmap
+from symsynth.planning.costmaps import METHODS as planning_methods
+from symsynth.scene import Costmap, Provenance, Rule, load_costmap, load_scene, write_costmap
+from symsynth.scene.costmap import METHODS, CostmapError, costmap_from_data
 from symsynth.scene.load import SceneError
 
 GOOD = """\
@@ -137,6 +139,67 @@ def test_costmap_write_read_round_trip(tmp_path):
     back = load_costmap(tmp_path / "c.json")
     assert back == costmap
     assert back.rules("b/top", "e1/top", "l2/top")[0].path == ((0.0, 1.5), (0.5, 1.0))
+    assert back.provenance is None and "planner" not in json.loads((tmp_path / "c.json").read_text())
+
+
+@pytest.mark.parametrize("provenance", [
+    Provenance("pybullet", "0.1.0", "recursive", 3, 60, None, 0.05),
+    Provenance("ompl-fcl", method="sg", seed=0, seconds=2.5, resolution=0.1),
+    Provenance("my-planner"),  # only the name is required
+])
+def test_costmap_provenance_round_trip(tmp_path, provenance):
+    costmap = Costmap({("empty", "home", "l1/top"): (Rule(frozenset(), 7.0, ((0.0,), (7.0,))),)}, provenance)
+    write_costmap(costmap, tmp_path / "c.json")
+    data = json.loads((tmp_path / "c.json").read_text())
+    assert list(data) == ["format", "planner", "motions"]  # who built it, before the motions
+    assert data["planner"] == {k: v for k, v in vars(provenance).items() if v is not None}
+    back = load_costmap(tmp_path / "c.json")
+    assert back == costmap and back.provenance == provenance
+
+
+def test_costmap_keys_the_loader_does_not_know_are_ignored_in_the_provenance_too():
+    data = dict(COSTMAP, comment="by hand", planner={"name": "pybullet", "seed": 2, "colour": "blue"})
+    assert costmap_from_data(data).provenance == Provenance("pybullet", seed=2)
+
+
+def test_costmap_provenance_methods_are_the_planning_methods():
+    assert METHODS == tuple(planning_methods)
+
+
+@pytest.mark.parametrize("planner, expected", [
+    ("pybullet", ["planner: expected an object with the name and settings of the planner that built the "
+                  "costmap, found 'pybullet'"]),
+    (None, ["planner: expected an object"]),
+    ({"seed": 0}, ["planner.name: expected the planner's name, found None"]),
+    ({"name": "pybullet", "version": 1, "method": "astar", "seed": -1, "roadmap_size": 2.5,
+      "resolution": 0, "seconds": float("inf")},
+     ["planner.version: expected a non-empty string, found 1",
+      "planner.method: expected one of sg, recursive, found 'astar'",
+      "planner.seed: expected a whole number >= 0, found -1",
+      "planner.roadmap_size: expected a whole number >= 2, found 2.5",
+      "planner.seconds: expected a finite number > 0, found inf",
+      "planner.resolution: expected a finite number > 0, found 0",
+      "planner: a roadmap has either a size (roadmap_size) or a time limit (seconds), not both"]),
+    ({"name": "", "seed": True}, ["planner.name: expected the planner's name, found ''",
+                                  "planner.seed: expected a whole number >= 0, found True"]),
+])
+def test_costmap_bad_provenance_is_reported_with_its_key_path(planner, expected):
+    """Every problem at once, the motions' among them."""
+    data = {"format": "symsynth.costmap/1", "planner": planner, "motions": [
+        {"mode": "empty", "from": "home", "to": "l1/top", "rules": [{"free": [], "cost": -3}]}]}
+    with pytest.raises(CostmapError) as error:
+        costmap_from_data(data, "c.json")
+    lines = str(error.value).splitlines()
+    assert lines[0] == "c.json: invalid costmap:"
+    assert "  motions[0].rules[0].cost: must be >= 0, found -3" in lines
+    for problem in expected:
+        assert any(line.startswith(f"  {problem}") for line in lines), (problem, lines)
+    assert len(lines) == 2 + len(expected)
+
+
+def test_scene_costmap_with_bad_provenance_names_the_scene_key(tmp_path):
+    bad = dict(COSTMAP, planner={"name": "pybullet", "seed": "zero"})
+    assert "planner.seed: expected a whole number >= 0, found 'zero'" in problems(tmp_path, GOOD, bad)
 
 
 def test_yaml_syntax_error_names_the_line(tmp_path):

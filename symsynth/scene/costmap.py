@@ -5,6 +5,16 @@ rules "if every location in `free` is free, the motion costs `cost`".
 Loader and writer live together so that what the planners write is what
 `solve` reads.  A rule may carry its evidence path (waypoints), which the
 loader keeps and the game ignores.
+
+An optional top-level key `planner`, an extension of the spec's format,
+records who built the costmap (`Provenance`): the planner plugin and the
+settings of `symsynth costmap`.  Evidence paths start and end at that
+planner's inverse kinematics solutions for the anchors, so whatever
+follows or re-checks them (`costmap verify`, the simulator) must use the
+same planner.  Hand-written costmaps have no such key.  As everywhere in
+this format, keys the loader does not know are ignored, at the top level,
+in a motion, a rule or `planner`: a reader of the spec's format alone
+reads these files too.
 """
 
 from __future__ import annotations
@@ -12,7 +22,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +31,10 @@ from symsynth.errors import InputError, read_text
 FORMAT = "symsynth.costmap/1"
 
 Key = tuple[str, str, str]  # (mode, from-anchor, to-anchor)
+
+#: The costmap methods a provenance may name (`planning.costmaps.METHODS`,
+#: which imports this module; a test keeps the two equal).
+METHODS = ("sg", "recursive")
 
 
 @dataclass(frozen=True)
@@ -31,8 +45,31 @@ class Rule:
 
 
 @dataclass(frozen=True)
+class Provenance:
+    """Who built a costmap (the optional key `planner`): the planner plugin
+    by its entry-point name, the version of the package that provides it,
+    and `symsynth costmap`'s method, seed and the scene's roadmap settings
+    (`roadmap_size`, or `seconds` for a time-limited roadmap, and the
+    collision-check `resolution` in radians).  Only `name` is required."""
+
+    name: str
+    version: str | None = None
+    method: str | None = None
+    seed: int | None = None
+    roadmap_size: int | None = None
+    seconds: float | None = None
+    resolution: float | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) is not None}
+
+
+@dataclass(frozen=True)
 class Costmap:
     motions: Mapping[Key, tuple[Rule, ...]]
+    #: Who built it; None for hand-written and older files.  Like a rule's
+    #: path, the game ignores it, and so does equality.
+    provenance: Provenance | None = field(default=None, compare=False)
 
     def rules(self, mode: str, start: str, goal: str) -> tuple[Rule, ...]:
         return self.motions.get((mode, start, goal), ())
@@ -47,7 +84,10 @@ class Costmap:
                     entry["path"] = [list(q) for q in rule.path]
                 entries.append(entry)
             motions.append({"mode": mode, "from": start, "to": goal, "rules": entries})
-        return {"format": FORMAT, "motions": motions}
+        head: dict[str, Any] = {"format": FORMAT}
+        if self.provenance is not None:
+            head["planner"] = self.provenance.to_json()
+        return head | {"motions": motions}
 
 
 class CostmapError(InputError):
@@ -87,9 +127,44 @@ def costmap_from_data(data: Any, source: str = "<costmap>") -> Costmap:
             parsed = _rule(rule, f"{where}.rules[{j}]", problems)
             if parsed is not None:
                 rules.append(parsed)
+    provenance = None if "planner" not in data else _provenance(data["planner"], problems)
     if problems:
         raise CostmapError(f"{source}: invalid costmap:\n" + "\n".join(f"  {p}" for p in problems))
-    return Costmap({k: tuple(v) for k, v in motions.items()})
+    return Costmap({k: tuple(v) for k, v in motions.items()}, provenance)
+
+
+def _provenance(value: Any, problems: list[str]) -> Provenance | None:
+    """The key `planner`; each bad field is a problem of its own."""
+    if not isinstance(value, dict):
+        problems.append("planner: expected an object with the name and settings of the planner that "
+                        f"built the costmap, found {value!r}")
+        return None
+    found = len(problems)
+    name = value.get("name")
+    if not isinstance(name, str) or not name:
+        problems.append(f"planner.name: expected the planner's name, found {name!r}")
+    for key in ("version", "method"):
+        text = value.get(key)
+        if text is not None and (not isinstance(text, str) or not text):
+            problems.append(f"planner.{key}: expected a non-empty string, found {text!r}")
+    if isinstance(value.get("method"), str) and value["method"] and value["method"] not in METHODS:
+        problems.append(f"planner.method: expected one of {', '.join(METHODS)}, found {value['method']!r}")
+    for key, least in (("seed", 0), ("roadmap_size", 2)):
+        number = value.get(key)
+        if number is not None and (not isinstance(number, int) or isinstance(number, bool) or number < least):
+            problems.append(f"planner.{key}: expected a whole number >= {least}, found {number!r}")
+    for key in ("seconds", "resolution"):
+        number = value.get(key)
+        if number is not None and (not _is_number(number) or number <= 0):
+            problems.append(f"planner.{key}: expected a finite number > 0, found {number!r}")
+    if value.get("roadmap_size") is not None and value.get("seconds") is not None:
+        problems.append("planner: a roadmap has either a size (roadmap_size) or a time limit (seconds), not both")
+    if len(problems) > found:
+        return None
+    return Provenance(name, value.get("version"), value.get("method"), value.get("seed"),
+                      value.get("roadmap_size"),
+                      None if value.get("seconds") is None else float(value["seconds"]),
+                      None if value.get("resolution") is None else float(value["resolution"]))
 
 
 def _rule(rule: Any, where: str, problems: list[str]) -> Rule | None:
