@@ -9,6 +9,7 @@ import json
 import pytest
 import yaml
 
+from symsynth import __version__
 from symsynth.cli import main
 
 ARCH = "scenes/arch.yaml"
@@ -43,6 +44,8 @@ def test_compute_verify_and_reuse(capsys, tmp_path, small_arch):
     assert summary["cached"] is False and summary["file"] == str(out_file)
     written = json.loads(out_file.read_text())
     assert written["format"] == "symsynth.costmap/1"
+    assert written["planner"] == {"name": "pybullet", "version": __version__, "method": "recursive", "seed": 0,
+                                  "roadmap_size": 30, "resolution": 0.05}
     assert summary["rules"] == sum(len(m["rules"]) for m in written["motions"]) > 0
     assert all(rule["path"] for m in written["motions"] for rule in m["rules"])
 

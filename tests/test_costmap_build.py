@@ -5,6 +5,7 @@ The expected values are worked out here from the geometry: grid distances,
 which place blocks which gap, what the game must conclude."""
 
 import dataclasses
+import json
 import math
 
 import pytest
@@ -19,7 +20,7 @@ from symsynth.planning.build import compute_costmap, obtain_costmap
 from symsynth.planning.costmaps import Query
 from symsynth.planning.protocol import Mode, PlannerError
 from symsynth.planning.verify import path_length, verify_costmap
-from symsynth.scene.costmap import Costmap
+from symsynth.scene.costmap import Costmap, Provenance
 
 # A wall at y = 0.3 with a gap at x in [0.45, 0.55]; place P sits in the gap.
 # South: home (0, 0), l2 (0.8, 0.18), l3 (0.35, 0.12) to park a, Else e1 (0.2, 0.18).  North: l1 (0.5, 0.58).
@@ -187,6 +188,34 @@ def test_cache_same_seed_same_file(tmp_path, monkeypatch):
                          objects={"a": "P", "b": "l2"}, obstacles=WALL, else_samples={"e1": (0.2, 0.18)})
     assert not obtain_costmap(moved, "recursive", "planar", progress=False,
                               planner_factory=PlanarPlanner).cached
+
+
+def test_a_costmap_records_who_built_it():
+    """The planar planner is no installed plugin: no version."""
+    scene = gap_scene()
+    settings = scene.geometry.planner
+    assert build(scene, "sg").provenance == Provenance("planar", None, "sg", settings.seed, settings.roadmap_size,
+                                                       None, settings.resolution)
+    timed = compute_costmap(timed_scene(1.5), "recursive", "planar", seed=7, progress=False,
+                            planner_factory=TimedPlanar)[0]
+    assert timed.provenance == Provenance("planar", None, "recursive", 7, None, 1.5, settings.resolution)
+
+
+def test_a_cached_costmap_without_a_record_gets_it_one_of_another_version_is_computed_again(tmp_path,
+                                                                                          monkeypatch):
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path))
+    scene = gap_scene()
+    first = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+    data = json.loads(first.path.read_text())
+    assert data["planner"]["name"] == "planar"
+    recorded = data.pop("planner")
+    first.path.write_text(json.dumps(data))  # as written before costmaps recorded their planner
+    older = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+    assert older.cached and older.costmap.provenance == first.costmap.provenance
+    first.path.write_text(json.dumps(dict(data, planner=dict(recorded, version="9.9"))))
+    other = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+    assert not other.cached and other.costmap.provenance == first.costmap.provenance
+    assert json.loads(first.path.read_text())["planner"] == recorded  # overwritten
 
 
 def test_a_damaged_cache_entry_is_computed_again(tmp_path, monkeypatch):

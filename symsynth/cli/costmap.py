@@ -27,8 +27,10 @@ roadmap edge is checked once against the location obstacles; then every
 motion is a graph search.  'sg' (the paper's Alg. 2) assumes objects at all
 other places and gives one rule per motion; 'recursive' (Alg. 3) gives
 "if these places are free, it costs c" rules.  Each rule keeps its evidence
-path.  The result is cached (keyed by the scene's geometry, method, planner
-and seed; same seed, same file), so 'symsynth solve SCENE' reuses it.
+path, and the file records who built it (key 'planner': the planner, its
+version, method, seed and roadmap settings).  The result is cached (keyed
+by the scene's geometry, method, planner and seed; same seed, same file),
+so 'symsynth solve SCENE' reuses it.
 
   symsynth costmap verify FILE --scene SCENE [--planner NAME]
 

@@ -24,8 +24,8 @@ from tqdm import tqdm
 from symsynth.planning import cache, costmaps
 from symsynth.planning.anchors import anchor_configs, motions
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
-from symsynth.planning.registry import planner_class
-from symsynth.scene.costmap import Costmap
+from symsynth.planning.registry import planner_class, planner_version
+from symsynth.scene.costmap import Costmap, Provenance
 from symsynth.scene.model import Scene
 
 
@@ -138,7 +138,17 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     clock = stats.add("searches", clock)
     bar.close()
     stats.rules = sum(len(r) for found in result.values() for r in found.values())
-    return {method: Costmap(dict(sorted(found.items()))) for method, found in result.items()}, stats
+    return {method: Costmap(dict(sorted(found.items())), provenance(scene, method, name, seed))
+            for method, found in result.items()}, stats
+
+
+def provenance(scene: Scene, method: str, planner_name: str, seed: int) -> Provenance:
+    """What a costmap records of who built it (the file's key `planner`):
+    everything `symsynth costmap` and the scene's planner settings chose."""
+    settings = scene.geometry.planner
+    return Provenance(planner_name, planner_version(planner_name), method, seed,
+                      settings.roadmap_size if settings.seconds is None else None, settings.seconds,
+                      settings.resolution)
 
 
 def _factory(scene: Scene, name: str, planner_factory: Callable[[Scene], Planner] | None
@@ -260,8 +270,12 @@ def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | 
     _factory(scene, name, planner_factory)  # fails before anything is hashed or computed
     path = cache.cache_path(scene, method, name, seed) if use_cache else None
     hit = None if path is None else cache.cached(path)
-    if hit is not None:
-        return Obtained(hit, method, name, seed, True, path, None)
+    built = provenance(scene, method, name, seed)
+    # A hit without a record predates it (the key says who built it); one
+    # with another record was built by another version of the plugin (the
+    # key has symsynth's version, not the plugin's): computed again.
+    if hit is not None and hit.provenance in (None, built):
+        return Obtained(dataclasses.replace(hit, provenance=built), method, name, seed, True, path, None)
     costmap, stats = compute_costmap(scene, method, name, seed, progress, planner_factory)
     if path is not None:
         cache.store(costmap, path)

@@ -35,3 +35,11 @@ def planner_class(name: str) -> type[Planner]:
         raise PlannerError(f"planner plugin {name!r} ({found[name].value}) is not a Planner: "
                            "it has no 'name'")
     return cls
+
+
+def planner_version(name: str) -> str | None:
+    """The version of the package that provides planner `name` (recorded in
+    the costmaps it builds); None when no installed package provides it."""
+    found = _entry_points().get(name)
+    dist = None if found is None else found.dist
+    return None if dist is None else dist.version
