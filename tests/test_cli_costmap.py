@@ -11,6 +11,7 @@ import yaml
 
 from symsynth import __version__
 from symsynth.cli import main
+from symsynth.scene import load_scene, write_costmap
 
 ARCH = "scenes/arch.yaml"
 
@@ -63,6 +64,54 @@ def test_compute_verify_and_reuse(capsys, tmp_path, small_arch):
     out_file.write_text(json.dumps(written))
     code, out, _ = run(capsys, "costmap", "verify", str(out_file), "--scene", str(small_arch))
     assert code == 1 and f"FAIL {motion['mode']} {motion['from']} -> {motion['to']}, rule 0: cost" in out
+
+
+@pytest.fixture(scope="module")
+def pybullet_file(paper_arch, tmp_path_factory):
+    """The session's arch start-goal costmap, built by pybullet, as a file;
+    scenes/arch.yaml names ompl-fcl (and the same resolution)."""
+    path = tmp_path_factory.mktemp("built") / "arch.json"
+    write_costmap(paper_arch[1]["sg"], path)
+    assert load_scene(ARCH).geometry.planner.name == "ompl-fcl"
+    return path
+
+
+def test_verify_uses_the_planner_the_costmap_records(capsys, pybullet_file):
+    """With the scene's planner, ompl-fcl, every rule would miss its anchors."""
+    code, out, err = run(capsys, "costmap", "verify", str(pybullet_file), "--scene", ARCH)
+    assert code == 0, out + err
+    assert "with planner pybullet at resolution 0.0125 rad: all evidence paths hold" in out
+
+
+def test_verify_refuses_another_planner_than_the_recorded_one(capsys, pybullet_file):
+    code, out, err = run(capsys, "costmap", "verify", str(pybullet_file), "--scene", ARCH, "--planner", "ompl-fcl")
+    assert code == 2 and not out and "Traceback" not in err
+    assert (f"--planner ompl-fcl: {pybullet_file} was built by planner 'pybullet' (its key 'planner'), and its "
+            "evidence paths start and end at pybullet's inverse kinematics solutions for the anchors; ompl-fcl's "
+            "solutions differ, so every rule would fail its end points. Leave --planner out to verify with "
+            "pybullet") in err
+
+
+def test_verify_without_a_record_needs_the_planner(capsys, pybullet_file, tmp_path):
+    data = json.loads(pybullet_file.read_text())
+    del data["planner"]
+    older = tmp_path / "older.json"
+    older.write_text(json.dumps(data))
+    code, out, err = run(capsys, "costmap", "verify", str(older), "--scene", ARCH)
+    assert code == 2 and "Traceback" not in err
+    assert f"{older} does not record the planner that built it" in err and "--planner NAME" in err
+    code, out, err = run(capsys, "costmap", "verify", str(older), "--scene", ARCH, "--planner", "pybullet")
+    assert code == 0 and "with planner pybullet" in out and "all evidence paths hold" in out
+
+
+def test_verify_notes_a_costmap_built_by_another_version_of_the_planner(capsys, pybullet_file, tmp_path):
+    data = json.loads(pybullet_file.read_text())
+    data["planner"]["version"] = "0.0.1"
+    older = tmp_path / "older.json"
+    older.write_text(json.dumps(data))
+    code, out, err = run(capsys, "costmap", "verify", str(older), "--scene", ARCH)
+    assert code == 0 and "all evidence paths hold" in out
+    assert f"note       {older} was built by pybullet 0.0.1, pybullet {__version__} is installed" in out
 
 
 def test_solve_computes_then_reuses_the_costmap(capsys, small_arch):

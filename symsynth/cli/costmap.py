@@ -10,8 +10,8 @@ from symsynth.cli.options import check_writable, count
 from symsynth.errors import InputError
 from symsynth.planning.build import obtain_costmap
 from symsynth.planning.costmaps import METHODS
-from symsynth.planning.registry import DEFAULT, planner_class, planner_names
-from symsynth.planning.verify import verify_costmap
+from symsynth.planning.registry import DEFAULT, planner_class, planner_names, planner_version
+from symsynth.planning.verify import building_planner, verify_costmap
 from symsynth.scene import load_costmap, load_scene
 from symsynth.scene.costmap import write_costmap
 
@@ -34,11 +34,14 @@ so 'symsynth solve SCENE' reuses it.
 
   symsynth costmap verify FILE --scene SCENE [--planner NAME]
 
-re-checks every rule's evidence path at 4x finer resolution against the
-static obstacles and the location obstacles the rule assumes, its cost, and
-that it starts and ends at its anchors.  Anchors are the planner's inverse
-kinematics solutions, so give the --planner that built the costmap (default:
-the scene's); with another planner every path misses its anchors.
+re-checks every rule's evidence path at 4x finer resolution than it was
+built with against the static obstacles and the location obstacles the
+rule assumes, its cost, and that it starts and ends at its anchors.
+Anchors are the planner's inverse kinematics solutions, so the paths are
+checked with the planner that built the costmap, which the file records
+(key 'planner'): --planner is needed only for a file without that record
+(written by hand or by an older symsynth), and another planner than the
+recorded one is refused, since every path would miss its anchors.
 Exit status 1 if a path fails (a bug in a planner or the algorithms).
 
 Planners: {', '.join(planner_names()) or 'none installed'} (entry points 'symsynth.planners';
@@ -56,7 +59,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--method", choices=tuple(METHODS), default="recursive",
                         help="start-goal (Alg. 2) or recursive (Alg. 3; default)")
     parser.add_argument("--planner", metavar="NAME",
-                        help="planner plugin (default: the scene's planner.name, else ompl-fcl)")
+                        help="planner plugin (default: the scene's planner.name, else ompl-fcl; "
+                             "with verify: the one the costmap records)")
     parser.add_argument("--seed", type=count, metavar="S", help="roadmap seed (default: the scene's)")
     parser.add_argument("-o", "--output", type=Path, metavar="FILE", help="also write the costmap to FILE")
     parser.add_argument("--no-cache", action="store_true", help="compute even if a cached costmap exists")
@@ -111,9 +115,15 @@ def _verify(path: Path, args: argparse.Namespace) -> int:
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has nothing to verify against")
     costmap = load_costmap(path)
-    name = args.planner or scene.geometry.planner.name
+    name = building_planner(costmap, args.planner, str(path))
+    built = costmap.provenance
+    if built is not None and built.version is not None and planner_version(name) not in (None, built.version):
+        print(f"note       {path} was built by {name} {built.version}, {name} {planner_version(name)} is "
+              "installed: if its inverse kinematics changed since, the paths miss their anchors")
     planner = planner_class(name)(scene)
-    resolution = scene.geometry.planner.resolution / 4
+    # 4x finer than the paths were checked when built (the scene's setting for a file that does not say)
+    resolution = (built.resolution if built is not None and built.resolution is not None
+                  else scene.geometry.planner.resolution) / 4
     checked, failures = verify_costmap(costmap, scene, planner, resolution)
     for failure in failures[:20]:
         print(f"FAIL {failure}")

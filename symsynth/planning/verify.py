@@ -13,10 +13,12 @@ algorithms.
 The anchors' configurations are the verifying planner's inverse kinematics
 solutions (`anchor_configs`), so a costmap must be verified with the
 planner that built it: another planner's solutions for the same poses
-differ, and every rule would fail its end points.  (Comparing end-effector
-poses instead would need forward kinematics, which the `Planner` protocol
-does not have, and a check that all paths through an anchor use one
-configuration there, since the robot's motions chain at anchors.)
+differ, and every rule would fail its end points.  The costmap records
+that planner (`Costmap.provenance`), and `building_planner` holds to it.
+(Comparing end-effector poses instead would need forward kinematics, which
+the `Planner` protocol does not have, and a check that all paths through an
+anchor use one configuration there, since the robot's motions chain at
+anchors.)
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from tqdm import tqdm
 
+from symsynth.errors import InputError
 from symsynth.planning.anchors import anchor_configs
 from symsynth.planning.build import mode_anchors, physical_queries
 from symsynth.planning.costmaps import Query
@@ -55,6 +58,28 @@ class Failure:
 def path_length(path) -> float:
     q = np.asarray(path, dtype=float)
     return float(np.linalg.norm(np.diff(q, axis=0), axis=1).sum()) if len(q) > 1 else 0.0
+
+
+def building_planner(costmap: Costmap, given: str | None, source: str) -> str:
+    """The planner to verify `costmap` with: the one it records, or, for a
+    file without that record, the `given` one.  Another planner than the
+    recorded one is refused rather than run: every rule would fail its end
+    points, which says nothing about the paths (module doc).  (No override:
+    to re-check a file whose record is wrong, remove the record and name
+    the planner.)"""
+    built = costmap.provenance
+    if built is None:
+        if given is None:
+            raise InputError(f"{source} does not record the planner that built it (no key 'planner': written "
+                             "by hand or by an older symsynth): give it with --planner NAME; its evidence paths "
+                             "end at that planner's inverse kinematics solutions for the anchors")
+        return given
+    if given is not None and given != built.name:
+        raise InputError(f"--planner {given}: {source} was built by planner {built.name!r} (its key 'planner'), "
+                         f"and its evidence paths start and end at {built.name}'s inverse kinematics solutions "
+                         f"for the anchors; {given}'s solutions differ, so every rule would fail its end points. "
+                         f"Leave --planner out to verify with {built.name}")
+    return built.name
 
 
 def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution: float,
