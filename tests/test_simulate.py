@@ -562,6 +562,24 @@ def test_an_unknown_planner_is_refused_before_the_solve(line_files, capsys, monk
     assert "nosuch" in capsys.readouterr().err
 
 
+def test_the_simulating_planner_is_the_one_that_built_the_costmap(paper_arch):
+    """The costmap's record wins over the scene's planner; a --planner
+    other than the record is refused; without a record, as before."""
+    scene, costmaps = paper_arch
+    settings = dataclasses.replace(scene.geometry.planner, name="ompl-fcl")
+    scene = dataclasses.replace(scene, geometry=dataclasses.replace(scene.geometry, planner=settings))
+    recorded = dataclasses.replace(scene, costmap=costmaps["sg"])
+    assert costmaps["sg"].provenance.name == "pybullet"
+    assert simulate_command._planner_name(recorded, None) == "pybullet"
+    assert simulate_command._planner_name(recorded, "pybullet") == "pybullet"
+    with pytest.raises(InputError, match="--planner ompl-fcl: the scene's costmap was built by planner 'pybullet'"):
+        simulate_command._planner_name(recorded, "ompl-fcl")
+    unrecorded = dataclasses.replace(scene, costmap=Costmap(costmaps["sg"].motions))
+    assert simulate_command._planner_name(unrecorded, None) == "ompl-fcl"
+    assert simulate_command._planner_name(unrecorded, "pybullet") == "pybullet"
+    assert scene.costmap is None and simulate_command._planner_name(scene, "pybullet") == "pybullet"
+
+
 def test_budget_below_E_p_means_no_guarantee(line_files, capsys, line):
     budget = str(line.solution.cost_bound - 1)
     assert main(["simulate", str(line_files), "--budget", budget]) == 1
@@ -686,6 +704,20 @@ def test_a_script_plays_from_its_first_entry_in_every_run(line_files, tmp_path, 
     assert main(["simulate", str(line_files), "--human", str(script_file), "--runs", "2", "--json"]) == 0
     runs = json.loads(capsys.readouterr().out)["runs"]
     assert [r["trace"][0]["action"] for r in runs] == ["move(w1,center)"] * 2
+
+
+def test_another_planner_than_the_costmap_records_is_refused_before_the_solve(arch_sg_file, capsys,
+                                                                               monkeypatch):
+    """The arch costmap was built by pybullet: simulated with ompl-fcl, the
+    robot would jump onto each evidence path from ompl-fcl's anchors."""
+    monkeypatch.setitem(simulate_command.SOLVERS, DEFAULT_SOLVER, lambda *a, **k: pytest.fail("solved"))
+    assert main(["simulate", str(arch_sg_file), "--planner", "ompl-fcl"]) == 2
+    out, err = capsys.readouterr()
+    assert not out and "Traceback" not in err
+    assert ("symsynth simulate: --planner ompl-fcl: the scene's costmap was built by planner 'pybullet' (its key "
+            "'planner'), and its evidence paths start and end at pybullet's inverse kinematics solutions for the "
+            "anchors; ompl-fcl's differ, so the robot would jump onto each path at a cost the costmap leaves out. "
+            "Leave --planner out to simulate with pybullet") in err
 
 
 def test_without_a_winning_strategy_the_adversary_is_refused(arch_sg_file, capsys):

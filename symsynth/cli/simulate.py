@@ -95,7 +95,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", action="store_true", help="print the runs as JSON")
     parser.add_argument("--method", choices=tuple(METHODS), default="recursive",
                         help="costmap method (default: recursive)")
-    parser.add_argument("--planner", metavar="NAME", help="planner plugin (default: the scene's)")
+    parser.add_argument("--planner", metavar="NAME",
+                        help="planner plugin (default: the one that built the scene's costmap, else the scene's)")
     parser.add_argument("--costmap-seed", type=options.count, metavar="S",
                         help="roadmap seed (default: the scene's planner.seed)")
     parser.add_argument("--no-cache", action="store_true", help="compute the costmap even if one is cached")
@@ -132,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world to simulate")
     # Every input is read and checked before the costmap and the solve.
-    planner_type = planner_class(args.planner or scene.geometry.planner.name)
+    planner_type = planner_class(_planner_name(scene, args.planner))
     table = None
     if args.strategy is not None:
         table = _read_strategy(args.strategy, scene)
@@ -255,6 +256,25 @@ def _read_strategy(path: Path, scene: Scene) -> StrategyFile:
     if problems:
         raise InputError(f"{path}: not a strategy for scene {scene.name!r}: " + "; ".join(problems))
     return table
+
+
+def _planner_name(scene: Scene, given: str | None) -> str:
+    """The planner that simulates: the one the scene's costmap records as its
+    builder, else --planner or the scene's.  Another --planner than the
+    recorded one is an error, not a warning: evidence paths start and end at
+    the building planner's inverse kinematics solutions for the anchors,
+    but a motion planned at run time ends at the simulating planner's, so
+    the next evidence motion would begin with a jump its rule's cost leaves
+    out (up to 0.7 rad between ompl-fcl's and pybullet's on the bundled
+    scenes), and the runs' cost and evidence verdicts would be about that
+    jump, not the abstraction."""
+    built = None if scene.costmap is None else scene.costmap.provenance
+    if built is not None and given is not None and given != built.name:
+        raise InputError(f"--planner {given}: the scene's costmap was built by planner {built.name!r} (its key "
+                         f"'planner'), and its evidence paths start and end at {built.name}'s inverse kinematics "
+                         f"solutions for the anchors; {given}'s differ, so the robot would jump onto each path "
+                         f"at a cost the costmap leaves out. Leave --planner out to simulate with {built.name}")
+    return given or (scene.geometry.planner.name if built is None else built.name)
 
 
 def _no_guarantee(bound: float | None, budget: float | None) -> str:
