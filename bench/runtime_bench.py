@@ -7,8 +7,9 @@ eager (check every edge as the roadmap grows, then search), side by side.
 A bundled scene (`scenes/NAME.yaml`), its recursive costmap (roadmap size
 `--roadmap`, the scene's planner or `--planner`), and a scripted human who
 puts an object down off every place before the robot's first action
-(`--move OBJECT X Y`; the default is the reviewer's case, line with b at
-(0.48, 0), between l4 and the centre): the robot plans at run time to reach
+(`--move OBJECT X Y`; the default is line with b at (0.48, 0), between l4
+and the centre, the case where run-time planning was slowest when the
+simulator was reviewed): the robot plans at run time to reach
 it and, off every anchor, to carry it and the blocks it finds in its way.  The same runs are played with `motion.runtime_motion` (lazy) and with
 the eager method it replaced (`eager_runtime_motion` below, built from the
 same pieces), alternating, in one process.  Reported: the time spent inside

@@ -145,3 +145,47 @@ def test_show_writes_a_picture(capsys, tmp_path, small_arch):
 def test_bad_input_is_one_message(capsys, argv, expected):
     code, out, err = run(capsys, *argv)
     assert code == 2 and expected in err and "Traceback" not in err
+
+def test_verify_never_checks_coarser_than_the_scene_asks(capsys, pybullet_file, tmp_path):
+    """A record claiming a coarse build resolution (stale or edited) must not
+    weaken the check: the step is a quarter of the finer of the two, here
+    the scene's 0.05 rad."""
+    assert load_scene(ARCH).geometry.planner.resolution == 0.05
+    data = json.loads(pybullet_file.read_text())
+    data["planner"]["resolution"] = 100.0
+    coarse = tmp_path / "coarse.json"
+    coarse.write_text(json.dumps(data))
+    code, out, err = run(capsys, "costmap", "verify", str(coarse), "--scene", ARCH)
+    assert code == 0, out + err
+    assert "at resolution 0.0125 rad" in out
+
+
+def test_verify_names_a_recorded_planner_that_is_not_installed(capsys, pybullet_file, tmp_path):
+    data = json.loads(pybullet_file.read_text())
+    data["planner"]["name"] = "moveit"
+    foreign = tmp_path / "foreign.json"
+    foreign.write_text(json.dumps(data))
+    for extra in ((), ("--planner", "pybullet")):
+        code, out, err = run(capsys, "costmap", "verify", str(foreign), "--scene", ARCH, *extra)
+        assert code == 2 and not out and "Traceback" not in err
+        assert (f"{foreign} records planner 'moveit' as its builder (its key 'planner'), which is not installed "
+                "(installed: ompl-fcl, pybullet)") in err
+        assert "remove the key from the file and give --planner NAME" in err
+
+
+def test_a_cached_costmap_without_a_record_gets_it_written_back(capsys, tmp_path, small_arch):
+    """A cache file from before the record existed is reused, and written back
+    with the record its key implies, so the file `costmap` names verifies
+    without --planner."""
+    code, out, err = run(capsys, "costmap", str(small_arch), "--json")
+    assert code == 0, err
+    cached = json.loads(out)["file"]
+    data = json.loads(open(cached).read())
+    recorded = data.pop("planner")
+    with open(cached, "w") as f:
+        json.dump(data, f)
+    code, out, err = run(capsys, "costmap", str(small_arch), "--json")
+    assert code == 0 and json.loads(out)["cached"] is True, err
+    assert json.loads(open(cached).read())["planner"] == recorded
+    code, out, err = run(capsys, "costmap", "verify", cached, "--scene", str(small_arch))
+    assert code == 0 and "with planner pybullet" in out and "all evidence paths hold" in out, out + err

@@ -580,6 +580,18 @@ def test_the_simulating_planner_is_the_one_that_built_the_costmap(paper_arch):
     assert scene.costmap is None and simulate_command._planner_name(scene, "pybullet") == "pybullet"
 
 
+def test_a_recorded_planner_that_is_not_installed_is_named(paper_arch):
+    """The user never typed the name: the message says where it comes from."""
+    scene, costmaps = paper_arch
+    foreign = dataclasses.replace(costmaps["sg"].provenance, name="moveit")
+    recorded = dataclasses.replace(scene, costmap=dataclasses.replace(costmaps["sg"], provenance=foreign))
+    for given in (None, "pybullet"):
+        with pytest.raises(InputError, match=r"the scene's costmap records planner 'moveit' as its builder \(its "
+                                             r"key 'planner'\), which is not installed \(installed: ompl-fcl, "
+                                             r"pybullet\)"):
+            simulate_command._planner_name(recorded, given)
+
+
 def test_budget_below_E_p_means_no_guarantee(line_files, capsys, line):
     budget = str(line.solution.cost_bound - 1)
     assert main(["simulate", str(line_files), "--budget", budget]) == 1

@@ -35,7 +35,7 @@ so 'symsynth solve SCENE' reuses it.
   symsynth costmap verify FILE --scene SCENE [--planner NAME]
 
 re-checks every rule's evidence path at 4x finer resolution than it was
-built with against the static obstacles and the location obstacles the
+built with (or than the scene's setting, if that is finer) against the static obstacles and the location obstacles the
 rule assumes, its cost, and that it starts and ends at its anchors.
 Anchors are the planner's inverse kinematics solutions, so the paths are
 checked with the planner that built the costmap, which the file records
@@ -121,9 +121,12 @@ def _verify(path: Path, args: argparse.Namespace) -> int:
         print(f"note       {path} was built by {name} {built.version}, {name} {planner_version(name)} is "
               "installed: if its inverse kinematics changed since, the paths miss their anchors")
     planner = planner_class(name)(scene)
-    # 4x finer than the paths were checked when built (the scene's setting for a file that does not say)
-    resolution = (built.resolution if built is not None and built.resolution is not None
-                  else scene.geometry.planner.resolution) / 4
+    # 4x finer than the paths were checked when built, and than the scene asks: never coarser than the
+    # scene's own setting, whatever the file records
+    resolution = scene.geometry.planner.resolution
+    if built is not None and built.resolution is not None:
+        resolution = min(resolution, built.resolution)
+    resolution /= 4
     checked, failures = verify_costmap(costmap, scene, planner, resolution)
     for failure in failures[:20]:
         print(f"FAIL {failure}")

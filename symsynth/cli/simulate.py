@@ -20,6 +20,7 @@ from symsynth.game.strategy import StrategyFile, format_state, read_strategy, st
 from symsynth.logic import parse_ltlf
 from symsynth.planning.build import obtain_costmap
 from symsynth.planning.costmaps import METHODS
+from symsynth.planning.verify import installed_planner
 from symsynth.scene import Scene, load_scene
 
 BUILT_IN_HUMANS = ("none", "random", "adversarial")
@@ -269,6 +270,8 @@ def _planner_name(scene: Scene, given: str | None) -> str:
     scenes), and the runs' cost and evidence verdicts would be about that
     jump, not the abstraction."""
     built = None if scene.costmap is None else scene.costmap.provenance
+    if built is not None:
+        installed_planner(built.name, "the scene's costmap")
     if built is not None and given is not None and given != built.name:
         raise InputError(f"--planner {given}: the scene's costmap was built by planner {built.name!r} (its key "
                          f"'planner'), and its evidence paths start and end at {built.name}'s inverse kinematics "

@@ -275,7 +275,10 @@ def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | 
     # with another record was built by another version of the plugin (the
     # key has symsynth's version, not the plugin's): computed again.
     if hit is not None and hit.provenance in (None, built):
-        return Obtained(dataclasses.replace(hit, provenance=built), method, name, seed, True, path, None)
+        if hit.provenance is None:  # written back with its record, so the file says who built it
+            hit = dataclasses.replace(hit, provenance=built)
+            cache.store(hit, path)
+        return Obtained(hit, method, name, seed, True, path, None)
     costmap, stats = compute_costmap(scene, method, name, seed, progress, planner_factory)
     if path is not None:
         cache.store(costmap, path)

@@ -4,9 +4,10 @@ The key is a hash of the scene's geometry and names (not its task, `k` or
 the objects' initial places, which the costmap does not depend on), the
 bytes of the robot's URDF and of mesh files, the method, the planner, its
 seed and symsynth's version.  Same key, same file: a hit is reused as is
-(`build.obtain_costmap` gives a file of an older version the provenance its
-key implies, and computes again one whose recorded planner version differs:
-a third-party plugin's version is not in the key).
+(`build.obtain_costmap` writes the provenance its key implies into a file
+of an older version, and computes again one whose recorded provenance
+differs from what this run would record, e.g. another version of the
+planner plugin: a third-party plugin's version is not in the key).
 The cache lives in `$SYMSYNTH_CACHE`, else `$XDG_CACHE_HOME/symsynth`, else
 `~/.cache/symsynth`.
 """

@@ -35,6 +35,7 @@ from symsynth.planning.anchors import anchor_configs
 from symsynth.planning.build import mode_anchors, physical_queries
 from symsynth.planning.costmaps import Query
 from symsynth.planning.protocol import Mode, Planner
+from symsynth.planning.registry import planner_names
 from symsynth.scene.costmap import Costmap
 from symsynth.scene.geometry import point_text
 from symsynth.scene.model import Scene
@@ -68,6 +69,8 @@ def building_planner(costmap: Costmap, given: str | None, source: str) -> str:
     to re-check a file whose record is wrong, remove the record and name
     the planner.)"""
     built = costmap.provenance
+    if built is not None:
+        installed_planner(built.name, source)
     if built is None:
         if given is None:
             raise InputError(f"{source} does not record the planner that built it (no key 'planner': written "
@@ -82,10 +85,23 @@ def building_planner(costmap: Costmap, given: str | None, source: str) -> str:
     return built.name
 
 
+def installed_planner(name: str, source: str) -> str:
+    """`name`, recorded in the costmap `source` as its builder, if that
+    planner is installed; else an error that names the file and its record
+    (the user never typed the name) and the way out."""
+    known = planner_names()
+    if name not in known:
+        raise InputError(f"{source} records planner {name!r} as its builder (its key 'planner'), which is not "
+                         f"installed (installed: {', '.join(known) or 'none'}): install that planner's plugin, "
+                         "or remove the key from the file and give --planner NAME")
+    return name
+
+
 def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution: float,
                    progress: bool = True) -> tuple[int, list[Failure]]:
     """(rules checked, failures).  `resolution` is the step along each path
-    (the command passes a quarter of the scene's planner resolution);
+    (the command passes a quarter of the finer of the recorded build
+    resolution and the scene's);
     `planner` must be the one that built the costmap (module doc)."""
     places = frozenset(scene.locations + scene.else_samples)
     per_radian = scene.geometry.per_radian
