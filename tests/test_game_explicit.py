@@ -169,10 +169,10 @@ def brute_force(scene, formula, k, cap=CAP):
     return 0 if dfa.is_accepting(q0) else human(v0, q0, k, cap)
 
 
-def game_graph(scene, formula, k):
+def game_graph(scene, formula, k, units=lambda c: quantize(c, 1.0)):
     """The positions (v, q, h, robot's turn) reachable from the initial one,
-    each with its successors as (units, position or "WIN"); None for the
-    start when the first letter is already accepted."""
+    each with its successors as (units(cost), position or "WIN"); None for
+    the start when the first letter is already accepted."""
     props = interpret_all(formula, scene)
     dfa = compile_ltlf(formula)
     read = functools.cache(lambda q, v: dfa.step(q, letter(scene, props, v)))
@@ -180,13 +180,13 @@ def game_graph(scene, formula, k):
     def successors(pos):
         v, q, h, robot = pos
         if robot:
-            moves = [(quantize(c, 1.0), w) for _, w, c in robot_moves(scene, v)]
+            moves = [(units(c), w) for _, w, c in robot_moves(scene, v)]
         else:
             moves = [(0, w) for _, w in human_moves(scene, v)] if h > 0 else []
         out = [] if robot else [(0, (v, q, h, True))]  # the pass
-        for units, w in moves:
+        for cost, w in moves:
             q2 = read(q, w)
-            out.append((units, "WIN" if dfa.is_accepting(q2) else (w, q2, h - (not robot), not robot)))
+            out.append((cost, "WIN" if dfa.is_accepting(q2) else (w, q2, h - (not robot), not robot)))
         return out
 
     v0 = initial_state(scene)

@@ -22,9 +22,11 @@ integer units the solvers add up.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import NamedTuple
 
 from symsynth.errors import InputError
@@ -33,11 +35,6 @@ from symsynth.scene.costmap import Costmap
 from symsynth.scene.model import ELSE, EMPTY, HAND, Scene
 
 EndEffector = str | tuple[str, str]  # ELSE, a location, or (object, grasp)
-
-#: Quantization tolerance: `c / r` within this much above an integer counts as
-#: that integer, so float noise (0.3 / 0.1 = 3.0000000000000004) costs no unit.
-EPSILON = 1e-9
-
 
 @dataclass(frozen=True)
 class State:
@@ -68,9 +65,28 @@ def initial_state(scene: Scene) -> State:
     return State(tuple(o.at for o in scene.objects), None, ELSE)
 
 
+def decimal(x: float) -> Fraction:
+    """The number `x` as the decimal it prints as (`repr`), exactly: 0.1 is
+    1/10, not the binary float nearest to it.  Costs, resolutions and budgets
+    are written as decimals in files and on the command line; read this way,
+    `0.3 / 0.1` is exactly 3 and needs no tolerance."""
+    return Fraction(repr(float(x)))
+
+
+@functools.lru_cache(maxsize=1 << 16)
 def quantize(cost: float, resolution: float) -> int:
-    """`cost` rounded up to whole units of `resolution`: ceil(c / r - EPSILON)."""
-    return math.ceil(cost / resolution - EPSILON)
+    """`cost` rounded up to whole units of `resolution`: ceil(c / r), computed
+    exactly on the decimals (`decimal`).  Never below the cost: a positive
+    cost is at least one unit however coarse `resolution` is (so every
+    bound built from units stays sound), and `c` that is a multiple of `r`
+    (0.3 of 0.1) is exactly `c / r` units."""
+    return math.ceil(decimal(cost) / decimal(resolution))
+
+
+def within(units: int, resolution: float, budget: float) -> bool:
+    """Whether `units * resolution <= budget`, exactly on the decimals
+    (3 units of 0.1 fit a budget of 0.3; 321 units do not fit 320.9999995)."""
+    return units * decimal(resolution) <= decimal(budget)
 
 
 # -- robot (spec §4, §5) --------------------------------------------------------

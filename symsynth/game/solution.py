@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from symsynth.errors import InputError
-from symsynth.game.abstraction import EPSILON, State, state_json
+from symsynth.game.abstraction import State, state_json, within
 from symsynth.logic import ast, parse_ltlf
 from symsynth.scene.model import Scene
 
@@ -93,7 +93,22 @@ def check_parameters(scene: Scene, k: int | None, resolution: float) -> int:
         raise InputError(f"k must be >= 0, found {k}")
     if not resolution > 0 or math.isinf(resolution):
         raise InputError(f"resolution must be a positive number, found {resolution}")
+    largest = largest_cost(scene)
+    if resolution > largest > 0:
+        raise InputError(
+            f"resolution {resolution:g} is coarser than every action cost (the largest is {largest:g}): "
+            f"each action would round up to one unit, and E_p would count actions instead of "
+            f"measuring cost; use a resolution of at most {largest:g}")
     return k
+
+
+def largest_cost(scene: Scene) -> float:
+    """The largest finite cost an action of the scene can have: grab, drop,
+    and every rule of its costmap (0 when there is none)."""
+    costs = [scene.grab_cost, scene.drop_cost]
+    if scene.costmap is not None:
+        costs += [rule.cost for rules in scene.costmap.motions.values() for rule in rules]
+    return max((c for c in costs if math.isfinite(c)), default=0.0)
 
 
 def task_formula(scene: Scene, formula: str | ast.Formula | None) -> ast.Formula:
@@ -108,8 +123,8 @@ def task_formula(scene: Scene, formula: str | ast.Formula | None) -> ast.Formula
 
 
 def verdict(units: int | None, resolution: float, budget: float | None) -> bool | None:
-    """Whether E_p = units * resolution is within `budget`, compared in units
-    with the quantization tolerance (so 3 units of 0.1 fit a budget of 0.3)."""
+    """Whether E_p = units * resolution is within `budget` (`within`: exact
+    on the decimals, so 3 units of 0.1 fit a budget of 0.3)."""
     if budget is None:
         return None
-    return units is not None and units <= budget / resolution + EPSILON
+    return units is not None and within(units, resolution, budget)
