@@ -13,6 +13,7 @@ from symsynth.cli import options
 from symsynth.cli.options import check_writable
 from symsynth.cli.solve import costmap_json, costmap_report
 from symsynth.errors import InputError
+from symsynth.game.horizon import solve_game
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import verdict
 from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
@@ -159,7 +160,7 @@ def run(args: argparse.Namespace) -> int:
                                   use_cache=not args.no_cache, progress=progress)
         scene = dataclasses.replace(scene, costmap=obtained.costmap)
     if table is None:
-        solution = SOLVERS[args.solver](scene, scene.task, k=scene.k, budget=args.budget)
+        solution = solve_game(SOLVERS[args.solver], scene, scene.task, budget=args.budget)
         if args.human == "adversarial":  # it weighs its moves by the budgets of every position reached
             table = strategy_table(scene, scene.task, solution)
     if table is not None:
@@ -189,7 +190,7 @@ def run(args: argparse.Namespace) -> int:
         if args.strategy is None and args.solver == "explicit":
             fallback = solution.strategy  # solved just now, with the same task, k and resolution
         else:
-            fallback = SOLVERS["explicit"](scene, formula, k=scene.k).strategy
+            fallback = solve_game(SOLVERS["explicit"], scene, formula).strategy
     policy = Policy(actions, budgets, bound, fallback)
     planner = planner_type(scene)
     simulator = Simulator(scene, formula, policy, planner, resolution=resolution)

@@ -13,6 +13,7 @@ from symsynth.errors import InputError
 from symsynth.game.abstraction import Move, State, initial_state, motions, robot_moves
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import Solution, Step, task_formula
+from symsynth.game.horizon import solve_game
 from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.game.strategy import format_state, write_strategy
 from symsynth.logic import parse_ltlf
@@ -99,8 +100,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         raise InputError(f"scene {scene.name!r} has no task: give --task FORMULA "
                          f"or a 'task:' entry in {args.scene}")
-    solution = SOLVERS[args.solver](scene, formula, k=args.k, budget=args.budget,
-                                    resolution=args.resolution)
+    solution = solve_game(SOLVERS[args.solver], scene, formula, k=args.k, budget=args.budget,
+                          resolution=args.resolution)
     written = None if args.output is None else write_strategy(args.output, scene, task, solution)
     if args.json:
         out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver}
@@ -144,6 +145,8 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution) -> None:
     print(f"scene      {scene.name}{where}")
     print(f"task       {task.strip()}")
     print(f"human      k = {solution.k} move{'s' if solution.k != 1 else ''}, human first")
+    if "solved_with_k" in solution.stats:
+        print(f"           {_horizon(solution)}")
     print(f"solver     {solver}")
     print(f"verdict    {_verdict(solution)}")
     if solution.cost_bound is None:
@@ -171,6 +174,16 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution) -> None:
         print("Principal play: the strategy against the human's worst replies.")
         _print_play(solution.principal_play, solution.objects)
         print(f"total cost {_num(sum(s.cost for s in solution.principal_play))} = E_p")
+
+
+def _horizon(solution: Solution) -> str:
+    """Why the game with k moves was solved with fewer (game.horizon)."""
+    h = solution.stats["solved_with_k"]
+    if solution.units is None:
+        return f"solved with k = {h}: the human already wins with {h} moves, so with more too"
+    return (f"solved with k = {h}: against its strategy a play can use at most "
+            f"{solution.stats['moves_usable']} human moves (E_p over the cheapest action), "
+            f"so more moves change nothing")
 
 
 def _verdict(solution: Solution) -> str:
