@@ -18,6 +18,7 @@ from symsynth.game.solvers import SOLVERS
 from symsynth.game.strategy import read_strategy
 from symsynth.logic import parse_ltlf
 from symsynth.scene import load_scene
+from conftest import SCENES
 from test_strategy_file import PICK, check_file, costmap_json, scene_data
 
 SOLVER_NAMES = sorted(SOLVERS)
@@ -288,3 +289,24 @@ def test_bad_options_are_usage_errors(capsys, tmp_path, option, value, expected)
     assert code == 2 and out == ""
     assert "usage:" in err and option in err and expected in err
     assert "Traceback" not in err
+
+
+@pytest.mark.parametrize("name, reason", [("Else", "a reserved place"), ("Hand", "a reserved place"),
+                                          ("l2", "a location"), ("e1", "an Else sample")])
+def test_objects_named_like_a_place_are_refused(tmp_path, capsys, name, reason):
+    """`at(Else, l2)` would name an object as much as a place: the scene is
+    refused up front, at the object's key and line (it was solved)."""
+    text = (SCENES / "toy.yaml").read_text().replace("  w: {", f"  {name}: {{")
+    (tmp_path / "toy.yaml").write_text(text)
+    costmap = (SCENES / "toy.costmap.json").read_text().replace('"w/top"', f'"{name}/top"')
+    (tmp_path / "toy.costmap.json").write_text(costmap)
+    assert main(["solve", str(tmp_path / "toy.yaml")]) == 2
+    err = capsys.readouterr().err
+    line = text.splitlines().index(next(l for l in text.splitlines() if l.startswith(f"  {name}:"))) + 1
+    assert f"toy.yaml:{line}: objects.{name}: '{name}' is {reason} and cannot name an object" in err
+
+
+@pytest.mark.parametrize("argv", [["dfa", "-a"], ["solve", str(SCENES / "toy.yaml"), "--task", "-F(at(b,l3))"]])
+def test_a_formula_that_starts_with_a_dash_gets_a_hint(capsys, argv):
+    assert main(argv) == 2
+    assert f"the argument {argv[-1]!r} starts with '-' and is read as an option" in capsys.readouterr().err

@@ -635,6 +635,34 @@ def test_a_strategy_for_another_scene_is_refused_before_any_planning(line_files,
     assert "not a strategy for scene 'line'" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("edit, reason", [
+    (lambda d: d.update(task=d["task"].replace("at(black, center)", "at(black, l2)")), "it does not win"),
+    (lambda d: d["positions"][0].update(action="fly(b,top)"), "it plays 'fly(b,top)' at"),
+    (lambda d: d["positions"][-1].update(action=d["positions"][0]["action"])
+     if d["positions"][-1]["action"] != d["positions"][0]["action"] else None, "it plays"),
+    (lambda d: d.update(units=d["units"] - 1, cost_bound=d["cost_bound"] - 1),
+     "claims E_p = {units_less} units, but its actions guarantee only {units}"),
+    (lambda d: d["positions"][0].update(budget=d["positions"][0]["budget"] - 1), "its budget at"),
+])
+def test_an_edited_strategy_is_refused_before_any_run(line_files, tmp_path, capsys, monkeypatch, edit, reason):
+    """A strategy file is a certificate: simulate checks it against the game
+    (its actions legal, winning within its E_p, its budgets what they
+    guarantee) before it runs anything, and refuses an edited one."""
+    strategy = tmp_path / "s.json"
+    assert main(["solve", str(line_files), "-o", str(strategy)]) == 0
+    capsys.readouterr()
+    data = json.loads(strategy.read_text())
+    units = data["units"]
+    edit(data)
+    strategy.write_text(json.dumps(data))
+    from symsynth.execution import simulate as simulation
+    monkeypatch.setattr(simulation, "Simulator", lambda *a, **k: pytest.fail("simulated"))
+    assert main(["simulate", str(line_files), "--strategy", str(strategy)]) == 2
+    err = capsys.readouterr().err
+    assert "not a strategy for scene 'line'" in err and "Traceback" not in err
+    assert reason.format(units=units, units_less=units - 1) in err
+
+
 def test_a_script_is_checked_against_the_k_of_the_strategy(line_files, tmp_path, capsys):
     """The scene's k is 5, the strategy's 1: a script of two moves is refused
     (the second could never be made), one of one move runs."""

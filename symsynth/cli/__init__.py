@@ -19,8 +19,33 @@ from symsynth.errors import SymsynthError
 COMMANDS = (dfa, solve, costmap, show, simulate)
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse's parser, whose usage errors add a hint when the command
+    line has an argument that starts with '-' but is no option: a formula
+    such as '-a' (or '->'...) is read as an option and goes missing."""
+
+    argv: Sequence[str] = ()
+
+    def error(self, message: str):  # type: ignore[override]
+        options = {o for action in self._actions for o in action.option_strings}
+        dashed = [a for a in self.argv if a.startswith("-") and a.split("=")[0] not in options
+                  and a != "--" and not _is_number(a)]
+        if dashed:
+            message += (f"\n(the argument {dashed[0]!r} starts with '-' and is read as an option: give an "
+                        f"option's value as --OPTION={dashed[0]!r}, and a formula after --)")
+        super().error(message)
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="symsynth",
         description="Symbolic reactive synthesis for robot manipulation: LTLf tasks, "
                     "minimal symbolic DFAs, cost-bounded games.",
@@ -36,6 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
+    Parser.argv = list(sys.argv[1:] if argv is None else argv)
     try:
         args = parser.parse_args(argv)
     except SystemExit as exit_:  # --help, --version, or a usage error (already printed)

@@ -17,7 +17,7 @@ from symsynth.game.horizon import solve_game
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import verdict
 from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
-from symsynth.game.strategy import StrategyFile, format_state, read_strategy, strategy_table
+from symsynth.game.strategy import StrategyFile, certify, format_state, read_strategy, strategy_table
 from symsynth.logic import parse_ltlf
 from symsynth.planning.build import obtain_costmap
 from symsynth.planning.costmaps import METHODS
@@ -159,7 +159,12 @@ def run(args: argparse.Namespace) -> int:
         obtained = obtain_costmap(scene, args.method, args.planner, args.costmap_seed,
                                   use_cache=not args.no_cache, progress=progress)
         scene = dataclasses.replace(scene, costmap=obtained.costmap)
-    if table is None:
+    if table is not None:  # what it claims is checked once the costmap gives the costs
+        try:
+            certify(scene, parse_ltlf(table.task), table)
+        except InputError as error:
+            raise InputError(f"{args.strategy}: not a strategy for scene {scene.name!r}: {error}") from None
+    else:
         solution = solve_game(SOLVERS[args.solver], scene, scene.task, budget=args.budget)
         if args.human == "adversarial":  # it weighs its moves by the budgets of every position reached
             table = strategy_table(scene, scene.task, solution)

@@ -46,7 +46,7 @@ import jsonschema
 from tqdm import tqdm
 
 from symsynth.errors import InputError, read_text
-from symsynth.game.abstraction import State, initial_state, state_json
+from symsynth.game.abstraction import State, initial_state, robot_moves, state_json
 from symsynth.game.explicit import GameGraph, Node
 from symsynth.game.solution import Position, Solution
 from symsynth.logic import ast, parse_ltlf
@@ -85,26 +85,28 @@ def reachable_positions(scene: Scene, formula: str | ast.Formula,
     """
     if isinstance(formula, str):
         formula = parse_ltlf(formula, source=f"{scene.name} (task)")
-    return _explore(GameGraph(scene, formula, solution.resolution), solution)
-
-
-def _explore(game: GameGraph, solution: Solution) -> dict[Position, Choice]:
-    """Breadth-first from the initial position, human first (spec §6)."""
     if solution.cost_bound is None:
         return {}
+    return _explore(GameGraph(scene, formula, solution.resolution), solution.strategy, solution.k,
+                    solution.objects)
+
+
+def _explore(game: GameGraph, strategy: Mapping[Position, str], k: int,
+             objects: tuple[str, ...]) -> dict[Position, Choice]:
+    """Breadth-first from the initial position, human first (spec §6)."""
     v0 = initial_state(game.scene)
     q0 = game.read(game.dfa.initial, v0)
     if game.accepts(q0):
         return {}
     choices: dict[Position, Choice] = {}
-    start = _human_turn(game, Node(v0, q0, solution.k, robot=False))
+    start = _human_turn(game, Node(v0, q0, k, robot=False))
     queue = deque(start)
     seen = set(start)
     # delay: no bar unless it takes a while; disable=None: none when not a terminal
     with tqdm(desc="strategy positions", unit=" pos", delay=2.0, leave=False, disable=None) as bar:
         while queue:
             position = queue.popleft()
-            choices[position] = choice = _follow(game, position, solution)
+            choices[position] = choice = _follow(game, position, strategy, objects)
             for reply in choice.replies:
                 if reply not in seen:
                     seen.add(reply)
@@ -119,17 +121,18 @@ def _human_turn(game: GameGraph, node: Node) -> tuple[Position, ...]:
     return tuple((n.v, n.q, n.h) for _, n, _, _ in game.moves(node) if n is not None)
 
 
-def _follow(game: GameGraph, position: Position, solution: Solution) -> Choice:
+def _follow(game: GameGraph, position: Position, strategy: Mapping[Position, str],
+            objects: tuple[str, ...]) -> Choice:
     v, q, h = position
     try:
-        action = solution.strategy[position]
+        action = strategy[position]
     except KeyError:
         raise InconsistentStrategy(f"the strategy has no action at reachable position "
-                                   f"{format_position(position, solution.objects)}") from None
+                                   f"{format_position(position, objects)}") from None
     moves = {a: (after, units) for a, after, units, _ in game.moves(Node(v, q, h, robot=True))}
     if action not in moves:
         raise InconsistentStrategy(
-            f"the strategy plays {action!r} at {format_position(position, solution.objects)}, "
+            f"the strategy plays {action!r} at {format_position(position, objects)}, "
             f"where the robot can only {', '.join(moves) or 'do nothing'}")
     after, units = moves[action]
     return Choice(action, units, () if after is None else _human_turn(game, after))
@@ -193,7 +196,8 @@ def strategy_table(scene: Scene, formula_text: str, solution: Solution) -> Strat
     strategy reaches, its action and budget (what `read_strategy` returns
     for the file `write_strategy` writes)."""
     game = GameGraph(scene, parse_ltlf(formula_text, source=f"{scene.name} (task)"), solution.resolution)
-    choices = _explore(game, solution)
+    choices = {} if solution.cost_bound is None else _explore(game, solution.strategy, solution.k,
+                                                               solution.objects)
     worst = worst_units(choices)
     return StrategyFile(
         scene=scene.name, task=formula_text.strip(), k=solution.k, resolution=solution.resolution,
@@ -201,6 +205,47 @@ def strategy_table(scene: Scene, formula_text: str, solution: Solution) -> Strat
         dfa_bits=tuple(game.dfa.bits), dfa_initial=tuple(bool(b) for b in game.dfa.initial),
         positions={p: c.action for p, c in choices.items()},
         budgets={p: None if worst[p] is None else worst[p] * solution.resolution for p in choices})
+
+
+def certify(scene: Scene, formula: ast.Formula, table: StrategyFile) -> None:
+    """Check a strategy read from a file against the game it claims to win,
+    before anything trusts it: every listed action is one the robot has at
+    its position's state; from the initial position, the actions, followed
+    through every human behaviour, are there and win within `units`; and
+    every position reached carries the budget its actions guarantee from
+    there.  The first thing that fails is an `InputError`."""
+    robot = {}
+    for (v, q, h), action in table.positions.items():
+        if v not in robot:
+            robot[v] = {a for a, _, _ in robot_moves(scene, v)}
+        if action not in robot[v]:
+            raise InputError(f"it plays {action!r} at {format_position((v, q, h), table.objects)}, where the "
+                             f"robot can only {', '.join(sorted(robot[v])) or 'do nothing'}")
+    if table.units is None:
+        if table.positions:
+            raise InputError("it says no strategy wins (units null) but lists positions")
+        return
+    game = GameGraph(scene, formula, table.resolution)
+    v0 = initial_state(scene)
+    q0 = game.read(game.dfa.initial, v0)
+    if game.accepts(q0):
+        return
+    try:
+        choices = _explore(game, table.positions, table.k, table.objects)
+    except InconsistentStrategy as error:
+        raise InputError(f"it does not win: {error}") from None
+    worst = worst_units(choices)
+    starts = _human_turn(game, Node(v0, q0, table.k, robot=False))
+    guaranteed = [worst[p] for p in starts]
+    if None in guaranteed:
+        raise InputError("it does not win: its actions can go in circles")
+    if max(guaranteed, default=0) > table.units:
+        raise InputError(f"it claims E_p = {table.units} units, but its actions guarantee only "
+                         f"{max(guaranteed)} against the worst human")
+    for p in choices:
+        if table.budgets.get(p) != worst[p] * table.resolution:
+            raise InputError(f"its budget at {format_position(p, table.objects)} is {table.budgets.get(p)}, "
+                             f"but its actions guarantee {worst[p] * table.resolution:g} from there")
 
 
 def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: Solution) -> int:

@@ -136,6 +136,7 @@ def scene_from_data(data: Any, source: Path | None = None,
     objects = []
     standing: dict[str, str] = {}
     for name, spec in data["objects"].items():
+        _check_object_names(name, spec, locations, else_samples, report)
         at = spec.get("at", ELSE)
         if at != ELSE and at not in locations:
             report.add(("objects", name, "at"),
@@ -166,6 +167,20 @@ def scene_from_data(data: Any, source: Path | None = None,
     report.raise_if_any()
     checks.raise_if_any()
     return dataclasses.replace(scene, costmap=loaded)
+
+
+def _check_object_names(name: str, spec: dict, locations: tuple[str, ...], else_samples: tuple[str, ...],
+                        report: Report) -> None:
+    """An object's name and tags are what `at(X, l)` and `holding(X)` name,
+    and its name stands for it in places and modes: none may read as a
+    place (`Else`, `Hand`, a location, an Else sample)."""
+    places = {ELSE: "a reserved place", HAND: "a reserved place"} \
+        | dict.fromkeys(locations, "a location") | dict.fromkeys(else_samples, "an Else sample")
+    if name in places:
+        report.add(("objects", name), f"{name!r} is {places[name]} and cannot name an object")
+    for i, tag in enumerate(spec.get("tags", ())):
+        if tag in places and tag != name:
+            report.add(("objects", name, "tags", i), f"{tag!r} is {places[tag]} and cannot be a tag")
 
 
 def _non_finite(data: Any, path: KeyPath = ()) -> Iterator[tuple[KeyPath, float]]:
