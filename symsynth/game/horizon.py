@@ -55,7 +55,7 @@ from symsynth.scene.model import Scene
 #: Below this `k` the game is solved as it is, without trying smaller ones.
 FIRST_TRY = 8
 #: The most human moves solved layer by layer (`solve_game`).
-MAX_LAYERS = 1 << 16
+MAX_LAYERS = 256
 
 
 def least_units(scene: Scene, resolution: float) -> int:
@@ -91,13 +91,7 @@ def solve_game(solver: Callable[..., Solution], scene: Scene, formula: str | ast
     least = least_units(scene, resolution)
     h, seen = FIRST_TRY, []
     with tqdm(desc="human moves tried", unit=" solves", delay=1.0, leave=False, disable=None) as bar:
-        while h < k:
-            if h > MAX_LAYERS:
-                raise InputError(
-                    f"k = {k}: the value still grows with the human's moves ("
-                    + ", ".join(f"E_p = {u} units with {m}" for m, u in seen[-3:])
-                    + f"), so every one of the {k} moves counts and the game must be solved one "
-                    f"layer of positions per move; at most {MAX_LAYERS} are solved")
+        while h < k and h <= MAX_LAYERS:
             bar.set_postfix_str(f"k = {h} of {k}")
             solution = solver(scene, formula, k=h, budget=budget, resolution=resolution)
             bar.update()
@@ -108,6 +102,12 @@ def solve_game(solver: Callable[..., Solution], scene: Scene, formula: str | ast
                 return for_more_moves(solution, k, usable)
             seen.append((h, solution.units))
             h *= 2
+    if k > MAX_LAYERS:
+        raise InputError(
+            f"k = {k}: the value still grows with the human's moves ("
+            + ", ".join(f"E_p = {u} units with {m}" for m, u in seen[-3:])
+            + f"), so every one of the {k} moves may count, and the game is solved one layer of "
+            f"positions per move: at most {MAX_LAYERS} moves are solved that way")
     return solver(scene, formula, k=k, budget=budget, resolution=resolution)
 
 
