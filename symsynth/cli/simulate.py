@@ -14,10 +14,10 @@ from symsynth.cli.options import check_writable
 from symsynth.cli.solve import costmap_json, costmap_report
 from symsynth.errors import InputError
 from symsynth.game.horizon import solve_game
-from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import verdict
 from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
-from symsynth.game.strategy import StrategyFile, certify, format_state, read_strategy, strategy_table
+from symsynth.game.strategy import (StrategyFile, certify, check_header, format_state, read_strategy,
+                                     strategy_table)
 from symsynth.logic import parse_ltlf
 from symsynth.planning.build import obtain_costmap
 from symsynth.planning.costmaps import METHODS
@@ -161,7 +161,7 @@ def run(args: argparse.Namespace) -> int:
         scene = dataclasses.replace(scene, costmap=obtained.costmap)
     if table is not None:  # what it claims is checked once the costmap gives the costs
         try:
-            certify(scene, parse_ltlf(table.task), table)
+            certify(scene, table)
         except InputError as error:
             raise InputError(f"{args.strategy}: not a strategy for scene {scene.name!r}: {error}") from None
     else:
@@ -244,24 +244,13 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _read_strategy(path: Path, scene: Scene) -> StrategyFile:
+    """The strategy file, its header checked against the scene (before any
+    costmap is computed; what it claims is certified once there is one)."""
     table = read_strategy(path)
-    problems = []
-    if table.objects != scene.object_names:
-        problems.append(f"its objects {', '.join(table.objects)} are not the scene's "
-                        f"{', '.join(scene.object_names)}")
-    formula = parse_ltlf(table.task, source=f"{path} (task)")
     try:
-        interpret_all(formula, scene)
+        check_header(scene, table)
     except InputError as error:
-        problems.append(f"its task does not fit the scene: {error}")
-    else:
-        from symsynth.automata import compile_ltlf
-
-        dfa = compile_ltlf(formula)
-        if tuple(dfa.bits) != table.dfa_bits or tuple(dfa.initial) != table.dfa_initial:
-            problems.append("its DFA (dfa.bits, dfa.initial) is not the one its task compiles to")
-    if problems:
-        raise InputError(f"{path}: not a strategy for scene {scene.name!r}: " + "; ".join(problems))
+        raise InputError(f"{path}: not a strategy for scene {scene.name!r}: {error}") from None
     return table
 
 

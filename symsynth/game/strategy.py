@@ -45,9 +45,11 @@ from typing import Any, NamedTuple
 import jsonschema
 from tqdm import tqdm
 
-from symsynth.errors import InputError, read_text
+from symsynth.errors import InputError, SymsynthError, read_text
 from symsynth.game.abstraction import State, initial_state, robot_moves, state_json
+from symsynth.automata import compile_ltlf
 from symsynth.game.explicit import GameGraph, Node
+from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import Position, Solution
 from symsynth.logic import ast, parse_ltlf
 from symsynth.scene.model import Scene
@@ -207,13 +209,37 @@ def strategy_table(scene: Scene, formula_text: str, solution: Solution) -> Strat
         budgets={p: None if worst[p] is None else worst[p] * solution.resolution for p in choices})
 
 
-def certify(scene: Scene, formula: ast.Formula, table: StrategyFile) -> None:
+def check_header(scene: Scene, table: StrategyFile) -> ast.Formula:
+    """What a strategy file says of its game, against the scene: the same
+    objects, a task that fits the scene, and the DFA that task compiles to.
+    Returns the task's formula; every problem is in one `InputError`."""
+    problems = []
+    if table.objects != scene.object_names:
+        problems.append(f"its objects {', '.join(table.objects)} are not the scene's "
+                        f"{', '.join(scene.object_names)}")
+    try:
+        formula = parse_ltlf(table.task, source="its task")
+        interpret_all(formula, scene)
+    except SymsynthError as error:
+        problems.append(f"its task does not fit the scene: {error}")
+    else:
+        dfa = compile_ltlf(formula)
+        if tuple(dfa.bits) != table.dfa_bits or tuple(dfa.initial) != table.dfa_initial:
+            problems.append("its DFA (dfa.bits, dfa.initial) is not the one its task compiles to")
+    if problems:
+        raise InputError("; ".join(problems))
+    return formula
+
+
+def certify(scene: Scene, table: StrategyFile) -> None:
     """Check a strategy read from a file against the game it claims to win,
-    before anything trusts it: every listed action is one the robot has at
-    its position's state; from the initial position, the actions, followed
+    before anything trusts it (the scene has its costmap): its header
+    (`check_header`); every listed action is one the robot has at its
+    position's state; from the initial position, the actions, followed
     through every human behaviour, are there and win within `units`; and
     every position reached carries the budget its actions guarantee from
     there.  The first thing that fails is an `InputError`."""
+    formula = check_header(scene, table)
     robot = {}
     for (v, q, h), action in table.positions.items():
         if v not in robot:

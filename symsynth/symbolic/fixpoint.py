@@ -125,9 +125,9 @@ def attractor(arena: Arena, *, with_costs: bool,
         wins: list[Function] = []
         robot = bdd.false
         x = acc
-        old = bdd.false
+        old = None  # at least one round, also when Acc is empty (task `false`)
         while x != old:
-            frontier = x & ~old
+            frontier = x if old is None else x & ~old
             old = x
             wins.append(x)
             clock = time.perf_counter()

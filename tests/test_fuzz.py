@@ -1,0 +1,244 @@
+"""Hostile input, generated: random bytes, structures mutated from the bundled
+scenes, costmaps and strategy files, and random LTLf token sequences, each
+fed to the command line in-process under a time bound.
+
+The only outcomes allowed are a correct answer or a clear error: exit 2
+with a message on stderr and no traceback (an exception escaping `main` is
+a bug, and so is a case that runs past the time bound).  Where `solve`
+answers, the answer is checked against the explicit solver on the same
+input, so a mutation that slips through validation and changes the value
+is caught too.
+
+CI runs a few hundred cases, derandomized (the same cases every run);
+`SYMSYNTH_FUZZ=N` runs N cases per target with fresh randomness.  Every
+failure this suite finds becomes a named test (`tests/test_hostile.py`).
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import os
+import signal
+from contextlib import contextmanager
+from pathlib import Path
+
+import pytest
+import yaml
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from conftest import SCENES
+from symsynth.cli import main
+from symsynth.game.solvers import SOLVERS
+from symsynth.scene import load_scene
+
+FUZZ = int(os.environ.get("SYMSYNTH_FUZZ", "0"))
+#: Seconds one case may take before it counts as a hang.
+TIME_BOUND = 30
+
+
+def cases(ci: int):
+    """Hypothesis settings: `ci` derandomized cases, or SYMSYNTH_FUZZ random ones."""
+    return settings(max_examples=FUZZ or ci, derandomize=not FUZZ, deadline=None, database=None,
+                    suppress_health_check=list(HealthCheck))
+
+
+class Hang(Exception):
+    pass
+
+
+@contextmanager
+def time_bound(seconds: int = TIME_BOUND):
+    def alarm(signum, frame):
+        raise Hang(f"no answer within {seconds} s")
+    old = signal.signal(signal.SIGALRM, alarm)
+    signal.alarm(seconds)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def run_cli(capsys, argv: list[str], allowed=(0, 2)) -> tuple[int, str, str]:
+    """`symsynth ARGV` in-process: its exit code, stdout and stderr, checked
+    to be an allowed code and, for 2, one clear message."""
+    capsys.readouterr()
+    with time_bound():
+        code = main(argv)
+    out, err = capsys.readouterr()
+    assert code in allowed, (argv, code, err[-2000:])
+    assert "Traceback" not in err, err[-2000:]
+    if code == 2:
+        assert err.startswith("symsynth") or err.startswith("usage:"), err[-2000:]
+    return code, out, err
+
+
+# -- values a mutation puts in ---------------------------------------------------
+
+NAMES = st.sampled_from(["b", "w", "l1", "l2", "l3", "e1", "top", "Else", "Hand", "home", "empty",
+                         "black", "white", "block", "", "../x", "a" * 300, "-", "b/top", "l1/top"])
+NUMBERS = st.one_of(st.integers(-10, 10**6), st.sampled_from([0, -1, 10**400, 2**63, 1e308, -1e-300]),
+                    st.floats(allow_nan=True, allow_infinity=True))
+LEAVES = st.one_of(st.none(), st.booleans(), NUMBERS, NAMES, st.text(max_size=20))
+VALUES = st.recursive(LEAVES, lambda inner: st.one_of(st.lists(inner, max_size=4),
+                                                      st.dictionaries(NAMES, inner, max_size=4)),
+                      max_leaves=10)
+
+
+def paths(data, prefix=()):
+    """Every key path in a JSON-like structure (the root included)."""
+    yield prefix
+    if isinstance(data, dict):
+        for key, value in data.items():
+            yield from paths(value, prefix + (key,))
+    elif isinstance(data, list):
+        for i, value in enumerate(data):
+            yield from paths(value, prefix + (i,))
+
+
+@st.composite
+def mutated(draw, original):
+    """`original` with 1 to 3 random edits: a value replaced, a key or item
+    deleted, a key added, a list item duplicated."""
+    data = copy.deepcopy(original)
+    for _ in range(draw(st.integers(1, 3))):
+        places = list(paths(data))
+        path = draw(st.sampled_from(places))
+        if not path:
+            if draw(st.integers(0, 9)) == 0:
+                data = draw(VALUES)
+            continue
+        parent = data
+        for key in path[:-1]:
+            parent = parent[key]
+        key = path[-1]
+        edit = draw(st.sampled_from(["replace", "delete", "add", "duplicate"]))
+        if edit == "replace":
+            parent[key] = draw(VALUES)
+        elif edit == "delete":
+            del parent[key]
+        elif edit == "add" and isinstance(parent[key], dict):
+            parent[key][draw(NAMES)] = draw(VALUES)
+        elif edit == "duplicate" and isinstance(parent[key], list) and parent[key]:
+            parent[key].append(copy.deepcopy(parent[key][0]))
+        else:
+            parent[key] = draw(VALUES)
+    return data
+
+
+def dump(data) -> str:
+    """YAML or JSON text of `data` (floats YAML cannot say as themselves kept)."""
+    try:
+        return yaml.safe_dump(data, allow_unicode=True)
+    except yaml.YAMLError:
+        return json.dumps(data)
+
+
+TOY = yaml.safe_load((SCENES / "toy.yaml").read_text())
+ARCH = yaml.safe_load((SCENES / "arch-abstract.yaml").read_text())
+TOY_COSTMAP = json.loads((SCENES / "toy.costmap.json").read_text())
+
+
+def scene_folder(tmp: Path) -> Path:
+    for name in ("toy.costmap.json", "arch-abstract.costmap.json"):
+        (tmp / name).write_text((SCENES / name).read_text())
+    return tmp
+
+
+def agrees_with_explicit(path: Path, out: str) -> None:
+    """`solve --json`'s value equals the explicit solver's on the same scene."""
+    answer = json.loads(out)
+    scene = load_scene(path)
+    with time_bound():
+        explicit = SOLVERS["explicit"](scene, scene.task)
+    assert answer["cost_bound"] == explicit.cost_bound, (answer["cost_bound"], explicit.cost_bound)
+
+
+# -- the targets ---------------------------------------------------------------------
+
+@cases(40)
+@given(data=st.binary(max_size=400))
+def test_random_bytes_as_a_scene(tmp_path_factory, capsys, data):
+    path = tmp_path_factory.mktemp("bytes") / "scene.yaml"
+    path.write_bytes(data)
+    run_cli(capsys, ["solve", str(path)])
+
+
+@cases(80)
+@given(data=st.one_of(mutated(TOY), mutated(ARCH)))
+def test_mutated_abstract_scenes(tmp_path_factory, capsys, data):
+    path = scene_folder(tmp_path_factory.mktemp("scene")) / "scene.yaml"
+    path.write_text(dump(data))
+    code, out, _ = run_cli(capsys, ["solve", str(path), "--json", "--k", "1"])
+    if code == 0:
+        answer = json.loads(out)
+        scene = load_scene(path)
+        with time_bound():
+            explicit = SOLVERS["explicit"](scene, scene.task, k=1)
+        assert answer["cost_bound"] == explicit.cost_bound
+
+
+@cases(60)
+@given(data=mutated(TOY_COSTMAP))
+def test_mutated_costmaps(tmp_path_factory, capsys, data):
+    path = tmp_path_factory.mktemp("costmap") / "c.json"
+    path.write_text(json.dumps(data))
+    code, out, _ = run_cli(capsys, ["solve", str(SCENES / "toy.yaml"), "--costmap", str(path), "--json"])
+    if code == 0:
+        scene = load_scene(SCENES / "toy.yaml", costmap=path)
+        with time_bound():
+            explicit = SOLVERS["explicit"](scene, scene.task)
+        assert json.loads(out)["cost_bound"] == explicit.cost_bound
+
+
+TOKENS = ["F", "G", "X", "WX", "!", "&", "|", "->", "<->", "U", "R", "W", "(", ")", "true", "false",
+          "last", "at(black, l3)", "at(white, l2)", "holding(b)", "occupied(l1)", "free(l2)", "at(b, Else)",
+          "at(zz, l1)", "-", "(", "))", ",", "X[!]", "#", "\u00e9", "\n"]
+
+
+@cases(80)
+@given(tokens=st.lists(st.sampled_from(TOKENS), min_size=1, max_size=25))
+def test_random_formulas(capsys, tokens):
+    formula = " ".join(tokens)
+    run_cli(capsys, ["dfa", "--", formula])
+    code, out, _ = run_cli(capsys, ["solve", str(SCENES / "toy.yaml"), f"--task={formula}", "--json",
+                                    "--k", "0"])
+    if code == 0:
+        scene = load_scene(SCENES / "toy.yaml")
+        with time_bound():
+            explicit = SOLVERS["explicit"](scene, formula, k=0)
+        assert json.loads(out)["cost_bound"] == explicit.cost_bound
+
+
+@pytest.fixture(scope="module")
+def toy_strategy(tmp_path_factory) -> dict:
+    path = tmp_path_factory.mktemp("strategy") / "toy.strategy.json"
+    assert main(["solve", str(SCENES / "toy.yaml"), "-o", str(path)]) == 0
+    return json.loads(path.read_text())
+
+
+@cases(40)
+@given(data=st.data())
+def test_mutated_strategy_files_are_read_or_refused(tmp_path_factory, capsys, toy_strategy, data):
+    """Strategy files are read by simulate, on physical scenes only; here
+    the reader and the certificate check (what simulate runs first) meet
+    the toy's strategy file, mutated: refused with a message, or certified."""
+    from symsynth.errors import SymsynthError
+    from symsynth.game.strategy import certify, read_strategy
+
+    mutant = data.draw(mutated(toy_strategy))
+    path = tmp_path_factory.mktemp("strategy") / "s.json"
+    path.write_text(json.dumps(mutant))
+    scene = load_scene(SCENES / "toy.yaml")
+    with time_bound():
+        try:
+            table = read_strategy(path)
+            certify(scene, table)
+        except SymsynthError as error:
+            assert str(error)
+            return
+    # certified: what it claims holds against the explicit solver
+    explicit = SOLVERS["explicit"](scene, table.task, k=table.k, resolution=table.resolution)
+    assert table.units is None or explicit.units <= table.units
