@@ -45,7 +45,7 @@ from typing import Any, NamedTuple
 import jsonschema
 from tqdm import tqdm
 
-from symsynth.errors import InputError, SymsynthError, read_text
+from symsynth.errors import InputError, SymsynthError
 from symsynth.game.abstraction import State, initial_state, robot_moves, state_json
 from symsynth.automata import compile_ltlf
 from symsynth.game.explicit import GameGraph, Node
@@ -53,6 +53,7 @@ from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import Position, Solution
 from symsynth.logic import ast, parse_ltlf
 from symsynth.scene.model import Scene
+from symsynth.scene.yamlpos import read_json
 
 FORMAT = "symsynth.strategy/1"
 
@@ -335,11 +336,7 @@ _MAX_PROBLEMS = 10
 def read_strategy(path: str | Path) -> StrategyFile:
     """Read and validate a strategy file; every problem is an `InputError`
     naming the file, the place in it and what was expected."""
-    text = read_text(path, "strategy file")
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as error:
-        raise InputError(f"{path}:{error.lineno}:{error.colno}: not JSON: {error.msg}") from None
+    data = read_json(path, "strategy file")
     problems = [f"{_where(e.absolute_path)}: {_expected(e)}"
                 for e in jsonschema.Draft202012Validator(SCHEMA).iter_errors(data)]
     if not problems:

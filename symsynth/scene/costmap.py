@@ -26,7 +26,8 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from symsynth.errors import InputError, read_text
+from symsynth.errors import InputError
+from symsynth.scene.yamlpos import read_json
 
 FORMAT = "symsynth.costmap/1"
 
@@ -194,16 +195,17 @@ def _rule(rule: Any, where: str, problems: list[str]) -> Rule | None:
 
 
 def _is_number(x: Any) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+    """A finite number that is a float too (a 400-digit integer is not)."""
+    if not isinstance(x, (int, float)) or isinstance(x, bool):
+        return False
+    try:
+        return math.isfinite(float(x))
+    except OverflowError:
+        return False
 
 
 def load_costmap(path: Path) -> Costmap:
-    text = read_text(path, "costmap", CostmapError)
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as error:
-        raise CostmapError(f"{path}:{error.lineno}:{error.colno}: not JSON: {error.msg}") from None
-    return costmap_from_data(data, str(path))
+    return costmap_from_data(read_json(path, "costmap", CostmapError), str(path))
 
 
 def write_costmap(costmap: Costmap, path: Path) -> None:

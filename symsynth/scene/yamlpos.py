@@ -1,12 +1,31 @@
-"""YAML loading that remembers where every value came from.
+"""Structured files (YAML, JSON) read with limits, remembering where values came from.
 
 `load_with_lines(text)` returns the plain data (dicts, lists, scalars, as
 `yaml.safe_load` would) and a map from key paths (`("objects", "w1", "at")`)
 to 1-based line numbers, so validation errors can name file and line.
+`read_json(path, what, error)` is the same door for JSON files.
+
+Every file a user hands symsynth goes through one of these, and both refuse,
+with the limit named, what would otherwise hang, exhaust memory or end in a
+traceback downstream:
+
+- a file larger than `MAX_BYTES`;
+- nesting deeper than `MAX_DEPTH` lists and mappings (every pass over the
+  data may then recurse safely; the bundled files nest 6 deep);
+- more than `MAX_VALUES` values once YAML's aliases are expanded (a file
+  of a few hundred bytes whose aliases nest ten levels expands to billions);
+- a key given twice in one mapping (YAML and JSON keep the last one
+  silently: `human:` twice would solve another game than the one the
+  reader sees first); YAML's merge keys (`<<: *base`) may still be
+  overridden, as YAML means them to be.
+
+The limits are checked on the parser's event stream before anything is
+built, in one pass without recursion.
 """
 
 from __future__ import annotations
 
+import json
 from collections.abc import Hashable
 from pathlib import Path
 from typing import Any
@@ -17,8 +36,60 @@ from symsynth.errors import InputError, read_text
 
 KeyPath = tuple[Any, ...]
 
+#: Larger files are refused: a costmap of the bundled scenes with evidence
+#: paths at 150 roadmap vertices is about 2 MB.
+MAX_BYTES = 64 << 20
+#: Lists and mappings nested deeper than this are refused.
+MAX_DEPTH = 64
+#: Values (scalars, lists, mappings) after aliases are expanded.
+MAX_VALUES = 5_000_000
+
+
+class LimitError(yaml.YAMLError):
+    """A structured file beyond one of the limits, at a line."""
+
+    def __init__(self, problem: str, mark: yaml.Mark | None):
+        super().__init__(problem)
+        self.problem = problem
+        self.problem_mark = mark
+
+
+def check_limits(text: str) -> None:
+    """Depth and expanded size of a YAML text, from its events (no recursion).
+
+    Each node's expanded size is 1 plus its children's; an alias counts the
+    whole size of the node it names, so the total is what building the data
+    would create."""
+    sizes: dict[str, int] = {}  # anchor -> expanded size
+    stack: list[list] = []  # open collections: [size so far, anchor]
+    total = 0
+    for event in yaml.parse(text, Loader=yaml.SafeLoader):
+        if isinstance(event, (yaml.SequenceStartEvent, yaml.MappingStartEvent)):
+            if len(stack) >= MAX_DEPTH:
+                raise LimitError(f"lists and mappings nested more than {MAX_DEPTH} deep", event.start_mark)
+            stack.append([1, event.anchor])
+            total += 1
+            continue
+        if isinstance(event, (yaml.SequenceEndEvent, yaml.MappingEndEvent)):
+            size, anchor = stack.pop()
+        elif isinstance(event, yaml.ScalarEvent):
+            size, anchor = 1, event.anchor
+            total += 1
+        elif isinstance(event, yaml.AliasEvent):
+            size, anchor = sizes.get(event.anchor, 1), None
+            total += size
+        else:
+            continue
+        if total > MAX_VALUES:
+            raise LimitError(f"more than {MAX_VALUES:,} values once aliases are expanded", event.start_mark)
+        if anchor is not None:
+            sizes[anchor] = size
+        if stack:
+            stack[-1][0] += size
+
 
 def load_with_lines(text: str) -> tuple[Any, dict[KeyPath, int]]:
+    check_limits(text)
     node = yaml.compose(text, Loader=yaml.SafeLoader)
     lines: dict[KeyPath, int] = {}
     if node is None:
@@ -28,21 +99,46 @@ def load_with_lines(text: str) -> tuple[Any, dict[KeyPath, int]]:
 
 
 def _build(node: yaml.Node, path: KeyPath, lines: dict[KeyPath, int], constructor) -> Any:
+    """The data of `node`; recursion is bounded by `MAX_DEPTH` (`check_limits`)."""
     lines[path] = node.start_mark.line + 1
     if isinstance(node, yaml.MappingNode):
-        constructor.flatten_mapping(node)  # `<<: *base` merge keys, as safe_load does
-        result = {}
-        for key_node, value_node in node.value:
+        own: dict[Any, yaml.Node] = {}
+        for key_node, _ in node.value:
+            if key_node.tag == "tag:yaml.org,2002:merge":
+                continue
             key = constructor.construct_object(key_node, deep=True)
             if not isinstance(key, Hashable):
                 raise yaml.constructor.ConstructorError(
                     None, None, "a key must be a name, not a list or mapping", key_node.start_mark)
+            if key in own:
+                where = ".".join(map(str, path + (key,)))
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"{where} is given twice (first at line {own[key].start_mark.line + 1}); "
+                    "keep one", key_node.start_mark)
+            own[key] = key_node
+        constructor.flatten_mapping(node)  # `<<: *base` merge keys, as safe_load does
+        result = {}
+        for key_node, value_node in node.value:
+            key = constructor.construct_object(key_node, deep=True)
             result[key] = _build(value_node, path + (key,), lines, constructor)
             lines[path + (key,)] = key_node.start_mark.line + 1
         return result
     if isinstance(node, yaml.SequenceNode):
         return [_build(item, path + (i,), lines, constructor) for i, item in enumerate(node.value)]
+    if node.tag == "tag:yaml.org,2002:int" and len(node.value) > 30:
+        return _long_integer(node)  # as read_json does
     return constructor.construct_object(node, deep=True)
+
+
+def _long_integer(node: yaml.ScalarNode) -> float:
+    """An integer of more digits than any count or seed has, as the float it
+    stands for (inf past 1e308), so checks of finiteness see it."""
+    try:
+        return float(node.value.replace("_", ""))
+    except ValueError:
+        raise yaml.constructor.ConstructorError(
+            None, None, f"an integer of {len(node.value)} characters is more than symsynth reads",
+            node.start_mark) from None
 
 
 def line_of(lines: dict[KeyPath, int], path: KeyPath) -> int | None:
@@ -53,14 +149,67 @@ def line_of(lines: dict[KeyPath, int], path: KeyPath) -> int | None:
     return lines.get(path)
 
 
+def _read(path: Path, what: str, error: type[InputError]) -> str:
+    try:
+        size = Path(path).stat().st_size
+    except OSError:
+        size = 0  # read_text says why it cannot be read
+    if size > MAX_BYTES:
+        raise error(f"{what} {path} is {size:,} bytes: larger than the {MAX_BYTES:,} symsynth reads")
+    return read_text(Path(path), what, error)
+
+
 def read_yaml(path: str | Path, what: str,
               error: type[InputError] = InputError) -> tuple[Any, dict[KeyPath, int]]:
-    """`load_with_lines` of the file `path`; unreadable text or invalid YAML
-    raises `error` naming the file, the line and `what` it is."""
-    text = read_text(Path(path), what, error)
+    """`load_with_lines` of the file `path`; unreadable text, invalid YAML or
+    a limit passed raises `error` naming the file, the line and `what` it is."""
+    text = _read(Path(path), what, error)
     try:
         return load_with_lines(text)
     except yaml.YAMLError as problem:
         mark = getattr(problem, "problem_mark", None)
         where = f"{path}:{mark.line + 1}" if mark else str(path)
         raise error(f"{where}: not valid YAML: {getattr(problem, 'problem', problem)}") from None
+
+
+def read_json(path: str | Path, what: str, error: type[InputError] = InputError) -> Any:
+    """The data of the JSON file `path`, within the limits above; invalid
+    JSON, a key given twice or a limit passed raises `error` naming the
+    file, the line and `what` it is."""
+    text = _read(Path(path), what, error)
+
+    def pairs(items: list[tuple[str, Any]]) -> dict[str, Any]:
+        result: dict[str, Any] = {}
+        for key, value in items:
+            if key in result:
+                raise error(f"{path}: not valid JSON: key {key!r} is given twice in one object; keep one")
+            result[key] = value
+        return result
+
+    try:
+        data = json.loads(text, object_pairs_hook=pairs, parse_int=_integer)
+    except json.JSONDecodeError as problem:
+        raise error(f"{path}:{problem.lineno}:{problem.colno}: not JSON: {problem.msg}") from None
+    except RecursionError:  # the decoder's own depth guard, before any of ours could run
+        raise error(f"{path}: not valid JSON: lists and objects nested more than {MAX_DEPTH} deep") from None
+    _check_depth(data, path, error)
+    return data
+
+
+def _integer(text: str) -> int | float:
+    """A JSON integer; one of more digits than any count or seed has is read
+    as the float it stands for (inf past 1e308), so checks of finiteness see
+    it, and Python's limit on long integer strings is never reached."""
+    return int(text) if len(text) <= 30 else float(text)
+
+
+def _check_depth(data: Any, path: str | Path, error: type[InputError]) -> None:
+    """Nesting of parsed data within `MAX_DEPTH`, walked without recursion."""
+    stack = [(data, 0)]
+    while stack:
+        value, depth = stack.pop()
+        if isinstance(value, (dict, list)):
+            if depth >= MAX_DEPTH:
+                raise error(f"{path}: not valid JSON: lists and objects nested more than {MAX_DEPTH} deep")
+            children = value.values() if isinstance(value, dict) else value
+            stack.extend((child, depth + 1) for child in children)

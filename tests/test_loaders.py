@@ -1,0 +1,152 @@
+"""Every structured file goes through one reader with limits
+(symsynth/scene/yamlpos.py): duplicate keys, alias bombs, deep nesting,
+huge numbers and huge files are clear errors naming file and line, and the
+bundled files still read exactly as yaml/json read them."""
+
+from __future__ import annotations
+
+import json
+import time
+
+import pytest
+import yaml
+
+from conftest import SCENES
+from symsynth.cli import main
+from symsynth.errors import InputError
+from symsynth.execution.human import read_script
+from symsynth.scene import load_scene
+from symsynth.scene import yamlpos
+from symsynth.scene.yamlpos import read_json, read_yaml
+
+TOY = (SCENES / "toy.yaml").read_text()
+
+
+def scene_file(tmp_path, text, costmap=None):
+    (tmp_path / "toy.costmap.json").write_text(costmap or (SCENES / "toy.costmap.json").read_text())
+    path = tmp_path / "toy.yaml"
+    path.write_text(text)
+    return path
+
+
+def refused(capsys, argv, *expected):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    for text in expected:
+        assert text in err, err
+    return err
+
+
+def line_number(text, start):
+    return next(i for i, line in enumerate(text.splitlines(), 1) if line.startswith(start))
+
+
+@pytest.mark.parametrize("old, new, key", [
+    ("human: {k: 1}", "human: {k: 1}\nhuman: {k: 0}", "human"),
+    ('task: "F(at(black, l3))"', 'task: "F(at(black, l3))"\ntask: "F(at(black, l2))"', "task"),
+    ("b: {tags: [block, black], at: l1}", "b: {tags: [block, black], at: l1, at: l2}", "objects.b.at"),
+])
+def test_a_key_given_twice_is_refused_with_both_lines(tmp_path, capsys, old, new, key):
+    """The last one won silently: with `human` twice the toy was solved with
+    k = 0 (E_p 17) where the reader sees k = 1 (50)."""
+    assert old in TOY
+    text = TOY.replace(old, new)
+    path = scene_file(tmp_path, text)
+    first = next(i for i, line in enumerate(text.splitlines(), 1) if new.splitlines()[0] in line)
+    second = first if "\n" not in new else first + 1
+    refused(capsys, ["solve", str(path)], f"toy.yaml:{second}: not valid YAML: {key} is given twice "
+                                          f"(first at line {first})")
+
+
+def test_merge_keys_may_still_be_overridden(tmp_path):
+    text = "base: &base {x: 1, y: 2}\nitem:\n  <<: *base\n  y: 3\n"
+    path = tmp_path / "m.yaml"
+    path.write_text(text)
+    data, _ = read_yaml(path, "test")
+    assert data["item"] == {"x": 1, "y": 3} == yaml.safe_load(text)["item"]
+
+
+def laughs(levels=8):
+    lines = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"]
+    for i in range(1, levels):
+        lines.append(f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]")
+    return "\n".join(lines) + "\n"
+
+
+def test_an_alias_bomb_is_refused_at_once(tmp_path, capsys):
+    """A file of 452 bytes whose aliases expand to 10^8 values (the issue's 294-byte one: 7 levels) took
+    5.7 GB and was killed; as a human script it was a MemoryError."""
+    path = tmp_path / "bomb.yaml"
+    path.write_text(laughs())
+    assert len(path.read_bytes()) < 500
+    clock = time.perf_counter()
+    refused(capsys, ["solve", str(path)], "bomb.yaml:", "more than 5,000,000 values once aliases are expanded")
+    with pytest.raises(InputError, match="once aliases are expanded"):
+        read_script(path, load_scene(SCENES / "toy.yaml"))
+    assert time.perf_counter() - clock < 10  # a bound against hanging, not a speed target
+
+
+def test_aliases_within_the_limit_are_expanded(tmp_path):
+    path = tmp_path / "ok.yaml"
+    path.write_text(laughs(3))
+    data, _ = read_yaml(path, "test")
+    assert data == yaml.safe_load(laughs(3))
+
+
+@pytest.mark.parametrize("depth", [yamlpos.MAX_DEPTH + 1, 5_000, 100_000])
+def test_deep_nesting_is_refused(tmp_path, capsys, depth):
+    path = tmp_path / "deep.yaml"
+    path.write_text("name: " + "[" * depth + "]" * depth + "\n")
+    refused(capsys, ["solve", str(path)], "deep.yaml:1:", f"nested more than {yamlpos.MAX_DEPTH} deep")
+    costmap = tmp_path / "deep.json"
+    costmap.write_text("[" * depth + "]" * depth)
+    refused(capsys, ["solve", str(SCENES / "toy.yaml"), "--costmap", str(costmap)],
+            f"nested more than {yamlpos.MAX_DEPTH} deep")
+
+
+def test_nesting_at_the_limit_is_read(tmp_path):
+    depth = yamlpos.MAX_DEPTH - 1  # the top mapping is one level
+    path = tmp_path / "deep.yaml"
+    path.write_text("x: " + "[" * depth + "]" * depth + "\n")
+    assert read_yaml(path, "test")[0] == yaml.safe_load(path.read_text())
+
+
+def test_a_key_given_twice_in_json_is_refused(tmp_path, capsys):
+    data = json.loads((SCENES / "toy.costmap.json").read_text())
+    text = json.dumps(data)
+    path = tmp_path / "c.json"
+    path.write_text(text.replace('"format": "symsynth.costmap/1"',
+                                 '"format": "symsynth.costmap/1", "format": "symsynth.costmap/1"'))
+    refused(capsys, ["solve", str(SCENES / "toy.yaml"), "--costmap", str(path)], "'format' is given twice")
+
+
+@pytest.mark.parametrize("digits", [400, 5_000])
+def test_huge_integers_are_numbers_out_of_range(tmp_path, capsys, digits):
+    """A 400-digit cost was an OverflowError traceback; 5,000 digits passed
+    Python's limit on integer strings (ValueError)."""
+    path = scene_file(tmp_path, TOY.replace("grab: 5", "grab: " + "9" * digits))
+    refused(capsys, ["solve", str(path)], f"toy.yaml:{line_number(TOY, 'primitives')}: primitives.grab: "
+                                          "expected a finite number")
+    costmap = (SCENES / "toy.costmap.json").read_text().replace('"cost": 4}', '"cost": ' + "9" * digits + "}", 1)
+    path = tmp_path / "c.json"
+    path.write_text(costmap)
+    refused(capsys, ["solve", str(SCENES / "toy.yaml"), "--costmap", str(path)], "cost: expected a finite number")
+
+
+def test_a_file_beyond_the_size_limit_is_refused(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(yamlpos, "MAX_BYTES", 100)
+    refused(capsys, ["solve", str(SCENES / "toy.yaml")], f"scene {SCENES / 'toy.yaml'} is",
+            "bytes: larger than the 100 symsynth reads")
+
+
+@pytest.mark.parametrize("name", ["toy", "arch-abstract", "arch", "line", "line-obstacles-4"])
+def test_bundled_scenes_read_as_yaml_reads_them(name):
+    path = SCENES / f"{name}.yaml"
+    assert read_yaml(path, "scene")[0] == yaml.safe_load(path.read_text())
+
+
+@pytest.mark.parametrize("name", ["toy", "arch-abstract"])
+def test_bundled_costmaps_read_as_json_reads_them(name):
+    path = SCENES / f"{name}.costmap.json"
+    assert read_json(path, "costmap") == json.loads(path.read_text())
