@@ -32,6 +32,11 @@ class LTLfSyntaxError(SymsynthError):
         super().__init__(f"{source}:{line}:{column}: syntax error: {expected}\n{context}")
 
 
+class SymsynthWarning(UserWarning):
+    """Something the user should know that does not stop the command (the
+    command line prints it as one line on stderr)."""
+
+
 class InputError(SymsynthError):
     """Bad input that is not a formula: a file that cannot be read, a bad option."""
 

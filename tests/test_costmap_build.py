@@ -11,7 +11,7 @@ import math
 import pytest
 
 from planar import PlanarPlanner, planar_scene
-from symsynth.errors import InputError
+from symsynth.errors import InputError, SymsynthWarning
 from symsynth.game.solvers import SOLVERS
 from symsynth.game.solution import task_formula
 from symsynth.planning import cache
@@ -223,7 +223,8 @@ def test_a_damaged_cache_entry_is_computed_again(tmp_path, monkeypatch):
     scene = gap_scene()
     first = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
     first.path.write_text("{not json")
-    again = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+    with pytest.warns(SymsynthWarning, match="is not used and is computed again: .*not JSON"):
+        again = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
     assert not again.cached and again.costmap == first.costmap
     assert obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner).cached
 

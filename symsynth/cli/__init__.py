@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from collections.abc import Sequence
 
 from symsynth import __version__
 from symsynth.cli import costmap, dfa, show, simulate, solve
-from symsynth.errors import SymsynthError
+from symsynth.errors import SymsynthError, SymsynthWarning
 
 COMMANDS = (dfa, solve, costmap, show, simulate)
 
@@ -67,7 +68,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exit_:  # --help, --version, or a usage error (already printed)
         return int(exit_.code or 0)
     try:
-        return args.run(args)
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", SymsynthWarning)
+            warnings.showwarning = lambda message, *_, **__: print(
+                f"symsynth {args.command}: warning: {message}", file=sys.stderr)
+            return args.run(args)
     except SymsynthError as error:
         print(f"symsynth {args.command}: {error}", file=sys.stderr)
         return error.exit_code

@@ -12,7 +12,7 @@ from symsynth.planning.build import obtain_costmap
 from symsynth.planning.costmaps import METHODS
 from symsynth.planning.registry import DEFAULT, planner_class, planner_names, planner_version
 from symsynth.planning.verify import building_planner, verify_costmap
-from symsynth.scene import load_costmap, load_scene
+from symsynth.scene import load_scene
 from symsynth.scene.costmap import write_costmap
 
 HELP = "compute a physical scene's conditional costmap by motion planning, or verify one"
@@ -111,10 +111,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _verify(path: Path, args: argparse.Namespace) -> int:
-    scene = load_scene(args.scene)
+    scene = load_scene(args.scene, costmap=path)  # the costmap checked against the scene, as solve does
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has nothing to verify against")
-    costmap = load_costmap(path)
+    costmap = scene.costmap
     name = building_planner(costmap, args.planner, str(path))
     built = costmap.provenance
     if built is not None and built.version is not None and planner_version(name) not in (None, built.version):

@@ -21,11 +21,13 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+from symsynth.errors import InputError
 from symsynth.planning import cache, costmaps
 from symsynth.planning.anchors import anchor_configs, motions
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
 from symsynth.planning.registry import planner_class, planner_version
-from symsynth.scene.costmap import Costmap, Provenance
+from symsynth.scene.costmap import Costmap, CostmapError, Provenance, costmap_from_data
+from symsynth.scene.load import costmap_problems
 from symsynth.scene.model import Scene
 
 
@@ -261,6 +263,20 @@ class Obtained:
     stats: Stats | None
 
 
+def _check_output(scene: Scene, costmap: Costmap, planner: str) -> None:
+    """A planner's costmap passes the checks a costmap file does: its numbers
+    and paths (`costmap_from_data` on what would be written) and its names
+    (`costmap_problems`); a failure is the plugin's, and is named so."""
+    try:
+        costmap_from_data(costmap.to_json(), f"the costmap planner {planner!r} computed")
+    except CostmapError as error:
+        raise InputError(f"planner {planner!r} computed a costmap that is not valid: {error}") from None
+    problems = costmap_problems(scene, costmap)
+    if problems:
+        raise InputError(f"planner {planner!r} computed a costmap that does not fit scene {scene.name!r}: "
+                         + "; ".join(problems[:3]))
+
+
 def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | None = None,
                    seed: int | None = None, *, use_cache: bool = True, progress: bool = True,
                    planner_factory: Callable[[Scene], Planner] | None = None) -> Obtained:
@@ -269,7 +285,7 @@ def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | 
     seed = scene.geometry.planner.seed if seed is None else seed
     _factory(scene, name, planner_factory)  # fails before anything is hashed or computed
     path = cache.cache_path(scene, method, name, seed) if use_cache else None
-    hit = None if path is None else cache.cached(path)
+    hit = None if path is None else cache.cached(path, scene)
     built = provenance(scene, method, name, seed)
     # A hit without a record predates it (the key says who built it); one
     # with another record was built by another version of the plugin (the
@@ -280,6 +296,7 @@ def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | 
             cache.store(hit, path)
         return Obtained(hit, method, name, seed, True, path, None)
     costmap, stats = compute_costmap(scene, method, name, seed, progress, planner_factory)
+    _check_output(scene, costmap, name)
     if path is not None:
         cache.store(costmap, path)
     return Obtained(costmap, method, name, seed, False, path, stats)

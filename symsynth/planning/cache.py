@@ -16,17 +16,23 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import json
 import os
+import re
+import warnings
 from pathlib import Path
 
 from symsynth import __version__
-from symsynth.errors import InputError
-from symsynth.scene.costmap import Costmap, CostmapError, load_costmap, write_costmap
+from symsynth.errors import InputError, SymsynthWarning
+from symsynth.files import write_atomic
+from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data
+from symsynth.scene.load import costmap_problems
+from symsynth.scene.yamlpos import read_json
 from symsynth.scene.model import Scene
 
 #: Bumped whenever the way costmaps are computed changes, so that no cached
 #: costmap of an older revision is reused.
-FORMAT_REVISION = 2
+FORMAT_REVISION = 3  # 3: the file holds its key (`KEY_FIELD`)
 
 
 def cache_dir() -> Path:
@@ -51,27 +57,59 @@ def cache_key(scene: Scene, method: str, planner: str, seed: int) -> str:
     return digest.hexdigest()[:24]
 
 
+#: Characters a cache file name keeps from the scene's name; others become '_'.
+_SAFE = re.compile(r"[^A-Za-z0-9_-]")
+
+
 def cache_path(scene: Scene, method: str, planner: str, seed: int) -> Path:
-    return cache_dir() / f"{scene.name}-{method}-{planner}-s{seed}-{cache_key(scene, method, planner, seed)}.json"
+    """The file for this key: a bounded, sanitised form of the scene's name
+    (which is any string: `../../x`, 300 characters) and the key, always
+    directly inside `cache_dir()`."""
+    stem = _SAFE.sub("_", scene.name)[:48] or "scene"
+    folder = cache_dir()
+    path = folder / f"{stem}-{_SAFE.sub('_', method)}-{_SAFE.sub('_', planner)[:32]}-s{seed}-" \
+                    f"{cache_key(scene, method, planner, seed)}.json"
+    if path.parent != folder:  # cannot happen with the names above; never write elsewhere
+        raise InputError(f"cache file {path} would not be in the cache folder {folder}")
+    return path
 
 
-def cached(path: Path) -> Costmap | None:
-    """The costmap stored at `path`, or None: absent, or unreadable (then it
-    is computed again and overwritten rather than standing in the way)."""
+def cached(path: Path, scene: Scene) -> Costmap | None:
+    """The costmap stored at `path` for `scene`, or None when there is none.
+
+    A file that is not what this key stored -- unreadable, not a costmap,
+    written under another key (the key is inside the file), or naming
+    modes, anchors or places the scene does not have -- is not used: a
+    warning says why, and the costmap is computed again and overwritten."""
     if not path.is_file():
         return None
     try:
-        return load_costmap(path)
-    except CostmapError:
+        data = read_json(path, "cached costmap", CostmapError)
+        if not isinstance(data, dict) or data.get(KEY_FIELD) != path.stem.rsplit("-", 1)[-1]:
+            raise CostmapError("it was not written under this key (another scene's costmap?)")
+        costmap = costmap_from_data(data, str(path))
+        problems = costmap_problems(scene, costmap)
+        if problems:
+            raise CostmapError(f"it does not fit the scene: {problems[0]}")
+    except CostmapError as error:
+        warnings.warn(f"the cached costmap {path} is not used and is computed again: {error}", SymsynthWarning,
+                      stacklevel=2)
         return None
+    return costmap
+
+
+#: The top-level key of a cache file that holds its cache key (readers of
+#: the costmap format ignore keys they do not know).
+KEY_FIELD = "cache_key"
 
 
 def store(costmap: Costmap, path: Path) -> None:
+    """Write `costmap` to the cache file `path`, whole or not at all, with
+    its key inside."""
+    data = costmap.to_json() | {KEY_FIELD: path.stem.rsplit("-", 1)[-1]}
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        partial = path.with_suffix(".partial")
-        write_costmap(costmap, partial)
-        partial.replace(path)  # atomic: a crash never leaves half a file under the key
     except OSError as error:
-        raise InputError(f"cannot write the costmap cache {path}: {error.strerror}; set SYMSYNTH_CACHE "
+        raise InputError(f"cannot write the costmap cache {path.parent}: {error.strerror}; set SYMSYNTH_CACHE "
                          "to a writable folder, or pass --no-cache (with -o FILE to keep the result)") from None
+    write_atomic(path, json.dumps(data, indent=1) + "\n", "the costmap cache file")

@@ -107,6 +107,7 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
     per_radian = scene.geometry.per_radian
     failures: list[Failure] = []
     configs = anchor_configs(planner, scene)
+    limits = np.asarray(planner.limits, dtype=float)
     queries: dict[str, dict[tuple[str, str], Query]] = {}  # mode -> (start, goal) -> query, as built
     checked = 0
     items = [(key, i, rule) for key, rules in costmap.motions.items() for i, rule in enumerate(rules)]
@@ -130,6 +131,10 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
         if rule.path is None or len(rule.path) == 0:
             fail("no evidence path")
             continue
+        outside = _outside_limits(rule.path, limits)
+        if outside is not None:
+            fail(outside)
+            continue
         for end, point, anchor in (("starts", rule.path[0], start), ("ends", rule.path[-1], goal)):
             if not _same_config(point, configs[anchor]):
                 fail(f"{end} at {point_text(point)}, not at anchor {anchor} {point_text(configs[anchor])}")
@@ -147,6 +152,19 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
                 fail(f"touches {', '.join(sorted(touched))}, which the rule assumes may be occupied")
                 break
     return checked, failures
+
+
+def _outside_limits(path, limits: np.ndarray) -> str | None:
+    """Why a path is no path of this robot (waypoints of another length than
+    its joints, or outside their limits), None when it is one."""
+    joints = len(limits)
+    for i, q in enumerate(path):
+        if len(q) != joints:
+            return f"waypoint {i} has {len(q)} joint values, the robot has {joints} joints"
+        if np.any(np.asarray(q) < limits[:, 0] - ANCHOR_TOLERANCE) or \
+                np.any(np.asarray(q) > limits[:, 1] + ANCHOR_TOLERANCE):
+            return f"waypoint {i} {point_text(q)} is outside the joint limits"
+    return None
 
 
 def _same_config(a, b) -> bool:

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from symsynth.errors import InputError
+from symsynth.files import write_atomic
 from symsynth.scene.yamlpos import read_json
 
 FORMAT = "symsynth.costmap/1"
@@ -190,6 +191,10 @@ def _rule(rule: Any, where: str, problems: list[str]) -> Rule | None:
                 isinstance(q, list) and all(_is_number(x) for x in q) for q in path):
             problems.append(f"{where}.path: expected a list of waypoints (lists of numbers)")
             return None
+        if len({len(q) for q in path}) > 1:
+            problems.append(f"{where}.path: expected waypoints of one length (one number per joint), "
+                            f"found lengths {', '.join(map(str, sorted({len(q) for q in path})))}")
+            return None
         path = tuple(tuple(float(x) for x in q) for q in path)
     return Rule(frozenset(free), float(cost), path)
 
@@ -209,5 +214,6 @@ def load_costmap(path: Path) -> Costmap:
 
 
 def write_costmap(costmap: Costmap, path: Path) -> None:
-    Path(path).write_text(json.dumps(costmap.to_json(), indent=1) + "\n", encoding="utf-8")
+    """Write `costmap` to `path`, whole or not at all (`files.write_atomic`)."""
+    write_atomic(path, json.dumps(costmap.to_json(), indent=1) + "\n", "costmap file")
 

@@ -227,21 +227,32 @@ def _costmap(value: Any, source: Path | None, report: Report) -> Costmap | None:
 
 
 def _check_costmap(scene: Scene, costmap: Costmap, report: Report) -> None:
+    for problem in costmap_problems(scene, costmap):
+        report.add(("costmap",), problem)
+
+
+def costmap_problems(scene: Scene, costmap: Costmap) -> list[str]:
+    """What in `costmap` does not belong to `scene`: modes, anchors and the
+    places its rules assume free.  The one check for every way a costmap
+    enters (a file, the cache, a planner); its numbers were checked when it
+    was read (`costmap_from_data`)."""
+    problems = []
     modes, anchors = set(scene.modes), set(scene.anchors)
     places = set(scene.locations) | set(scene.else_samples)
     for (mode, start, goal), rules in costmap.motions.items():
         what = f"motion {mode} {start} -> {goal}"
         if mode not in modes:
-            report.add(("costmap",), f"{what}: unknown mode {mode!r}; expected {EMPTY!r} or OBJECT/GRASP "
-                       f"with objects {', '.join(scene.object_names)} and grasps {', '.join(scene.grasps)}")
+            problems.append(f"{what}: unknown mode {mode!r}; expected {EMPTY!r} or OBJECT/GRASP "
+                            f"with objects {', '.join(scene.object_names)} and grasps {', '.join(scene.grasps)}")
         for anchor in (start, goal):
             if anchor not in anchors:
-                report.add(("costmap",), f"{what}: unknown anchor {anchor!r}; expected {HOME!r} or "
-                           f"PLACE/GRASP with places {', '.join(sorted(places))}")
+                problems.append(f"{what}: unknown anchor {anchor!r}; expected {HOME!r} or "
+                                f"PLACE/GRASP with places {', '.join(sorted(places))}")
         for rule in rules:
             unknown = sorted(rule.free - places)
             if unknown:
-                report.add(("costmap",), f"{what}: rule names unknown locations {', '.join(unknown)}")
+                problems.append(f"{what}: rule names unknown locations {', '.join(unknown)}")
+    return problems
 
 
 def _schema_message(error: jsonschema.ValidationError, is_physical: bool = False) -> str:

@@ -107,6 +107,10 @@ PANDA_HOME = (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785)
 PANDA_FINGERS = {"panda_finger_joint1": 0.04, "panda_finger_joint2": 0.04}
 
 
+#: Else samples a region may ask for (`else_places`).
+MAX_ELSE_SAMPLES = 64
+
+
 class Report(Protocol):
     def add(self, path: tuple, message: str) -> None: ...
 
@@ -178,6 +182,14 @@ def else_places(data: dict[str, Any], locations: dict[str, Pose], initial: dict[
         return {}
     region = spec["region"]
     low, high = np.array(region["min"], float), np.array(region["max"], float)
+    if np.any(low > high):
+        report.add(("else", "region"), f"min {list(region['min'])} must not exceed max {list(region['max'])} "
+                   "in either coordinate")
+        return {}
+    if spec["samples"] > MAX_ELSE_SAMPLES:
+        report.add(("else", "samples"), f"at most {MAX_ELSE_SAMPLES} Else samples, found {spec['samples']}: "
+                   "each is an anchor of every grasp, and the costmap has a motion between every two")
+        return {}
     z, clearance = float(region.get("z", 0.0)), float(spec.get("clearance", 0.1))
     rng = np.random.default_rng(data.get("planner", {}).get("seed", 0))
     taken = [np.array(p.xyz[:2]) for p in locations.values()]
