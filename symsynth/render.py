@@ -28,6 +28,7 @@ from PIL import Image, ImageDraw, ImageFont
 
 from symsynth.bullet import pybullet as p
 from symsynth.errors import SymsynthError
+from symsynth.files import atomic_output
 from symsynth.execution.world import SimWorld
 from symsynth.scene.model import Scene
 
@@ -90,7 +91,8 @@ def render_scene(scene: Scene, path: Path | str, *, width: int = 800, height: in
         world.close()
     if labels:
         label_places(image, scene, camera)
-    image.save(path, format="PNG")
+    with atomic_output(path, "image") as temporary:
+        image.save(temporary, format="PNG")
     return camera
 
 

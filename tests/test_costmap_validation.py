@@ -14,7 +14,6 @@ from conftest import SCENES
 from planar import PlanarPlanner, planar_scene
 from symsynth.cli import main
 from symsynth.errors import InputError, SymsynthWarning
-from symsynth.planning import cache
 from symsynth.planning.build import compute_costmap, obtain_costmap
 from symsynth.planning.verify import verify_costmap
 from symsynth.scene.costmap import Costmap, write_costmap

@@ -9,9 +9,12 @@ and keeps its traceback.
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
+import threading
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 
 from symsynth import __version__
 from symsynth.cli import costmap, dfa, show, simulate, solve
@@ -68,7 +71,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exit_:  # --help, --version, or a usage error (already printed)
         return int(exit_.code or 0)
     try:
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), _signals():
             warnings.simplefilter("always", SymsynthWarning)
             warnings.showwarning = lambda message, *_, **__: print(
                 f"symsynth {args.command}: warning: {message}", file=sys.stderr)
@@ -79,6 +82,38 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # e.g. `symsynth dfa --json ... | head`
         sys.stdout = None
         return 0
-    except KeyboardInterrupt:
-        print("symsynth: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as stop:
+        signum = getattr(stop, "signum", signal.SIGINT)
+        print(f"symsynth {args.command}: stopped by {signal.Signals(signum).name}; finished work "
+              "(cached costmaps, written files) is kept", file=sys.stderr)
+        return 128 + signum
+
+
+class Stopped(KeyboardInterrupt):
+    """SIGTERM, raised where the program is, as Ctrl-C is (so the same
+    clean-ups run: worker pools terminated, temporary files removed)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+@contextmanager
+def _signals() -> Iterator[None]:
+    """While a command runs: SIGTERM stops it like Ctrl-C, and a file size
+    limit (SIGXFSZ, which kills by default) makes the write fail with an
+    error the command reports.  Only in the main thread, where Python
+    delivers signals; the previous handlers come back afterwards."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum, frame):
+        raise Stopped(signum)
+    old = {signal.SIGTERM: signal.signal(signal.SIGTERM, stop),
+           signal.SIGXFSZ: signal.signal(signal.SIGXFSZ, signal.SIG_IGN)}
+    try:
+        yield
+    finally:
+        for signum, handler in old.items():
+            signal.signal(signum, handler)

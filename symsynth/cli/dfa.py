@@ -8,7 +8,8 @@ import time
 from pathlib import Path
 
 from symsynth.automata import compile_ltlf
-from symsynth.errors import InputError, read_text
+from symsynth.errors import read_text
+from symsynth.files import write_atomic
 
 HELP = "compile an LTLf formula to its minimal symbolic DFA"
 DESCRIPTION = """\
@@ -52,10 +53,7 @@ def run(args: argparse.Namespace) -> int:
     seconds = time.perf_counter() - start
     explicit = dfa.to_explicit() if (args.json or args.dot) else None
     if args.dot:
-        try:
-            args.dot.write_text(explicit.to_dot(title=text.strip()), encoding="utf-8")
-        except OSError as error:
-            raise InputError(f"cannot write {args.dot}: {error.strerror}") from None
+        write_atomic(args.dot, explicit.to_dot(title=text.strip()), "DOT file")
     if args.json:
         print(json.dumps(explicit.to_json(), indent=2))
         return 0

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from PIL import Image, ImageDraw, ImageFont
 
-from symsynth.errors import InputError
+from symsynth.files import atomic_output
 from symsynth.execution.world import SimWorld
 from symsynth.render import default_camera, label_places, snapshot
 
@@ -48,9 +48,7 @@ class Recorder:
             return 0
         self.durations[-1] = max(self.durations[-1], 4 * HOLD_MS)
         palette = [frame.convert("P", palette=Image.Palette.ADAPTIVE, colors=128) for frame in self.frames]
-        try:
-            palette[0].save(self.path, format="GIF", save_all=True, append_images=palette[1:],
+        with atomic_output(self.path, "recording") as temporary:
+            palette[0].save(temporary, format="GIF", save_all=True, append_images=palette[1:],
                             duration=self.durations, loop=0, optimize=False)
-        except OSError as error:
-            raise InputError(f"cannot write {self.path}: {error.strerror or error}") from None
         return len(self.frames)

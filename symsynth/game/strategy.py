@@ -46,6 +46,7 @@ import jsonschema
 from tqdm import tqdm
 
 from symsynth.errors import InputError, SymsynthError
+from symsynth.files import write_atomic
 from symsynth.game.abstraction import State, initial_state, robot_moves, state_json
 from symsynth.automata import compile_ltlf
 from symsynth.game.explicit import GameGraph, Node
@@ -290,10 +291,7 @@ def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: 
     # One position per line: the file stays short, diffable and greppable.
     text = json.dumps(header, indent=1)[:-2] + ',\n "positions": [' + ",".join(
         "\n  " + json.dumps(entry) for entry in entries) + "\n ]\n}\n"
-    try:
-        Path(path).write_text(text, encoding="utf-8")
-    except OSError as error:
-        raise InputError(f"cannot write strategy file {path}: {error.strerror}") from None
+    write_atomic(path, text, "strategy file")
     return len(entries)
 
 

@@ -10,11 +10,12 @@ shapes) share one roadmap and its checks.
 
 from __future__ import annotations
 
+import ctypes
 import dataclasses
 import multiprocessing
 import os
+import signal
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -181,25 +182,46 @@ def _roadmaps(scene: Scene, name: str, planner: Planner, jobs: list, settings, s
             bar.update()
         return results
     context = multiprocessing.get_context("fork")
-    with ProcessPoolExecutor(workers, mp_context=context, initializer=_start_worker,
-                             initargs=(scene, name)) as pool:
-        futures = [pool.submit(_worker_job, *job) for job in args]
-        for future in as_completed(futures):
-            future.result()
+    results: list = [None] * len(args)
+    # Leaving the block terminates the workers at once, also on an interrupt
+    # (an executor's shutdown would wait for the running roadmaps).
+    with context.Pool(workers, initializer=_start_worker, initargs=(scene, name)) as pool:
+        for i, result in pool.imap_unordered(_worker_job, list(enumerate(args))):
+            results[i] = result
             bar.update()
-        return [future.result() for future in futures]
+    return results
 
 
 _worker_planner: Planner | None = None
 
 
 def _start_worker(scene: Scene, name: str) -> None:
+    """A worker: killed with its parent (even by SIGKILL, which leaves the
+    parent no chance to stop it), deaf to the terminal's Ctrl-C (the parent
+    handles it and terminates the pool), ended by SIGTERM without a word,
+    with its own planner."""
     global _worker_planner
+    die_with_parent()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the parent's handler, which it inherits
     _worker_planner = planner_class(name)(scene)
 
 
-def _worker_job(*job):
-    return _roadmap_job(_worker_planner, *job)
+def _worker_job(indexed):
+    i, job = indexed
+    return i, _roadmap_job(_worker_planner, *job)
+
+
+def die_with_parent() -> None:
+    """Ask Linux to send this process SIGKILL when its parent dies
+    (prctl PR_SET_PDEATHSIG); elsewhere nothing happens."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG = 1
+    except (OSError, AttributeError):
+        return
+    if os.getppid() == 1:  # the parent died before the call
+        os._exit(1)
 
 
 def _roadmap_job(planner: Planner, mode: Mode, anchors: dict, size: int, seed: int, resolution: float,
