@@ -5,6 +5,7 @@ the pybullet planner, in a private cache folder."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 import yaml
@@ -19,7 +20,7 @@ ARCH = "scenes/arch.yaml"
 @pytest.fixture(scope="module")
 def small_arch(tmp_path_factory):
     folder = tmp_path_factory.mktemp("arch")
-    data = yaml.safe_load(open(ARCH))
+    data = yaml.safe_load(Path(ARCH).read_text())
     data["planner"] = {"name": "pybullet", "roadmap_size": 30, "resolution": 0.05, "seed": 0}
     path = folder / "arch.yaml"
     path.write_text(yaml.safe_dump(data))
@@ -180,12 +181,12 @@ def test_a_cached_costmap_without_a_record_gets_it_written_back(capsys, tmp_path
     code, out, err = run(capsys, "costmap", str(small_arch), "--json")
     assert code == 0, err
     cached = json.loads(out)["file"]
-    data = json.loads(open(cached).read())
+    data = json.loads(Path(cached).read_text())
     recorded = data.pop("planner")
     with open(cached, "w") as f:
         json.dump(data, f)
     code, out, err = run(capsys, "costmap", str(small_arch), "--json")
     assert code == 0 and json.loads(out)["cached"] is True, err
-    assert json.loads(open(cached).read())["planner"] == recorded
+    assert json.loads(Path(cached).read_text())["planner"] == recorded
     code, out, err = run(capsys, "costmap", "verify", cached, "--scene", str(small_arch))
     assert code == 0 and "with planner pybullet" in out and "all evidence paths hold" in out, out + err

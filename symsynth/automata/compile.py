@@ -16,11 +16,19 @@ never build an explicit product: only the BDDs of the parts.
 from __future__ import annotations
 
 from symsynth.automata.bdd import BDD, new_manager
+from symsynth.errors import InputError
 from symsynth.automata.normal import nnf, split_conjuncts
 from symsynth.automata.progression import Progression, minimize
 from symsynth.automata.symbolic import SymbolicDFA, product
 from symsynth.logic import ast
 from symsynth.logic.parser import NextSemantics, parse_ltlf
+
+
+#: Limits past which a formula is refused with a message (each part's state
+#: bits and each atom is a BDD variable; the product's state count is
+#: counted in a double, which ends at 2^1024).
+MAX_ATOMS = 1000
+MAX_STATE_BITS = 1000
 
 
 def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = "strong",
@@ -37,9 +45,16 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
     if isinstance(formula, str):
         formula = parse_ltlf(formula, source=source, next_semantics=next_semantics)
     atom_keys = [a.key for a in ast.atoms(formula)]
+    if len(atom_keys) > MAX_ATOMS:
+        raise InputError(f"{source}: the formula has {len(atom_keys)} atoms; symsynth compiles formulas "
+                         f"of at most {MAX_ATOMS}")
     parts = _merge_duplicates(split_conjuncts(nnf(formula)))
     progression = Progression(atom_keys)
     components = [minimize(progression.dfa(part)) for part in parts]
+    bits = sum(max(1, (c.num_states - 1).bit_length()) for c in components)
+    if bits > MAX_STATE_BITS:
+        raise InputError(f"{source}: the DFA's {len(components)} parts need {bits} state bits together; "
+                         f"symsynth composes at most {MAX_STATE_BITS} (2^{MAX_STATE_BITS} states)")
     if bdd is None:
         bdd = new_manager(reordering=False)
     dfa = product(bdd, atom_keys, components, prefix=prefix)

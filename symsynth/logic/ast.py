@@ -140,3 +140,18 @@ def atoms(formula: Formula) -> tuple[Atom, ...]:
             stack.append(node.left)
     return tuple(seen)
 
+
+
+def depth(formula: Formula) -> int:
+    """How many operators nest in `formula` (an atom is 1), without recursion."""
+    deepest = 0
+    stack = [(formula, 1)]
+    while stack:
+        node, d = stack.pop()
+        deepest = max(deepest, d)
+        if isinstance(node, UNARY):
+            stack.append((node.arg, d + 1))
+        elif isinstance(node, BINARY):
+            stack.append((node.left, d + 1))
+            stack.append((node.right, d + 1))
+    return deepest

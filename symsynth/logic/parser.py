@@ -15,7 +15,7 @@ from typing import Literal
 
 import lark
 
-from symsynth.errors import LTLfSyntaxError
+from symsynth.errors import InputError, LTLfSyntaxError
 from symsynth.logic import ast
 
 NextSemantics = Literal["strong", "weak"]
@@ -46,18 +46,66 @@ def _grammar_text() -> str:
     return folder.joinpath("ltlf.lark").read_text(encoding="utf-8")
 
 
+#: Formulas nested deeper than this (operators inside operators, after long
+#: `&` and `|` chains are balanced) are refused: every pass over a formula
+#: recurses once per level.
+MAX_DEPTH = 200
+#: `&` / `|` chains longer than this are balanced trees instead of left-leaning
+#: ones, so that 10,000 conjuncts nest 14 deep, not 10,000.
+BALANCE_FROM = 32
+
+
 @functools.cache
-def _parser() -> lark.Lark:
-    return lark.Lark(_grammar_text(), parser="lalr", lexer="basic",
-                     propagate_positions=False, maybe_placeholders=False)
+def _parser(next_semantics: NextSemantics) -> lark.Lark:
+    """The LALR parser with the AST built as it parses (lark's inline
+    transformer): no parse tree, and no recursion however deep the input."""
+    return lark.Lark(_grammar_text(), parser="lalr", lexer="basic", propagate_positions=False,
+                     maybe_placeholders=False, transformer=_ToAst(next_semantics))
+
+
+class _Chain:
+    """A run of one associative operator (`&` or `|`) being parsed: its
+    operands, left to right; made a formula (`_done`) when something else
+    takes it as an operand, or at the end."""
+
+    __slots__ = ("node", "operands")
+
+    def __init__(self, node: type, operands: list):
+        self.node = node
+        self.operands = operands
+
+
+def _done(x):
+    """A formula from a parsed operand: a `_Chain` becomes a left-leaning
+    tree (as the grammar reads it) or, when long, a balanced one."""
+    if not isinstance(x, _Chain):
+        return x
+    node, items = x.node, x.operands
+    if len(items) <= BALANCE_FROM:
+        result = items[0]
+        for item in items[1:]:
+            result = node(result, item)
+        return result
+    while len(items) > 1:  # pair neighbours, level by level
+        items = [node(items[i], items[i + 1]) if i + 1 < len(items) else items[i]
+                 for i in range(0, len(items), 2)]
+    return items[0]
 
 
 class _ToAst(lark.Transformer):
-    """Parse tree -> AST.  `X` means strong or weak next by convention."""
+    """Parse tree -> AST, applied while parsing.  `X` means strong or weak
+    next by convention."""
 
     def __init__(self, next_semantics: NextSemantics):
         super().__init__()
         self._next = ast.Next if next_semantics == "strong" else ast.WeakNext
+
+    def _chain(self, node: type, c):
+        left = c[0]
+        if isinstance(left, _Chain) and left.node is node:
+            left.operands.append(_done(c[2]))
+            return left
+        return _Chain(node, [_done(left), _done(c[2])])
 
     def true(self, _):
         return ast.TRUE
@@ -76,43 +124,43 @@ class _ToAst(lark.Transformer):
         return ast.Atom(str(name), tuple(str(a) for a in args))
 
     def not_(self, c):
-        return ast.Not(c[1])
+        return ast.Not(_done(c[1]))
 
     def next_(self, c):
-        return self._next(c[1])
+        return self._next(_done(c[1]))
 
     def strong_next(self, c):
-        return ast.Next(c[1])
+        return ast.Next(_done(c[1]))
 
     def weak_next(self, c):
-        return ast.WeakNext(c[1])
+        return ast.WeakNext(_done(c[1]))
 
     def eventually(self, c):
-        return ast.Eventually(c[1])
+        return ast.Eventually(_done(c[1]))
 
     def always(self, c):
-        return ast.Always(c[1])
+        return ast.Always(_done(c[1]))
 
     def until(self, c):
-        return ast.Until(c[0], c[2])
+        return ast.Until(_done(c[0]), _done(c[2]))
 
     def release(self, c):
-        return ast.Release(c[0], c[2])
+        return ast.Release(_done(c[0]), _done(c[2]))
 
     def weak_until(self, c):
-        return ast.WeakUntil(c[0], c[2])
+        return ast.WeakUntil(_done(c[0]), _done(c[2]))
 
     def and_(self, c):
-        return ast.And(c[0], c[2])
+        return self._chain(ast.And, c)
 
     def or_(self, c):
-        return ast.Or(c[0], c[2])
+        return self._chain(ast.Or, c)
 
     def implies(self, c):
-        return ast.Implies(c[0], c[2])
+        return ast.Implies(_done(c[0]), _done(c[2]))
 
     def equiv(self, c):
-        return ast.Equiv(c[0], c[2])
+        return ast.Equiv(_done(c[0]), _done(c[2]))
 
 
 def parse_ltlf(text: str, *, source: str = "<formula>",
@@ -126,10 +174,18 @@ def parse_ltlf(text: str, *, source: str = "<formula>",
     if next_semantics not in ("strong", "weak"):
         raise ValueError(f"next_semantics must be 'strong' or 'weak', not {next_semantics!r}")
     try:
-        tree = _parser().parse(text)
+        formula = _done(_parser(next_semantics).parse(text))
     except lark.UnexpectedInput as error:
         raise _syntax_error(text, source, error) from None
-    return _ToAst(next_semantics).transform(tree)
+    depth = ast.depth(formula)
+    if depth > MAX_DEPTH:
+        raise LTLfTooDeep(f"{source}: the formula nests {depth} operators deep; symsynth reads at most "
+                          f"{MAX_DEPTH} (long '&' and '|' chains count as balanced trees)")
+    return formula
+
+
+class LTLfTooDeep(InputError):
+    """A formula nested beyond `MAX_DEPTH`."""
 
 
 def _syntax_error(text: str, source: str, error: lark.UnexpectedInput) -> LTLfSyntaxError:
