@@ -69,3 +69,27 @@ def test_a_signal_ends_the_command_and_its_workers(tmp_path, signum, code):
             "finished work (cached costmaps, written files) is kept")
     leftovers = [p.name for p in (tmp_path / "cache").glob("*")] if (tmp_path / "cache").exists() else []
     assert leftovers == []  # nothing half written, no temporary file
+
+
+@pytest.mark.parametrize("solver", ["forward", "explicit", "symbolic"])
+def test_sigterm_ends_a_long_solve_at_once(tmp_path, solver):
+    """Every solver stops within a second or so; the forward search runs in
+    a thread of its own, which must not keep the program alive."""
+    import yaml
+    from test_gamefamily import pattern_data  # the benchmark family (bench/gamefamily.py)
+
+    path = tmp_path / "family.yaml"
+    path.write_text(yaml.safe_dump(pattern_data(5, 7, k=3)))  # about 30 s for every solver
+    process = subprocess.Popen([sys.executable, "-m", "symsynth.cli", "solve", str(path), "--solver", solver],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        time.sleep(3)
+        assert process.poll() is None, "finished before the signal"
+        clock = time.monotonic()
+        process.send_signal(signal.SIGTERM)
+        _, err = process.communicate(timeout=30)
+        assert process.returncode == 143 and time.monotonic() - clock < 5
+        assert "Traceback" not in err and err.rstrip().endswith("is kept")
+    finally:
+        if process.poll() is None:
+            process.kill()

@@ -535,7 +535,9 @@ def _deep(function, *args):
     sys.setrecursionlimit(max(limit, DEPTH))
     threading.stack_size(STACK)
     try:
-        worker = threading.Thread(target=run, name="symsynth-forward")
+        # a daemon: after Ctrl-C or SIGTERM in the caller (raised in join),
+        # the program ends without waiting for the search to finish
+        worker = threading.Thread(target=run, name="symsynth-forward", daemon=True)
         worker.start()
         worker.join()
     finally:
