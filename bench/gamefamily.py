@@ -1,7 +1,7 @@
 """A scalable family of manipulation games: put n blocks into a pattern.
 
     pattern_scene(n, m, k=3, seed=0)   -> Scene (validated by scene_from_data)
-    pattern_data(n, m, k=3, seed=0)    -> the same scene as a dict (spec §7 form,
+    pattern_data(n, m, k=3, seed=0)    -> the same scene as a dict (semantics §7 form,
                                           costmap inline as symsynth.costmap/1)
     python bench/gamefamily.py N M [--k K] [--seed S]   prints the scene as YAML
 
@@ -25,7 +25,7 @@ Geometry (only used to make the costmap): the locations on a grid of
 `e1` at (-1, -1), `e2` at (cols, -1), `home` at ((cols-1)/2, -1.5).  The
 anchor `x/g` stands at the point of `x` whatever the grasp.
 
-Costmap: every motion pair the game can ask for (spec §5): in mode `empty`
+Costmap: every motion pair the game can ask for (semantics §5): in mode `empty`
 from every anchor (home and every x/g, x in L ∪ E) to every x/g; in mode
 `o/g` from every x/g to every l/g (l in L), for every object o and grasp g
 (pairs with s = t are left out: they cost 0 by definition).  With d the
@@ -169,7 +169,7 @@ def motion_rules(points, s: str, t: str, places: list[str]) -> list[dict[str, An
 
 def costmap_data(objects: list[str], locations: list[str], samples: list[str],
                  grasps: list[str]) -> dict[str, Any]:
-    """Every motion pair of spec §5, costed from the layout (module doc)."""
+    """Every motion pair of semantics §5, costed from the layout (module doc)."""
     points = layout(locations, samples)
     places = locations + samples
     everywhere = [("home", "home")] + [(f"{x}/{g}", x) for x in places for g in grasps]

@@ -31,7 +31,7 @@ NO_ELSE = {key: cost for key, cost in PICK.items() if "e1/top" not in key[2]}
 
 
 def write_scene(tmp_path, *, k=0, motions=PICK, task="F(at(b, l2))", costmap=True):
-    """pick.yaml with its costmap in pick.costmap.json (spec §7)."""
+    """pick.yaml with its costmap in pick.costmap.json (semantics §7)."""
     data = scene_data({"b": "l1"}, ["l1", "l2"], else_samples=["e1"], k=k, task=task)
     if task is None:
         del data["task"]

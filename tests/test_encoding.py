@@ -1,5 +1,5 @@
 """The bit-vector encoding of the abstract state against a brute-force
-enumeration of spec §2's well-formed states and §3's propositions."""
+enumeration of semantics §2's well-formed states and §3's propositions."""
 
 import itertools
 

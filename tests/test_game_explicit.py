@@ -1,4 +1,4 @@
-"""The explicit game solver and the abstraction it runs on (spec/game-semantics.md).
+"""The explicit game solver and the abstraction it runs on (docs/game-semantics.md).
 
 The abstraction's moves and costs on single states, then cross-checks of
 the explicit solver on generated scenes (`gamegen`) against two naive

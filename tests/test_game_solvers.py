@@ -1,5 +1,5 @@
 """Hand-solved scenes and properties every solution must have, for every
-solver in `SOLVERS` (spec/game-semantics.md §6): the same value, and a
+solver in `SOLVERS` (docs/game-semantics.md §6): the same value, and a
 strategy that pays no more than E_p against any human (followed through
 every human behaviour by `worst_case_of`, independently of the solver).
 """

@@ -1,4 +1,4 @@
-"""Rounding costs to units never lowers them (spec §6: "rounding each action
+"""Rounding costs to units never lowers them (semantics §6: "rounding each action
 cost up, so the bound stays sound").
 
 The reference value here is exact: the game's min-max equations iterated

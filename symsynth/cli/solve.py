@@ -228,7 +228,7 @@ def _counter_report(scene: Scene, solution: Solution) -> None:
 
 
 def stuck_reasons(scene: Scene, v: State) -> list[str]:
-    """Why each action the robot could take in `v` is unavailable (spec §4, §5)."""
+    """Why each action the robot could take in `v` is unavailable (semantics §4, §5)."""
     held = v.held()
     wanted = motions(scene, v)
     reasons: list[str] = []

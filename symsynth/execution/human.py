@@ -2,7 +2,7 @@
 actions (paper Sec. IV-B), at most `k` in a run.
 
 On each human turn the simulator offers a `Turn`: the position if the human
-passes, and every move that is legal in the abstraction (spec §4) *and*
+passes, and every move that is legal in the abstraction (semantics §4) *and*
 possible in the world, one `Option` per physical target (a location's
 pose, or each free Else sample for a move to Else).  A move is impossible
 in the world when the object would penetrate the robot, the held object or

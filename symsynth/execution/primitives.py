@@ -1,4 +1,4 @@
-"""Grab and drop, the two primitives of the abstraction (spec §4), as motions
+"""Grab and drop, the two primitives of the abstraction (semantics §4), as motions
 in the world.
 
 Both are a Cartesian approach along the grasp's approach direction, from

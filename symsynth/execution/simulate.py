@@ -1,7 +1,7 @@
 """Running a strategy in the world against a simulated human (paper Sec.
 V-B, the continuous counterpart of its Theorem 8).
 
-A run alternates turns as the game does (spec §6), human first:
+A run alternates turns as the game does (semantics §6), human first:
 
 1. **Human turn.**  The human passes or moves one object (at most `k`
    moves).  The abstract state is then read from the world through γ
@@ -21,7 +21,7 @@ primitive costs the scene's fixed grab / drop cost.  Every robot step is
 compared with the abstraction:
 
 - `cost` (soundness): the measured cost exceeds the abstract cost of the
-  action (spec §5, the worst case over the states the abstract state stands
+  action (semantics §5, the worst case over the states the abstract state stands
   for).  With every object on a place and the robot on an anchor this
   cannot happen unless the costmap or the solver is wrong;
 - `evidence` (soundness): an evidence path whose rule held touched

@@ -1,2 +1,2 @@
-"""The manipulation game of spec/game-semantics.md: propositions, moves and
+"""The manipulation game of docs/game-semantics.md: propositions, moves and
 costs in explicit form, and the explicit min-max solver."""

@@ -1,4 +1,4 @@
-"""The game of spec/game-semantics.md §2–§5 as explicit, executable code.
+"""The game of docs/game-semantics.md §2–§5 as explicit, executable code.
 
 One abstract state at a time: which moves the robot and the human have from
 it, what they cost, and which atoms hold in it.  Every solver is checked
@@ -38,7 +38,7 @@ EndEffector = str | tuple[str, str]  # ELSE, a location, or (object, grasp)
 
 @dataclass(frozen=True)
 class State:
-    """An abstract state `v = (at, grip, ee)` (spec §2).
+    """An abstract state `v = (at, grip, ee)` (semantics §2).
 
     `at[i]` is where `scene.objects[i]` is: a location, `ELSE` or `HAND`;
     `grip` is the grasp holding the object in the hand, None when empty;
@@ -89,10 +89,10 @@ def within(units: int, resolution: float, budget: float) -> bool:
     return units * decimal(resolution) <= decimal(budget)
 
 
-# -- robot (spec §4, §5) --------------------------------------------------------
+# -- robot (semantics §4, §5) --------------------------------------------------------
 
 class Move(NamedTuple):
-    """One move of the game from a state (spec §4), with what it does:
+    """One move of the game from a state (semantics §4), with what it does:
 
     - `kind`: `transit`, `grab`, `transfer`, `drop` (the robot's) or `move`
       (the human's); `action`: its name (`action_name`);
@@ -105,10 +105,10 @@ class Move(NamedTuple):
       location or `ELSE`); for a transit or grab, where it stands
       (`at[o]`);
     - `mode`, `starts`, `goals`: a transit's or transfer's mode and anchors
-      (spec §5: it moves in `mode` from one of `starts` to one of
+      (semantics §5: it moves in `mode` from one of `starts` to one of
       `goals`); None and () for the others;
     - `after`: the state it leads to;
-    - `cost`: a robot move's cost in costmap units (spec §5; inf: not
+    - `cost`: a robot move's cost in costmap units (semantics §5; inf: not
       available); None for a human move.
 
     (A named tuple rather than a frozen dataclass: the explicit solver makes
@@ -145,7 +145,7 @@ def robot_action_names(scene: Scene) -> frozenset[str]:
 
 
 def motions(scene: Scene, v: State) -> list[Move]:
-    """The transits (hand empty) or transfers (holding) spec §4 allows from
+    """The transits (hand empty) or transfers (holding) semantics §4 allows from
     `v`, with their cost: inf for those no costmap rule makes available."""
     names = scene.object_names
     held = v.held()
@@ -205,7 +205,7 @@ def anchors(scene: Scene, place: str, grasp: str) -> tuple[str, ...]:
 
 
 def starts(scene: Scene, v: State) -> tuple[str, ...]:
-    """The robot configurations `v` may stand for (spec §5)."""
+    """The robot configurations `v` may stand for (semantics §5)."""
     if v.grip is not None:  # holding
         return anchors(scene, v.ee, v.grip)
     if isinstance(v.ee, tuple):
@@ -255,7 +255,7 @@ def costmap_of(scene: Scene) -> Costmap:
     return scene.costmap
 
 
-# -- human (spec §4) ------------------------------------------------------------
+# -- human (semantics §4) ------------------------------------------------------------
 
 def legal_human_moves(scene: Scene, v: State) -> list[Move]:
     """Every human move from `v`; passing is not one."""
@@ -279,7 +279,7 @@ def human_moves(scene: Scene, v: State) -> list[tuple[str, State]]:
     return [(m.action, m.after) for m in legal_human_moves(scene, v)]
 
 
-# -- propositions (spec §3) -----------------------------------------------------
+# -- propositions (semantics §3) -----------------------------------------------------
 
 def letter(scene: Scene, props: Mapping[str, Proposition], v: State) -> frozenset[str]:
     """The keys of the atoms that hold in `v`."""

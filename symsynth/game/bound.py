@@ -1,5 +1,5 @@
 """An admissible lower bound on the value of a position, which guides the
-forward solver (`game.forward`): never above spec §6's value, and cheap to
+forward solver (`game.forward`): never above semantics §6's value, and cheap to
 evaluate at every position the search generates.
 
 The bound is 0 for any task, except F(p) with p a

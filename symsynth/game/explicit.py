@@ -1,4 +1,4 @@
-"""The explicit solver: the game of spec §6 position by position.
+"""The explicit solver: the game of semantics §6 position by position.
 
 A position is `(v, q, h, robot)`: abstract state, DFA state after the trace
 so far, human moves left, and whose turn it is (the human's first).  Every

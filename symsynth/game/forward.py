@@ -1,4 +1,4 @@
-"""The forward solver: spec §6's value by a bounded AND-OR search from the
+"""The forward solver: semantics §6's value by a bounded AND-OR search from the
 initial position, guided by an admissible lower bound.
 
 Only positions that play near the optimum reaches are looked at.  The

@@ -60,7 +60,7 @@ MAX_LAYERS = 256
 
 def least_units(scene: Scene, resolution: float) -> int:
     """A lower bound on the units of every robot action of the scene: the
-    least of grab, drop and every costmap rule, rounded up (spec §4, §5).
+    least of grab, drop and every costmap rule, rounded up (semantics §4, §5).
 
     A motion costs the largest rule cost over its start and goal anchors,
     and 0 only for a pair with start = goal; the only motion whose every

@@ -1,4 +1,4 @@
-"""The atoms of a manipulation task (spec §3) and their meaning.
+"""The atoms of a manipulation task (semantics §3) and their meaning.
 
 - `at(X, l)`: some object tagged `X` stands at `l` (`l` in L, or `Else`);
 - `holding(X)`: some object tagged `X` is in the hand;

@@ -1,4 +1,4 @@
-"""What a solver returns (spec §6, §8): the value, the verdict, a strategy and plays.
+"""What a solver returns (semantics §6, §8): the value, the verdict, a strategy and plays.
 
 Shared by every solver (`game.solvers`), so their answers compare
 field by field.  Plays list robot actions and human moves; a human pass is

@@ -1,7 +1,7 @@
 """The game solvers by name, for the command line and for comparison runs.
 
 Every solver has the signature of `Solver` and returns a `Solution` whose
-value is spec §6's `E_p`; they differ in how they compute it.
+value is semantics §6's `E_p`; they differ in how they compute it.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 the simulator reads back.
 
 The file lists every robot-turn position reachable from the initial one when
-the robot follows the strategy and the human does anything legal (spec §6),
+the robot follows the strategy and the human does anything legal (semantics §6),
 each with the robot's action there::
 
     {"format": "symsynth.strategy/1",
@@ -97,7 +97,7 @@ def reachable_positions(scene: Scene, formula: str | ast.Formula,
 
 def _explore(game: GameGraph, strategy: Mapping[Position, str], k: int,
              objects: tuple[str, ...]) -> dict[Position, Choice]:
-    """Breadth-first from the initial position, human first (spec §6)."""
+    """Breadth-first from the initial position, human first (semantics §6)."""
     v0 = initial_state(game.scene)
     q0 = game.read(game.dfa.initial, v0)
     if game.accepts(q0):

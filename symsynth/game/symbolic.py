@@ -1,4 +1,4 @@
-"""The symbolic solver: spec §6's value by the cost-bounded attractor on BDDs.
+"""The symbolic solver: semantics §6's value by the cost-bounded attractor on BDDs.
 
 1. Encode the game (`symbolic.arena`): state bits, the task DFA in the same
    manager, robot relations with cost bits, the human relation.
@@ -318,7 +318,7 @@ def _counter_play(game: _Queries, start: Position) -> tuple[Step, ...]:
 # -- names of moves --------------------------------------------------------------
 
 def action_name(scene: Scene, v: State, w: State) -> str:
-    """The robot action that leads from v to w (spec §4's names)."""
+    """The robot action that leads from v to w (semantics §4's names)."""
     if v.grip is None:
         if w.grip is None:
             o, g = w.ee

@@ -1,4 +1,4 @@
-"""Anchors (spec §5) as robot configurations, and the motions a mode needs.
+"""Anchors (semantics §5) as robot configurations, and the motions a mode needs.
 
 `x/g` is the pre-image of grasp `g` for an object standing at `x`, found by
 the planner's inverse kinematics seeded at home.  An anchor that cannot be
@@ -51,7 +51,7 @@ def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
 
 
 def motions(scene: Scene, mode: Mode) -> tuple[Query, ...]:
-    """The anchor pairs a mode's actions can ask for (spec §4, §5):
+    """The anchor pairs a mode's actions can ask for (semantics §4, §5):
     transits go from any anchor to any `x/g`; transfers holding `o` with `g`
     go from `x/g` (`x` in L or E) to `l/g` (`l` in L).
 

@@ -246,7 +246,7 @@ def physical_queries(scene: Scene, mode: Mode, touched: dict[str, frozenset[str]
     A transit whose start touches the place of the object it fetches (its
     `always`) begins in a situation that cannot happen: the object and the
     robot would overlap.  The game still asks for it, when the hand is
-    empty at `ee = Else` ("the robot may be anywhere it has been", spec §5),
+    empty at `ee = Else` ("the robot may be anywhere it has been", semantics §5),
     and takes the worst start; leaving the motion out would make it
     infinite and rule out the action for a position the robot cannot be in.
     Such a motion is costed as if the place were free, which is what holds

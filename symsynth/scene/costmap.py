@@ -1,4 +1,4 @@
-"""The conditional costmap, format `symsynth.costmap/1` (spec §5, §7).
+"""The conditional costmap, format `symsynth.costmap/1` (semantics §5, §7).
 
 For a mode (`empty` or `o/g`) and an ordered pair of anchors, a list of
 rules "if every location in `free` is free, the motion costs `cost`".

@@ -12,7 +12,7 @@ Conventions, fixed here once:
   Its *pre-image* (the anchor `x/g`) is that pose moved back by `approach`
   metres along the end-effector's z axis (the direction it closes in).
 * Every object shares the grasps: the anchor `x/g` does not depend on which
-  object stands at `x` (spec §5 has one anchor per place and grasp).
+  object stands at `x` (semantics §5 has one anchor per place and grasp).
 """
 
 from __future__ import annotations

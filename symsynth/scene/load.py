@@ -1,4 +1,4 @@
-"""Load and validate a scene file (YAML, spec §7).
+"""Load and validate a scene file (YAML, semantics §7).
 
 Validation is a JSON Schema for the shape, every number finite (YAML has
 .inf and .nan), then checks of meaning (names that must exist, one object

@@ -1,6 +1,6 @@
-"""The scene as the game sees it (spec §1): plain, frozen values.
+"""The scene as the game sees it (semantics §1): plain, frozen values.
 
-`Scene` is the abstract form of spec §7; the physical form (robot, poses,
+`Scene` is the abstract form of semantics §7; the physical form (robot, poses,
 shapes) extends it with geometry that only the planners read.
 """
 
@@ -56,11 +56,11 @@ class Scene:
 
     @property
     def modes(self) -> tuple[str, ...]:
-        """`empty` and `o/g` for every object and grasp (spec §5)."""
+        """`empty` and `o/g` for every object and grasp (semantics §5)."""
         return (EMPTY,) + tuple(f"{o.name}/{g}" for o in self.objects for g in self.grasps)
 
     @property
     def anchors(self) -> tuple[str, ...]:
-        """`home` and `x/g` for x in L ∪ E and g in G (spec §5)."""
+        """`home` and `x/g` for x in L ∪ E and g in G (semantics §5)."""
         places = self.locations + self.else_samples
         return (HOME,) + tuple(f"{x}/{g}" for x in places for g in self.grasps)

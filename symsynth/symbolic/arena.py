@@ -1,4 +1,4 @@
-"""The game of spec §4–§6 as BDDs: variables, transition relations with cost
+"""The game of semantics §4–§6 as BDDs: variables, transition relations with cost
 bits, and the substitutions that compose the task DFA with the moves.
 
 Variables, top to bottom (each bit next to its primed copy):
@@ -22,7 +22,7 @@ Robot relations, one per action family, over (v, v', c):
     T_fam(v, v', c) = guard /\\ effect /\\ frame /\\ U(v, c)
 
 where U is *upward closed* in c: it holds for every c at least the action's
-cost.  That turns spec §5 into Boolean structure: the max over anchor pairs
+cost.  That turns semantics §5 into Boolean structure: the max over anchor pairs
 becomes a conjunction and the min over rules a disjunction,
 
     U(v, c) = /\\_(s,t) [s in S(v) /\\ t in T(v) => \\/_rules (free_o(F)(v) /\\ c >= cost)]
@@ -35,7 +35,7 @@ The relations are not restricted to well-formed states: from a well-formed
 state they lead to well-formed ones only, and conjoining the invariant (an
 all-different constraint) made the transit relation at 8 x 12 grow from
 0.2 to 3.8 million nodes.  The human relation
-H(v, v') is spec §4's `move(o, t)`; it does not mention the counter `h`:
+H(v, v') is semantics §4's `move(o, t)`; it does not mention the counter `h`:
 the fixpoint (`symbolic.fixpoint`) solves one value of h at a time, and a
 human move leads from layer h to the final layer h - 1.  The DFA reads ρ(v'): its transition function
 delta_b(q, x) becomes D_b(q, v') = delta_b(q, x := P_x(v')).
@@ -149,7 +149,7 @@ class Arena:
         return self._at_least[units]
 
     def free_for(self, place: str, obj: str) -> Function:
-        """`place` in L ∪ E counts as free for a motion serving `obj` (spec §5)."""
+        """`place` in L ∪ E counts as free for a motion serving `obj` (semantics §5)."""
         key = (place, obj)
         if key not in self._free:
             where = place if place in self.scene.locations else ELSE
@@ -204,7 +204,7 @@ def _cache_memory() -> int:
     return min(2**32, physical // 4)
 
 
-# -- robot families (spec §4) ------------------------------------------------------
+# -- robot families (semantics §4) ------------------------------------------------------
 
 def _keep(arena: Arena, objects: Iterable[str] = (), grip: bool = False, ee: bool = False) -> Function:
     """Frame condition: the named parts of v' equal those of v."""
@@ -304,7 +304,7 @@ def _drop(arena: Arena) -> Function:
     return moves & arena.at_least(arena.units(scene.drop_cost))
 
 
-# -- the human (spec §4) -----------------------------------------------------------
+# -- the human (semantics §4) -----------------------------------------------------------
 
 def _human(arena: Arena) -> Function:
     """move(o, t): at[o] != Hand; t = Else, or t in L free and not where the

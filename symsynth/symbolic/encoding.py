@@ -1,4 +1,4 @@
-"""The abstract state of spec §2 as bit-vectors, and its predicates.
+"""The abstract state of semantics §2 as bit-vectors, and its predicates.
 
 Variables, in the order they are declared (the order matters for BDD size):
 `grip` over G + [none], `ee` over [Else] + L + O x G, then for each object
@@ -71,7 +71,7 @@ class StateEncoding:
         return ~self.grip_is(None, primed)
 
     def proposition(self, prop: Proposition, primed: bool = False) -> Function:
-        """The set of states where a task proposition (spec §3) holds."""
+        """The set of states where a task proposition (semantics §3) holds."""
         bdd = self.bdd
         if prop.kind == "occupied":
             return self.occupied(prop.location, primed)
@@ -85,7 +85,7 @@ class StateEncoding:
 
     # -- invariants ------------------------------------------------------------
     def well_formed(self, primed: bool = False) -> Function:
-        """Range invariants and the well-formedness rules of spec §2."""
+        """Range invariants and the well-formedness rules of semantics §2."""
         bdd, scene = self.bdd, self.scene
         result = bdd.true
         for dom in self.domains:

@@ -26,7 +26,7 @@ all layers together, the human step came round with every round, over the
 whole of R: 58-72% of the time on the benchmark family; layer by layer,
 5 x 7 went from 170 s to 60 s, k + 1 human steps instead of 55.)
 
-Every set is kept to well-formed states (spec §2): their values do not
+Every set is kept to well-formed states (semantics §2): their values do not
 depend on the others (a move from a well-formed state leads to one), and
 the junk the relations give on the others made the sets about a third
 larger (benchmark family, 5 x 7: 60 s -> 36 s).
