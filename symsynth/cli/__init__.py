@@ -17,10 +17,10 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 
 from symsynth import __version__
-from symsynth.cli import costmap, dfa, show, simulate, solve
+from symsynth.cli import costmap, dfa, show, simulate, solve, synth
 from symsynth.errors import SymsynthError, SymsynthWarning
 
-COMMANDS = (dfa, solve, costmap, show, simulate)
+COMMANDS = (dfa, solve, costmap, show, simulate, synth)
 
 
 class Parser(argparse.ArgumentParser):

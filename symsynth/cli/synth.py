@@ -1,0 +1,84 @@
+"""`symsynth synth`: LTLf synthesis from a formula and a partition file."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+from symsynth.automata import compile_ltlf
+from symsynth.errors import InputError, read_text
+from symsynth.files import write_atomic
+from symsynth.logic import ast, parse_ltlf
+from symsynth.synthesis import read_partition, solve_realizability
+from symsynth.synthesis.machine import strategy_machine, write_json
+
+HELP = "LTLf synthesis: is a formula realizable by an agent against an environment?"
+DESCRIPTION = """\
+Decide whether the agent, which sets the .outputs of SPEC.part, can force the
+LTLf formula of SPEC.ltlf against an environment that sets the .inputs,
+whatever the environment does (traces are finite and non-empty; the agent
+wins once the trace read so far satisfies the formula).
+
+The agent moves first in each step by default (--env-first: the environment).
+Plain X is weak next by default, as in Lydia and the LTLf synthesis datasets
+(X[!] is strong next); --next strong reads X as strong.
+
+Output as in SYNTCOMP: the first line is REALIZABLE or UNREALIZABLE, exit
+status 10 or 20 (2 for bad input).  -o FILE writes a winning strategy, a
+machine listing its states, as JSON (FILE.json) or Graphviz (FILE.dot).
+
+A variable of the formula that the partition does not name is an error."""
+
+REALIZABLE, UNREALIZABLE = 10, 20
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("synth", help=HELP, description=DESCRIPTION,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("spec", type=Path, metavar="SPEC.ltlf", help="the LTLf formula ('#' starts a comment)")
+    parser.add_argument("--part", type=Path, required=True, metavar="SPEC.part",
+                        help="the partition: '.inputs: ...' (environment) and '.outputs: ...' (agent)")
+    first = parser.add_mutually_exclusive_group()
+    first.add_argument("--agent-first", dest="agent_first", action="store_true", default=True,
+                       help="the agent moves first in each step (default)")
+    first.add_argument("--env-first", dest="agent_first", action="store_false",
+                       help="the environment moves first in each step")
+    parser.add_argument("--next", choices=("strong", "weak"), default="weak",
+                        help="meaning of plain X (default: weak, as the datasets mean it)")
+    parser.add_argument("-o", "--output", type=Path, metavar="FILE",
+                        help="write a winning strategy to FILE (.json or .dot)")
+    parser.add_argument("--json", action="store_true", help="after the verdict line, a JSON summary")
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.output is not None and args.output.suffix not in (".json", ".dot"):
+        raise InputError(f"-o {args.output}: expected a file name ending in .json or .dot")
+    partition = read_partition(args.part)
+    text = read_text(args.spec, "formula file")
+    formula = parse_ltlf(text, source=str(args.spec), next_semantics=args.next)
+    named = set(partition.inputs) | set(partition.outputs)
+    unknown = [a.key for a in ast.atoms(formula) if a.key not in named]
+    if unknown:
+        raise InputError(f"{args.spec}: {', '.join(unknown)} {'is' if len(unknown) == 1 else 'are'} in the "
+                         f"formula but in neither list of {args.part}; name each variable as an input or an "
+                         "output")
+    clock = time.perf_counter()
+    dfa = compile_ltlf(formula)
+    compiled = time.perf_counter() - clock
+    game = solve_realizability(dfa, partition, agent_first=args.agent_first)
+    solved = time.perf_counter() - clock - compiled
+    print("REALIZABLE" if game.realizable else "UNREALIZABLE")
+    if args.json:
+        print(json.dumps({"realizable": game.realizable, "agent_first": game.agent_first,
+                          "dfa_states": dfa.num_states, "rounds": len(game.rounds),
+                          "seconds": {"dfa": round(compiled, 6), "game": round(solved, 6)}}))
+    if args.output is not None:
+        if not game.realizable:
+            raise InputError(f"-o {args.output}: unrealizable, there is no winning strategy to write")
+        machine = strategy_machine(game)
+        text = machine.to_dot() if args.output.suffix == ".dot" else write_json(machine)
+        write_atomic(args.output, text, "strategy")
+    return REALIZABLE if game.realizable else UNREALIZABLE

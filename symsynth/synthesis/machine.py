@@ -1,0 +1,108 @@
+"""A winning strategy as an explicit machine, for specs small enough to list.
+
+Its states are the DFA states a play can reach under the strategy.  With
+the agent first, each state has one output (a Moore machine: the agent
+speaks before it hears) and a successor per input; with the environment
+first, an output per input (a Mealy machine).  A successor is another
+state or `"win"` (the trace read so far is accepted).  The outputs come from
+`Realizability.choices`, so every play wins within the initial state's rank.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+from dataclasses import dataclass
+from typing import Any
+
+from symsynth.automata.bdd import lexmin
+from symsynth.errors import InputError
+from symsynth.synthesis.game import Realizability
+
+#: Listing enumerates every input letter of every state: at most this many inputs.
+MAX_INPUTS = 12
+MAX_STATES = 10_000
+
+Assignment = dict[str, bool]
+
+
+@dataclass(frozen=True)
+class Move:
+    input: Assignment
+    output: Assignment
+    next: int | str  # a state number or "win"
+
+
+@dataclass(frozen=True)
+class Machine:
+    agent_first: bool
+    inputs: tuple[str, ...]
+    outputs: tuple[str, ...]
+    states: tuple[tuple[bool, ...], ...]  # DFA state of each machine state; 0 is initial
+    moves: tuple[tuple[Move, ...], ...]
+
+    def to_json(self) -> dict[str, Any]:
+        return {"format": "symsynth.strategy-machine/1",
+                "agent_first": self.agent_first, "inputs": list(self.inputs), "outputs": list(self.outputs),
+                "initial": 0,
+                "states": [{"id": i, "moves": [{"input": m.input, "output": m.output, "next": m.next}
+                                               for m in moves]}
+                           for i, moves in enumerate(self.moves)]}
+
+    def to_dot(self) -> str:
+        lines = ["digraph strategy {", "  rankdir=LR;", '  win [shape=doublecircle, label="win"];']
+        for i, moves in enumerate(self.moves):
+            lines.append(f'  s{i} [shape=circle, label="{i}"];')
+            for m in moves:
+                label = f"{_text(m.input)} / {_text(m.output)}"
+                target = "win" if m.next == "win" else f"s{m.next}"
+                lines.append(f'  s{i} -> {target} [label="{label}"];')
+        lines.append("}")
+        return "\n".join(lines) + "\n"
+
+
+def _text(values: Assignment) -> str:
+    return " ".join(("" if v else "!") + k for k, v in values.items()) or "-"
+
+
+def strategy_machine(game: Realizability) -> Machine:
+    """The explicit winning strategy of a realizable `game`."""
+    if not game.realizable:
+        raise ValueError("no winning strategy to list")
+    if len(game.inputs) > MAX_INPUTS:
+        raise InputError(f"the strategy reads {len(game.inputs)} inputs; an explicit machine is listed for at "
+                         f"most {MAX_INPUTS} (2^{MAX_INPUTS} letters per state)")
+    dfa, bdd = game.dfa, game.dfa.bdd
+    letters = [dict(zip(game.inputs, values)) for values in itertools.product((False, True), repeat=len(game.inputs))]
+    index = {dfa.initial: 0}
+    order = [dfa.initial]
+    machine_moves = []
+    for state in order:  # grows while walked: breadth first
+        if len(order) > MAX_STATES:
+            raise InputError(f"the strategy has more than {MAX_STATES} states; too many to list")
+        cube = dfa.state_cube(state)
+        rank = game.rank(cube)
+        choices = bdd.let(dict(zip(dfa.bits, state)), game.choices(rank)) if dfa.bits else game.choices(rank)
+        moves = []
+        if game.agent_first:  # one output for every input: \A x: C
+            sure = bdd.forall(set(game.inputs), choices) if game.inputs else choices
+            output = dict(zip(game.outputs, lexmin(bdd, sure, game.outputs)))
+        for x in letters:
+            if not game.agent_first:
+                given = bdd.let(x, choices) if x else choices
+                output = dict(zip(game.outputs, lexmin(bdd, given, game.outputs)))
+            after = dfa.step(state, {a for a, v in (x | output).items() if v})
+            if dfa.is_accepting(after):
+                target: int | str = "win"
+            else:
+                if after not in index:
+                    index[after] = len(order)
+                    order.append(after)
+                target = index[after]
+            moves.append(Move(x, output, target))
+        machine_moves.append(tuple(moves))
+    return Machine(game.agent_first, game.inputs, game.outputs, tuple(order), tuple(machine_moves))
+
+
+def write_json(machine: Machine) -> str:
+    return json.dumps(machine.to_json(), indent=1) + "\n"

@@ -1,0 +1,170 @@
+"""`symsynth synth`: LTLf realizability against a brute-force game on an
+independent explicit DFA (tests/reference.py), winning strategies played
+against every environment, the datasets' sample with verdicts worked out
+from the families' definitions, and bad input."""
+
+from __future__ import annotations
+
+import itertools
+import json
+import re
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from reference import reference_dfa
+from strategies import formulas
+from symsynth.automata import compile_ltlf
+from symsynth.cli import main
+from symsynth.logic import ast
+from symsynth.synthesis import Partition, solve_realizability
+from symsynth.synthesis.machine import strategy_machine
+
+DATA = Path(__file__).parent / "data" / "finite-synthesis"
+ATOMS = ("a", "b", "c")
+
+
+def brute_force(formula: ast.Formula, partition: Partition, agent_first: bool) -> bool:
+    """The reachability game on the reference DFA, state by state: W grows
+    by the states where the agent's choice (and the environment's every
+    answer, in the order of the step) lands in Acc or W."""
+    dfa = reference_dfa(formula)
+    xs = [a for a in dfa.atoms if a in partition.inputs]
+    ys = [a for a in dfa.atoms if a in partition.outputs]
+
+    def subsets(names):
+        return [frozenset(c) for r in range(len(names) + 1) for c in itertools.combinations(names, r)]
+    win: set[int] = set()
+    while True:
+        good = dfa.accepting | win
+
+        def lands(q, x, y):
+            return dfa.step(q, x | y) in good
+        if agent_first:
+            new = {q for q in range(dfa.num_states)
+                   if any(all(lands(q, x, y) for x in subsets(xs)) for y in subsets(ys))}
+        else:
+            new = {q for q in range(dfa.num_states)
+                   if all(any(lands(q, x, y) for y in subsets(ys)) for x in subsets(xs))}
+        if new <= win:
+            return dfa.initial in win
+        win |= new
+
+
+partitions = st.lists(st.booleans(), min_size=3, max_size=3).map(
+    lambda owners: Partition(tuple(a for a, o in zip(ATOMS, owners) if not o),
+                             tuple(a for a, o in zip(ATOMS, owners) if o)))
+
+
+@settings(max_examples=150, deadline=None)
+@given(formula=formulas(max_depth=3), partition=partitions, agent_first=st.booleans())
+def test_verdict_equals_the_brute_force_game(formula, partition, agent_first):
+    game = solve_realizability(compile_ltlf(formula), partition, agent_first=agent_first)
+    assert game.realizable == brute_force(formula, partition, agent_first)
+
+
+@settings(max_examples=100, deadline=None)
+@given(formula=formulas(max_depth=3), partition=partitions, agent_first=st.booleans())
+def test_the_strategy_wins_against_every_environment(formula, partition, agent_first):
+    """Every path of the machine ends in a win within the number of rounds,
+    and the trace it reads is accepted by the reference DFA."""
+    game = solve_realizability(compile_ltlf(formula), partition, agent_first=agent_first)
+    if not game.realizable:
+        return
+    machine = strategy_machine(game)
+    reference = reference_dfa(formula)
+    stack = [(0, [])]
+    while stack:
+        state, trace = stack.pop()
+        assert len(trace) < len(game.rounds) + 1, "a play longer than the initial state's rank"
+        outputs = {json.dumps(m.output, sort_keys=True) for m in machine.moves[state]}
+        if agent_first:
+            assert len(outputs) == 1  # it speaks before it hears
+        for move in machine.moves[state]:
+            letter = {a for a, v in (move.input | move.output).items() if v}
+            if move.next == "win":
+                assert reference.accepts(trace + [letter])
+            else:
+                assert not reference.accepts(trace + [letter])
+                stack.append((move.next, trace + [letter]))
+
+
+def test_the_sample_families_are_varied():
+    """Both verdicts occur in the hypothesis domain (not vacuous)."""
+    a, b = ast.Atom("a"), ast.Atom("b")
+    env_a = Partition(("a",), ("b",))
+    assert solve_realizability(compile_ltlf(ast.Eventually(b)), env_a).realizable
+    assert not solve_realizability(compile_ltlf(ast.Eventually(a)), env_a).realizable
+    # who moves first matters: the agent must copy the environment's a into b
+    same = ast.Equiv(a, b)
+    assert not solve_realizability(compile_ltlf(same), env_a, agent_first=True).realizable
+    assert solve_realizability(compile_ltlf(same), env_a, agent_first=False).realizable
+
+
+def expected(path: Path) -> bool:
+    """The verdicts of tests/data/finite-synthesis/README.md."""
+    part = path.with_suffix(".part").read_text()
+    inputs = re.search(r"\.inputs:(.*)", part)[1].split()
+    name = path.stem
+    if name.startswith("uright"):
+        return f"p{int(name[-2:])}" not in inputs
+    if name.startswith("gfand"):
+        return not inputs
+    return True  # the counters
+
+
+SAMPLE = sorted(DATA.rglob("*.ltlf"))
+
+
+@pytest.mark.parametrize("path", SAMPLE, ids=[p.stem for p in SAMPLE])
+def test_the_datasets_sample(path, capsys):
+    code = main(["synth", str(path), "--part", str(path.with_suffix(".part"))])
+    out = capsys.readouterr().out
+    want = expected(path)
+    assert (code, out.splitlines()[0]) == ((10, "REALIZABLE") if want else (20, "UNREALIZABLE"))
+
+
+def test_the_sample_has_both_verdicts():
+    verdicts = [expected(p) for p in SAMPLE]
+    assert len(SAMPLE) == 20 and 3 <= sum(verdicts) <= 17
+
+
+def test_strategy_files(tmp_path, capsys):
+    spec = DATA / "Patterns" / "Uright" / "uright04.ltlf"
+    for suffix in (".json", ".dot"):
+        out = tmp_path / f"s{suffix}"
+        assert main(["synth", str(spec), "--part", str(spec.with_suffix(".part")), "-o", str(out)]) == 10
+        text = out.read_text()
+        assert ("digraph strategy" in text) if suffix == ".dot" else json.loads(text)["agent_first"] is True
+
+
+def bad(capsys, argv, message):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("part, message", [
+    (".inputs: a\n.outputs: a b\n", "a in both .inputs and .outputs"),
+    (".inputs a b\n", "expected '.inputs: NAMES' or '.outputs: NAMES'"),
+    (".inputs: a\n.inputs: b\n", ".inputs is given twice (first at line 1)"),
+    ("", "empty: expected '.inputs:' and '.outputs:' lines"),
+    (".inputs: a\n.outputs: c\n", "b is in the formula but in neither list"),
+    (".inputs: a 1x\n", "'1x' is not a variable name"),
+])
+def test_bad_partitions(tmp_path, capsys, part, message):
+    (tmp_path / "s.ltlf").write_text("F(a & b)")
+    (tmp_path / "s.part").write_text(part)
+    bad(capsys, ["synth", str(tmp_path / "s.ltlf"), "--part", str(tmp_path / "s.part")], message)
+
+
+def test_bad_formulas_and_files(tmp_path, capsys):
+    (tmp_path / "s.part").write_text(".inputs: a\n.outputs: b\n")
+    (tmp_path / "empty.ltlf").write_text("")
+    bad(capsys, ["synth", str(tmp_path / "empty.ltlf"), "--part", str(tmp_path / "s.part")], "empty formula")
+    bad(capsys, ["synth", str(tmp_path / "none.ltlf"), "--part", str(tmp_path / "s.part")], "cannot read")
+    (tmp_path / "s.ltlf").write_text("F(b)")
+    bad(capsys, ["synth", str(tmp_path / "s.ltlf"), "--part", str(tmp_path / "s.part"), "-o", "x.txt"],
+        "expected a file name ending in .json or .dot")
