@@ -58,6 +58,8 @@ class Progression:
         self._obligation_var: dict[tuple[bool, ast.Formula], str] = {}
         self._obligation: dict[str, tuple[bool, ast.Formula]] = {}
         self._unfolded: dict[ast.Formula, Function] = {}
+        self._implied: dict[ast.Formula, set[ast.Formula]] = {}  # f -> what f implies (_learn_implications)
+        self._constraints: dict[frozenset[str], Function] = {}  # obligations named -> their implications
 
     # -- obligations -------------------------------------------------------
     def obligation(self, strong: bool, formula: ast.Formula) -> Function:
@@ -149,6 +151,7 @@ class Progression:
         """successor state -> guard, by splitting on the atom levels."""
         step = {name: self.unfold(self._obligation[name][1]) for name in self.bdd.support(state)}
         after = self.bdd.let(step, state) if step else state
+        after = self._canonical(after)  # so that successors that say the same are one BDD
         num_atoms = len(self.atom_keys)
         found: dict[Function, Function] = {}
         stack = [(after, self.bdd.true)]
@@ -163,9 +166,64 @@ class Progression:
             stack.append((low, guard & ~x))
         return found
 
+    # -- states that say the same -------------------------------------------
+    def _learn_implications(self, formula: ast.Formula) -> None:
+        """Which subformulas of `formula` imply which others at every position,
+        by rules whose unfoldings imply each other as BDDs: psi implies
+        phi U psi, phi W psi and F psi; G psi and phi R psi imply psi; and
+        the transitive closure.  (An until chain p1 U (p2 U (... U pn))
+        makes states that are disjunctions of its links' obligations: without
+        these, 2^n states before minimization; with them, n + 1.)"""
+        direct: dict[ast.Formula, set[ast.Formula]] = {}
+        stack, seen = [formula], set()
+        while stack:
+            f = stack.pop()
+            if f in seen:
+                continue
+            seen.add(f)
+            if isinstance(f, (ast.Until, ast.WeakUntil)):
+                direct.setdefault(f.right, set()).add(f)
+            elif isinstance(f, ast.Eventually):
+                direct.setdefault(f.arg, set()).add(f)
+            if isinstance(f, ast.UNARY):
+                stack.append(f.arg)
+            elif isinstance(f, ast.BINARY):
+                stack += [f.left, f.right]
+        for f in direct:
+            if f in self._implied:
+                continue
+            closure, todo = set(), list(direct[f])
+            while todo:
+                g = todo.pop()
+                if g not in closure and g != f:
+                    closure.add(g)
+                    todo += direct.get(g, ())
+            self._implied[f] = closure
+
+    def _canonical(self, state: Function) -> Function:
+        """`state` conjoined with the implications among the obligations it
+        names (X f -> X g and WX f -> WX g for f implying g): equal to
+        `state` on every trace, and one BDD for states that differ only by
+        them (`X psi | X(phi U psi)` is `X(phi U psi)`).  Only obligations
+        already in `state` take part, so the support never grows and
+        unfolding it costs no more."""
+        names = frozenset(name for name in self.bdd.support(state) if name in self._obligation)
+        constraint = self._constraints.get(names)
+        if constraint is None:
+            constraint = self.bdd.true
+            for name in names:
+                strong, f = self._obligation[name]
+                for g in self._implied.get(f, ()):
+                    other = self._obligation_var.get((strong, g))
+                    if other in names:
+                        constraint &= ~self.bdd.var(name) | self.bdd.var(other)  # X f -> X g
+            self._constraints[names] = constraint
+        return state & constraint if constraint != self.bdd.true else state
+
     def dfa(self, formula: ast.Formula) -> GuardedDFA:
         """The complete DFA of an NNF formula; states are numbered in BFS order."""
-        start = self.obligation(True, formula)
+        self._learn_implications(formula)
+        start = self._canonical(self.obligation(True, formula))
         index = {start: 0}
         order = [start]
         accepting: list[bool] = []
