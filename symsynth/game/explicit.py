@@ -28,6 +28,8 @@ from collections import deque
 from collections.abc import Hashable
 from typing import NamedTuple
 
+from tqdm import tqdm
+
 from symsynth.automata import SymbolicDFA, compile_ltlf
 from symsynth.game.abstraction import (State, costmap_of, human_moves, initial_state, letter,
                                        quantize, robot_moves)
@@ -145,8 +147,11 @@ class GameGraph:
         index = {start: START}
         edges: list[list[Edge]] = [[], []]
         queue = deque([START])
+        bar = tqdm(desc="explicit: positions", unit=" pos", delay=1.0, leave=False, disable=None)
         while queue:
             i = queue.popleft()
+            if i & 0xFFF == 0:
+                bar.update(i - bar.n)
             for action, succ, units, w in self.moves(nodes[i]):
                 if succ is None:
                     j = WIN
@@ -158,6 +163,7 @@ class GameGraph:
                     edges.append([])
                     queue.append(j)
                 edges[i].append(Edge(action, j, units, w))
+        bar.close()
         return nodes, edges
 
 

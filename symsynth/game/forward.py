@@ -65,6 +65,8 @@ import threading
 import time
 from collections.abc import Callable, Hashable, Iterator, Mapping
 
+from tqdm import tqdm
+
 from symsynth.game.abstraction import State, initial_state
 from symsynth.game.bound import LowerBound
 from symsynth.game.explicit import PASS, GameGraph, Node
@@ -98,7 +100,12 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
     clock = time.perf_counter()
     start = (v0, q0, k)
     search = Search(game, bound)
-    units = _deep(search.value_human, start)
+    # a bar of the rounds at the start (each asks "E_p <= b?" with b one more),
+    # shown on a terminal once the search takes over a second
+    with tqdm(desc="forward search", unit=" rounds", delay=1.0, leave=False, disable=None) as bar:
+        search.on_round = lambda b: (bar.update(), bar.set_postfix_str(f"E_p >= {b}", refresh=False))
+        units = _deep(search.value_human, start)
+        search.on_round = None
     seconds["search"] = time.perf_counter() - clock
     stats = search.stats()
 
@@ -146,6 +153,7 @@ class Search:
         self.closures = 0
         self.calls = 0
         self.rounds = 0
+        self.on_round: Callable[[int], None] | None = None  # told of each round's budget (solve_forward)
         self.explored = 0  # qualitative explorations run
 
     def id(self, key: Key) -> int:
@@ -378,6 +386,8 @@ class Search:
             b = int(b)
             self.rounds += 1
             rounds += 1
+            if self.on_round is not None:
+                self.on_round(b)
             if ask(i, b):
                 return b
             if lo[i] <= b:  # the search from here is a proof: val > b
