@@ -7,6 +7,7 @@ exit code 2.  Anything else is a bug and keeps its traceback.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 
@@ -41,13 +42,25 @@ class InputError(SymsynthError):
     """Bad input that is not a formula: a file that cannot be read, a bad option."""
 
 
-def read_text(path: Path, what: str, error: type[InputError] = InputError) -> str:
-    """The UTF-8 text of the file `path`; a file that cannot be read or is
-    not UTF-8 raises `error` naming `what` it is ("scene", "costmap", ...)."""
+def read_text(path: Path, what: str, error: type[InputError] = InputError,
+              limit: int | None = None) -> str:
+    """The UTF-8 text of the file `path`, line ends read as Python reads text
+    (`\\r\\n` and `\\r` are `\\n`); a file that cannot be read, is not UTF-8
+    or holds more than `limit` bytes raises `error` naming `what` it is
+    ("scene", "costmap", ...).  No more than `limit` + 1 bytes are read, so
+    a device or pipe without end (`/dev/zero`) is refused too."""
     try:
-        return Path(path).read_text(encoding="utf-8")
+        with open(path, "rb") as file:
+            size = os.fstat(file.fileno()).st_size  # 0 for devices and pipes
+            if limit is not None and size > limit:
+                raise error(f"{what} {path} is {size:,} bytes: larger than the {limit:,} symsynth reads")
+            data = file.read() if limit is None else file.read(limit + 1)
     except OSError as problem:
         raise error(f"cannot read {what} {path}: {problem.strerror}") from None
+    if limit is not None and len(data) > limit:
+        raise error(f"{what} {path} is more than {limit:,} bytes: larger than the {limit:,} symsynth reads")
+    try:
+        text = data.decode("utf-8")
     except UnicodeDecodeError:
         raise error(f"{what} {path} is not UTF-8 text") from None
-
+    return text.replace("\r\n", "\n").replace("\r", "\n")

@@ -6,6 +6,7 @@ bundled files still read exactly as yaml/json read them."""
 from __future__ import annotations
 
 import json
+import os
 import time
 
 import pytest
@@ -150,3 +151,31 @@ def test_bundled_scenes_read_as_yaml_reads_them(name):
 def test_bundled_costmaps_read_as_json_reads_them(name):
     path = SCENES / f"{name}.costmap.json"
     assert read_json(path, "costmap") == json.loads(path.read_text())
+
+
+@pytest.mark.parametrize("argv", [["solve", "/dev/zero"],
+                                  ["solve", str(SCENES / "toy.yaml"), "--costmap", "/dev/zero"]])
+def test_a_file_without_a_size_is_read_no_further_than_the_limit(capsys, monkeypatch, argv):
+    """A device or pipe has no size to check beforehand: /dev/zero was read until memory ran out
+    (a MemoryError traceback, or the machine's memory)."""
+    monkeypatch.setattr(yamlpos, "MAX_BYTES", 3000)  # toy.yaml has 2,184
+    refused(capsys, argv, "/dev/zero is more than 3,000 bytes: larger than the 3,000 symsynth reads")
+
+
+def test_a_pipe_within_the_limit_is_read(tmp_path):
+    """Reading no further than the limit keeps what a device or pipe holds."""
+    read, write = os.pipe()
+    os.write(write, TOY.encode())
+    os.close(write)
+    with os.fdopen(read) as pipe:
+        assert read_yaml(f"/dev/fd/{pipe.fileno()}", "scene")[0] == yaml.safe_load(TOY)
+
+
+def test_line_ends_are_read_as_before(tmp_path):
+    """Windows and old Mac line ends count as one line each, in YAML and JSON."""
+    for end in ["\r\n", "\r"]:
+        path = tmp_path / "crlf.yaml"
+        path.write_bytes(TOY.replace("\n", end).encode())
+        data, lines = read_yaml(path, "scene")
+        assert data == yaml.safe_load(TOY)
+        assert lines[("human",)] == line_number(TOY, "human")

@@ -149,21 +149,11 @@ def line_of(lines: dict[KeyPath, int], path: KeyPath) -> int | None:
     return lines.get(path)
 
 
-def _read(path: Path, what: str, error: type[InputError]) -> str:
-    try:
-        size = Path(path).stat().st_size
-    except OSError:
-        size = 0  # read_text says why it cannot be read
-    if size > MAX_BYTES:
-        raise error(f"{what} {path} is {size:,} bytes: larger than the {MAX_BYTES:,} symsynth reads")
-    return read_text(Path(path), what, error)
-
-
 def read_yaml(path: str | Path, what: str,
               error: type[InputError] = InputError) -> tuple[Any, dict[KeyPath, int]]:
     """`load_with_lines` of the file `path`; unreadable text, invalid YAML or
     a limit passed raises `error` naming the file, the line and `what` it is."""
-    text = _read(Path(path), what, error)
+    text = read_text(Path(path), what, error, MAX_BYTES)
     try:
         return load_with_lines(text)
     except yaml.YAMLError as problem:
@@ -176,7 +166,7 @@ def read_json(path: str | Path, what: str, error: type[InputError] = InputError)
     """The data of the JSON file `path`, within the limits above; invalid
     JSON, a key given twice or a limit passed raises `error` naming the
     file, the line and `what` it is."""
-    text = _read(Path(path), what, error)
+    text = read_text(Path(path), what, error, MAX_BYTES)
 
     def pairs(items: list[tuple[str, Any]]) -> dict[str, Any]:
         result: dict[str, Any] = {}
