@@ -16,6 +16,7 @@ from conftest import SCENES
 from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.execution.human import read_script
+from symsynth.game.strategy import read_strategy
 from symsynth.scene import load_scene
 from symsynth.scene import yamlpos
 from symsynth.scene.yamlpos import read_json, read_yaml
@@ -113,13 +114,60 @@ def test_nesting_at_the_limit_is_read(tmp_path):
     assert read_yaml(path, "test")[0] == yaml.safe_load(path.read_text())
 
 
-def test_a_key_given_twice_in_json_is_refused(tmp_path, capsys):
-    data = json.loads((SCENES / "toy.costmap.json").read_text())
-    text = json.dumps(data)
+COSTMAP = (SCENES / "toy.costmap.json").read_text()
+
+
+@pytest.mark.parametrize("old, new, key", [
+    ('"format": "symsynth.costmap/1"', '"format": "symsynth.costmap/1",\n"format": "symsynth.costmap/1"',
+     "format"),
+    ('"rules": [{"free": [], "cost": 4}]},\n', '"rules": [{"free": [], "cost": 4,\n"cost": 1}]},\n',
+     "motions.0.rules.0.cost"),
+    ('"to": "l1/top"', '"to": "l1/top", "to": "l2/top"', "motions.0.to"),
+])
+def test_a_key_given_twice_in_json_is_refused_with_both_lines(tmp_path, capsys, old, new, key):
+    """A costmap's key given twice was refused without saying where; json keeps the last one."""
+    text = COSTMAP.replace(old, new, 1)
+    assert text != COSTMAP
+    first = line_number(COSTMAP, COSTMAP[:COSTMAP.index(old)].rsplit("\n", 1)[-1])
+    second = first + new.count("\n") - old.count("\n")
     path = tmp_path / "c.json"
-    path.write_text(text.replace('"format": "symsynth.costmap/1"',
-                                 '"format": "symsynth.costmap/1", "format": "symsynth.costmap/1"'))
-    refused(capsys, ["solve", str(SCENES / "toy.yaml"), "--costmap", str(path)], "'format' is given twice")
+    path.write_text(text)
+    refused(capsys, ["solve", str(SCENES / "toy.yaml"), "--costmap", str(path)],
+            f"c.json:{second}: not valid JSON: {key} is given twice (first at line {first}); keep one")
+
+
+def test_a_key_given_twice_in_a_strategy_file_is_refused(tmp_path):
+    path = tmp_path / "s.json"
+    path.write_text('{"format": "symsynth.strategy/1",\n "objects": ["b"],\n "positions": [{"q": [0],\n'
+                    '  "h": 0, "q": [1]}]}')
+    with pytest.raises(InputError, match=r"s\.json:4: not valid JSON: positions\.0\.q is given twice "
+                                         r"\(first at line 3\); keep one"):
+        read_strategy(path)
+
+
+def test_brackets_and_quotes_within_json_strings_are_no_nesting(tmp_path):
+    text = json.dumps({"a": "[" * 100 + '\\"{' * 100, "b\"[": [[1]], "c": "]" * 100 + "[" * 100})
+    path = tmp_path / "s.json"
+    path.write_text(text)
+    assert read_json(path, "test") == json.loads(text)
+    assert yamlpos.json_depth(text) == 3
+
+
+def test_json_nesting_at_the_limit_is_read(tmp_path):
+    depth = yamlpos.MAX_DEPTH - 1
+    path = tmp_path / "deep.json"
+    path.write_text('{"x": ' + "[" * depth + "]" * depth + "}")
+    assert read_json(path, "test") == json.loads(path.read_text())
+
+
+@pytest.mark.parametrize("depth", [yamlpos.MAX_DEPTH + 1, 100_000])
+def test_deep_json_is_refused_at_its_line(tmp_path, depth):
+    """The decoder is never handed deeper nesting: 100,000 levels were a RecursionError inside json."""
+    path = tmp_path / "deep.json"
+    path.write_text('{"a": 1,\n "b": [' + "[" * depth + "]" * depth + "]}")
+    with pytest.raises(InputError, match=rf"deep\.json:2: not valid JSON: lists and objects nested more "
+                                         rf"than {yamlpos.MAX_DEPTH} deep"):
+        read_json(path, "test")
 
 
 @pytest.mark.parametrize("digits", [400, 5_000])

@@ -19,17 +19,20 @@ traceback downstream:
   reader sees first); YAML's merge keys (`<<: *base`) may still be
   overridden, as YAML means them to be.
 
-The limits are checked on the parser's event stream before anything is
-built, in one pass without recursion.
+The limits are checked before anything is built, in one pass without
+recursion: on the YAML parser's event stream, and on the JSON text (its
+brackets outside strings) before the decoder, which recurses, sees it.
 """
 
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Hashable
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
+import numpy as np
 import yaml
 
 from symsynth.errors import InputError, read_text
@@ -165,25 +168,92 @@ def read_yaml(path: str | Path, what: str,
 def read_json(path: str | Path, what: str, error: type[InputError] = InputError) -> Any:
     """The data of the JSON file `path`, within the limits above; invalid
     JSON, a key given twice or a limit passed raises `error` naming the
-    file, the line and `what` it is."""
+    file, the line and `what` it is.  Nesting is measured on the text before
+    it is decoded (`json_depth`), so the decoder never recurses deeper than
+    `MAX_DEPTH`."""
     text = read_text(Path(path), what, error, MAX_BYTES)
-
-    def pairs(items: list[tuple[str, Any]]) -> dict[str, Any]:
-        result: dict[str, Any] = {}
-        for key, value in items:
-            if key in result:
-                raise error(f"{path}: not valid JSON: key {key!r} is given twice in one object; keep one")
-            result[key] = value
-        return result
-
+    if json_depth(text) > MAX_DEPTH:
+        _refuse_json(text, path, error, f"lists and objects nested more than {MAX_DEPTH} deep")
     try:
-        data = json.loads(text, object_pairs_hook=pairs, parse_int=_integer)
+        return json.loads(text, object_pairs_hook=_unique_pairs, parse_int=_integer)
     except json.JSONDecodeError as problem:
         raise error(f"{path}:{problem.lineno}:{problem.colno}: not JSON: {problem.msg}") from None
-    except RecursionError:  # the decoder's own depth guard, before any of ours could run
-        raise error(f"{path}: not valid JSON: lists and objects nested more than {MAX_DEPTH} deep") from None
-    _check_depth(data, path, error)
-    return data
+    except _GivenTwice:
+        _refuse_json(text, path, error, "a key is given twice in one object; keep one")
+
+
+class _GivenTwice(Exception):
+    """A key given twice in one JSON object (`_refuse_json` says where)."""
+
+
+def _unique_pairs(items: list[tuple[str, Any]]) -> dict[str, Any]:
+    """A JSON object's dict, unless one of its keys is given twice."""
+    result = dict(items)
+    if len(result) < len(items):
+        raise _GivenTwice
+    return result
+
+
+#: A JSON string (a quote, then escapes or anything but quotes and backslashes).
+_JSON_STRING = r'"[^"\\]*(?:\\.[^"\\]*)*"'
+_JSON_TOKEN = re.compile(_JSON_STRING + r"|[\[\]{}:,]", re.DOTALL)
+_STRINGS = re.compile(_JSON_STRING, re.DOTALL)
+_NOT_BRACKETS = bytes(set(range(256)) - set(b"[]{}"))
+_NESTING = np.zeros(256, dtype=np.int8)  # +1 per opening, -1 per closing bracket, by ASCII code
+_NESTING[[ord("["), ord("{")]], _NESTING[[ord("]"), ord("}")]] = 1, -1
+
+
+def json_depth(text: str) -> int:
+    """How deep lists and objects nest in the JSON `text`: the largest
+    running sum of +1 per `[` or `{` and -1 per `]` or `}` outside strings.
+    For valid JSON it is the nesting of the data; for invalid JSON it is
+    exact up to the first mistake, as far as a decoder reads."""
+    brackets = _STRINGS.sub("", text).encode().translate(None, _NOT_BRACKETS)
+    steps = _NESTING[np.frombuffer(brackets, dtype=np.uint8)]
+    return int(np.cumsum(steps, dtype=np.int32).max(initial=0))  # max_i sum_{j <= i} steps_j
+
+
+def _refuse_json(text: str, path: str | Path, error: type[InputError], found: str) -> NoReturn:
+    """Raise `error` for the first key given twice in one object or the first
+    list or object nested deeper than `MAX_DEPTH` in the JSON `text`, with
+    its line and key path; the text is walked token by token, without
+    recursion.  It runs once `read_json` has `found` one of them, which
+    the message names should the walk not place it."""
+    levels: list[list] = []  # open lists and objects: [keys seen {key: line} (None in a list), key or index]
+    line, seen_to, expect_key = 1, 0, False
+    for token in _JSON_TOKEN.finditer(text):
+        line += text.count("\n", seen_to, token.start())
+        seen_to, kind = token.start(), token[0][0]
+        if kind in "[{":
+            if len(levels) == MAX_DEPTH:
+                raise error(f"{path}:{line}: not valid JSON: lists and objects nested more than {MAX_DEPTH} deep")
+            levels.append([{} if kind == "{" else None, 0])
+            expect_key = kind == "{"
+        elif kind in "]}" and levels:
+            levels.pop()
+            expect_key = False
+        elif kind == "," and levels:
+            if levels[-1][0] is None:
+                levels[-1][1] += 1
+            expect_key = levels[-1][0] is not None
+        elif kind == ":":
+            expect_key = False
+        elif kind == '"' and expect_key:
+            key, keys = _json_key(token[0]), levels[-1][0]
+            if key in keys:
+                where = ".".join([*(str(level[1]) for level in levels[:-1]), key])
+                raise error(f"{path}:{line}: not valid JSON: {where} is given twice "
+                            f"(first at line {keys[key]}); keep one")
+            keys[key], levels[-1][1], expect_key = line, key, False
+    raise error(f"{path}: not valid JSON: {found}")
+
+
+def _json_key(token: str) -> str:
+    """The key a JSON string token stands for (as written, if its escapes are not JSON's)."""
+    try:
+        return json.loads(token)
+    except json.JSONDecodeError:
+        return token[1:-1]
 
 
 def _integer(text: str) -> int | float:
@@ -191,15 +261,3 @@ def _integer(text: str) -> int | float:
     as the float it stands for (inf past 1e308), so checks of finiteness see
     it, and Python's limit on long integer strings is never reached."""
     return int(text) if len(text) <= 30 else float(text)
-
-
-def _check_depth(data: Any, path: str | Path, error: type[InputError]) -> None:
-    """Nesting of parsed data within `MAX_DEPTH`, walked without recursion."""
-    stack = [(data, 0)]
-    while stack:
-        value, depth = stack.pop()
-        if isinstance(value, (dict, list)):
-            if depth >= MAX_DEPTH:
-                raise error(f"{path}: not valid JSON: lists and objects nested more than {MAX_DEPTH} deep")
-            children = value.values() if isinstance(value, dict) else value
-            stack.extend((child, depth + 1) for child in children)
