@@ -83,10 +83,26 @@ def test_an_alias_bomb_is_refused_at_once(tmp_path, capsys):
     path.write_text(laughs())
     assert len(path.read_bytes()) < 500
     clock = time.perf_counter()
-    refused(capsys, ["solve", str(path)], "bomb.yaml:", "more than 5,000,000 values once aliases are expanded")
+    refused(capsys, ["solve", str(path)], "bomb.yaml:", f"more than {yamlpos.MAX_VALUES:,} values once aliases are expanded")
     with pytest.raises(InputError, match="once aliases are expanded"):
         read_script(path, load_scene(SCENES / "toy.yaml"))
     assert time.perf_counter() - clock < 10  # a bound against hanging, not a speed target
+
+
+def test_a_long_yaml_file_is_refused_at_once(tmp_path, capsys):
+    """YAML is parsed in Python at about 50,000 values a second, three passes: 2,000,000 values
+    (8 MB, far below the size limit) took minutes before the old limit of 5,000,000 values did not
+    stop them.  The bundled scenes hold at most 206 values."""
+    assert max(sum(1 for event in yaml.parse(path.read_text()) if isinstance(event, VALUE_EVENTS))
+               for path in SCENES.glob("*.yaml")) * 400 < yamlpos.MAX_VALUES
+    path = tmp_path / "long.yaml"
+    path.write_text("moves:\n" + "  - 1\n" * 2_000_000)
+    clock = time.perf_counter()
+    refused(capsys, ["solve", str(path)], f"more than {yamlpos.MAX_VALUES:,} values")
+    assert time.perf_counter() - clock < 20  # a bound against hanging, not a speed target
+
+
+VALUE_EVENTS = (yaml.ScalarEvent, yaml.SequenceStartEvent, yaml.MappingStartEvent, yaml.AliasEvent)
 
 
 def test_aliases_within_the_limit_are_expanded(tmp_path):

@@ -44,8 +44,12 @@ KeyPath = tuple[Any, ...]
 MAX_BYTES = 64 << 20
 #: Lists and mappings nested deeper than this are refused.
 MAX_DEPTH = 64
-#: Values (scalars, lists, mappings) after aliases are expanded.
-MAX_VALUES = 5_000_000
+#: Values (scalars, lists, mappings) after aliases are expanded.  YAML is
+#: parsed in Python at about 50,000 values a second, so a file at the limit
+#: reads in a few seconds; the bundled scenes hold at most 206 values, human
+#: scripts four per move.  (Costmaps and strategy files are JSON: without
+#: aliases, their size is bounded by `MAX_BYTES`.)
+MAX_VALUES = 100_000
 
 
 class LimitError(yaml.YAMLError):
