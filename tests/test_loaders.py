@@ -69,6 +69,39 @@ def test_merge_keys_may_still_be_overridden(tmp_path):
     assert data["item"] == {"x": 1, "y": 3} == yaml.safe_load(text)["item"]
 
 
+def test_an_alias_of_a_mapping_with_merge_keys_reads_as_yaml_reads_it(tmp_path):
+    """The second visit of an aliased mapping saw its merged keys as its own: `other.y is given twice`."""
+    text = "base: &b {x: 1, y: 2}\nitem: &i\n  <<: *b\n  y: 3\nother: *i\nmore: [*i, {<<: *i, x: 0}]\n"
+    path = tmp_path / "m.yaml"
+    path.write_text(text)
+    assert read_yaml(path, "test")[0] == yaml.safe_load(text)
+
+
+def test_a_key_given_twice_in_an_aliased_mapping_is_named_where_it_is_written(tmp_path):
+    path = tmp_path / "m.yaml"
+    path.write_text("base: &b\n  x: 1\n  x: 2\nitem: *b\n")
+    with pytest.raises(InputError, match=r"m\.yaml:3: not valid YAML: base\.x is given twice \(first at line 2\)"):
+        read_yaml(path, "test")
+
+
+def test_aliases_that_nest_deeper_than_the_limit_are_refused(tmp_path, capsys):
+    """Each alias below 30 levels of its own: 70 of them nest 2,100 deep once expanded, though no
+    part of the 5 KB file nests more than 31 deep (a RecursionError traceback)."""
+    lines = ["a0: &a0 x"] + [f"a{i}: &a{i} " + "[" * 30 + f"*a{i - 1}" + "]" * 30 for i in range(1, 70)]
+    path = tmp_path / "chain.yaml"
+    path.write_text("\n".join(lines) + "\n")
+    refused(capsys, ["solve", str(path)], "chain.yaml:4:",
+            f"lists and mappings nested more than {yamlpos.MAX_DEPTH} deep once aliases are expanded")
+
+
+def test_aliases_that_nest_up_to_the_limit_are_read(tmp_path):
+    """The top mapping, 31 levels of a1 and 32 of a2: 64 in all."""
+    text = "a0: &a0 x\na1: &a1 " + "[" * 31 + "*a0" + "]" * 31 + "\na2: " + "[" * 32 + "*a1" + "]" * 32 + "\n"
+    path = tmp_path / "chain.yaml"
+    path.write_text(text)
+    assert read_yaml(path, "test")[0] == yaml.safe_load(text)
+
+
 def laughs(levels=8):
     lines = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"]
     for i in range(1, levels):
@@ -197,6 +230,19 @@ def test_huge_integers_are_numbers_out_of_range(tmp_path, capsys, digits):
     path = tmp_path / "c.json"
     path.write_text(costmap)
     refused(capsys, ["solve", str(SCENES / "toy.yaml"), "--costmap", str(path)], "cost: expected a finite number")
+
+
+@pytest.mark.parametrize("new, below, expected", [
+    ("name: 2020-13-45", 0, "not valid YAML: '2020-13-45' is read as a date and is not one (month must be in "
+                            "1..12); quote it if it is text"),
+    ("name: toy\n? [2020-02-30]\n: 1", 1, "not valid YAML: a value in this key cannot be read"),
+    ("name: toy\n? " + "9" * 5_000 + "\n: 1", 0, "(inf was unexpected)"),  # at the top mapping's line
+])
+def test_values_python_cannot_hold_are_named_at_their_line(tmp_path, capsys, new, below, expected):
+    """A date that is none (`2020-13-45`, as YAML reads it unquoted) or an integer key of 5,000 digits
+    were ValueError tracebacks."""
+    path = scene_file(tmp_path, TOY.replace("name: toy", new))
+    refused(capsys, ["solve", str(path)], f"toy.yaml:{line_number(TOY, 'name: toy') + below}: ", expected)
 
 
 def test_a_file_beyond_the_size_limit_is_refused(tmp_path, capsys, monkeypatch):

@@ -64,35 +64,42 @@ class LimitError(yaml.YAMLError):
 def check_limits(text: str) -> None:
     """Depth and expanded size of a YAML text, from its events (no recursion).
 
-    Each node's expanded size is 1 plus its children's; an alias counts the
-    whole size of the node it names, so the total is what building the data
-    would create."""
-    sizes: dict[str, int] = {}  # anchor -> expanded size
-    stack: list[list] = []  # open collections: [size so far, anchor]
+    Each node's expanded size is 1 plus its children's, and its height is 1
+    plus its children's largest for a list or mapping (0 for a scalar); an
+    alias stands for the whole node it names, so the total size is what
+    building the data would create, and an alias's depth plus its node's
+    height is how deep the built data nests there."""
+    anchored: dict[str, tuple[int, int]] = {}  # anchor -> (expanded size, height)
+    stack: list[list] = []  # open collections: [size so far, largest height of a child, anchor]
     total = 0
     for event in yaml.parse(text, Loader=yaml.SafeLoader):
         if isinstance(event, (yaml.SequenceStartEvent, yaml.MappingStartEvent)):
             if len(stack) >= MAX_DEPTH:
                 raise LimitError(f"lists and mappings nested more than {MAX_DEPTH} deep", event.start_mark)
-            stack.append([1, event.anchor])
+            stack.append([1, 0, event.anchor])
             total += 1
             continue
         if isinstance(event, (yaml.SequenceEndEvent, yaml.MappingEndEvent)):
-            size, anchor = stack.pop()
+            size, below, anchor = stack.pop()
+            height = below + 1
         elif isinstance(event, yaml.ScalarEvent):
-            size, anchor = 1, event.anchor
+            size, height, anchor = 1, 0, event.anchor
             total += 1
         elif isinstance(event, yaml.AliasEvent):
-            size, anchor = sizes.get(event.anchor, 1), None
+            (size, height), anchor = anchored.get(event.anchor, (1, 0)), None
             total += size
+            if len(stack) + height > MAX_DEPTH:
+                raise LimitError(f"lists and mappings nested more than {MAX_DEPTH} deep once aliases are "
+                                 "expanded", event.start_mark)
         else:
             continue
         if total > MAX_VALUES:
             raise LimitError(f"more than {MAX_VALUES:,} values once aliases are expanded", event.start_mark)
         if anchor is not None:
-            sizes[anchor] = size
+            anchored[anchor] = size, height
         if stack:
             stack[-1][0] += size
+            stack[-1][1] = max(stack[-1][1], height)
 
 
 def load_with_lines(text: str) -> tuple[Any, dict[KeyPath, int]]:
@@ -102,39 +109,84 @@ def load_with_lines(text: str) -> tuple[Any, dict[KeyPath, int]]:
     if node is None:
         return None, lines
     constructor = yaml.SafeLoader("")
+    _check_keys(node, constructor)
     return _build(node, (), lines, constructor), lines
 
 
+_MERGE = "tag:yaml.org,2002:merge"
+
+
+def _check_keys(root: yaml.Node, constructor: yaml.SafeLoader) -> None:
+    """Every mapping's keys are names, each given once (merge keys `<<:`
+    aside), checked once per node as written, before `_build` merges
+    mappings (which adds the merged keys to the node); in document order,
+    without recursion."""
+    stack: list[tuple[yaml.Node, KeyPath]] = [(root, ())]
+    checked: set[int] = set()  # id of every node checked: an alias names a node checked already
+    while stack:
+        node, path = stack.pop()
+        if id(node) in checked:
+            continue
+        checked.add(id(node))
+        children: list[tuple[yaml.Node, KeyPath]] = []
+        if isinstance(node, yaml.MappingNode):
+            own: dict[Any, yaml.Node] = {}
+            for key_node, value_node in node.value:
+                if key_node.tag == _MERGE:
+                    children.append((value_node, path))
+                    continue
+                key = _construct(key_node, constructor)
+                if not isinstance(key, Hashable):
+                    raise yaml.constructor.ConstructorError(
+                        None, None, "a key must be a name, not a list or mapping", key_node.start_mark)
+                if key in own:
+                    where = ".".join(map(str, path + (key,)))
+                    raise yaml.constructor.ConstructorError(
+                        None, None, f"{where} is given twice (first at line {own[key].start_mark.line + 1}); "
+                        "keep one", key_node.start_mark)
+                own[key] = key_node
+                children.append((value_node, path + (key,)))
+        elif isinstance(node, yaml.SequenceNode):
+            children = [(item, path + (i,)) for i, item in enumerate(node.value)]
+        stack.extend(reversed(children))
+
+
 def _build(node: yaml.Node, path: KeyPath, lines: dict[KeyPath, int], constructor) -> Any:
-    """The data of `node`; recursion is bounded by `MAX_DEPTH` (`check_limits`)."""
+    """The data of `node`; recursion is bounded by `MAX_DEPTH`, aliases
+    expanded (`check_limits`)."""
     lines[path] = node.start_mark.line + 1
     if isinstance(node, yaml.MappingNode):
-        own: dict[Any, yaml.Node] = {}
-        for key_node, _ in node.value:
-            if key_node.tag == "tag:yaml.org,2002:merge":
-                continue
-            key = constructor.construct_object(key_node, deep=True)
-            if not isinstance(key, Hashable):
-                raise yaml.constructor.ConstructorError(
-                    None, None, "a key must be a name, not a list or mapping", key_node.start_mark)
-            if key in own:
-                where = ".".join(map(str, path + (key,)))
-                raise yaml.constructor.ConstructorError(
-                    None, None, f"{where} is given twice (first at line {own[key].start_mark.line + 1}); "
-                    "keep one", key_node.start_mark)
-            own[key] = key_node
         constructor.flatten_mapping(node)  # `<<: *base` merge keys, as safe_load does
         result = {}
         for key_node, value_node in node.value:
-            key = constructor.construct_object(key_node, deep=True)
+            key = _construct(key_node, constructor)
             result[key] = _build(value_node, path + (key,), lines, constructor)
             lines[path + (key,)] = key_node.start_mark.line + 1
         return result
     if isinstance(node, yaml.SequenceNode):
         return [_build(item, path + (i,), lines, constructor) for i, item in enumerate(node.value)]
+    return _construct(node, constructor)
+
+
+def _construct(node: yaml.Node, constructor: yaml.SafeLoader) -> Any:
+    """`safe_load`'s value of `node`; one Python cannot hold (`2020-13-45`
+    read as a date) is a `ConstructorError`
+    at its line instead of Python's `ValueError`."""
     if node.tag == "tag:yaml.org,2002:int" and len(node.value) > 30:
         return _long_integer(node)  # as read_json does
-    return constructor.construct_object(node, deep=True)
+    try:
+        return constructor.construct_object(node, deep=True)
+    except ValueError as problem:
+        if not isinstance(node, yaml.ScalarNode):  # a key that is a list or mapping
+            raise yaml.constructor.ConstructorError(
+                None, None, f"a value in this key cannot be read ({problem})", node.start_mark) from None
+        kind = _KINDS.get(node.tag, node.tag.rsplit(":", 1)[-1])
+        raise yaml.constructor.ConstructorError(
+            None, None, f"{node.value[:40]!r} is read as {kind} and is not one ({problem}); "
+            "quote it if it is text", node.start_mark) from None
+
+
+_KINDS = {"tag:yaml.org,2002:timestamp": "a date"}
 
 
 def _long_integer(node: yaml.ScalarNode) -> float:
