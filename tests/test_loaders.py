@@ -251,15 +251,17 @@ def test_a_file_beyond_the_size_limit_is_refused(tmp_path, capsys, monkeypatch):
             "bytes: larger than the 100 symsynth reads")
 
 
-@pytest.mark.parametrize("name", ["toy", "arch-abstract", "arch", "line", "line-obstacles-4"])
-def test_bundled_scenes_read_as_yaml_reads_them(name):
-    path = SCENES / f"{name}.yaml"
-    assert read_yaml(path, "scene")[0] == yaml.safe_load(path.read_text())
+@pytest.mark.parametrize("path", sorted(SCENES.glob("*.yaml")), ids=lambda path: path.name)
+def test_bundled_scenes_read_as_yaml_reads_them(path):
+    data, lines = read_yaml(path, "scene")
+    assert data == yaml.safe_load(path.read_text())
+    text = path.read_text()
+    for key in data:  # each top-level key at the line it is written on
+        assert lines[(key,)] == line_number(text, f"{key}:")
 
 
-@pytest.mark.parametrize("name", ["toy", "arch-abstract"])
-def test_bundled_costmaps_read_as_json_reads_them(name):
-    path = SCENES / f"{name}.costmap.json"
+@pytest.mark.parametrize("path", sorted(SCENES.glob("*.json")), ids=lambda path: path.name)
+def test_bundled_costmaps_read_as_json_reads_them(path):
     assert read_json(path, "costmap") == json.loads(path.read_text())
 
 
