@@ -56,8 +56,9 @@ def test_a_signal_ends_the_command_and_its_workers(tmp_path, signum, code):
         process.send_signal(signum)
         out, err = process.communicate(timeout=30)
         assert process.returncode == code
-        assert time.monotonic() - clock < 5  # within a second or so: a bound against hanging
-        assert wait_for(lambda: not any(alive(w) for w in workers), 5), "workers outlived the command"
+        # a bound against hanging, loose enough for a loaded machine (it takes about a second)
+        assert time.monotonic() - clock < 20
+        assert wait_for(lambda: not any(alive(w) for w in workers), 20), "workers outlived the command"
     finally:
         if process.poll() is None:
             process.kill()
@@ -88,7 +89,7 @@ def test_sigterm_ends_a_long_solve_at_once(tmp_path, solver):
         clock = time.monotonic()
         process.send_signal(signal.SIGTERM)
         _, err = process.communicate(timeout=30)
-        assert process.returncode == 143 and time.monotonic() - clock < 5
+        assert process.returncode == 143 and time.monotonic() - clock < 20  # about a second; loose for load
         assert "Traceback" not in err and err.rstrip().endswith("is kept")
     finally:
         if process.poll() is None:
