@@ -24,7 +24,10 @@ from symsynth.scene import Scene, scene_from_data
 TAGS = ("block", "red", "blue")
 
 
-def random_scene(seed: int, *, positive: bool = False) -> Scene:
+def random_scene(seed: int, *, positive: bool = False, contacts: bool = False) -> Scene:
+    """`contacts=True` adds 1-2 contacts (semantics §4b), motions to and from
+    their anchors and random slide rules, drawn from a second generator so
+    that the rest of the scene is the one `contacts=False` draws."""
     rng = random.Random(seed)
     low = 1 if positive else 0
     locations = [f"l{i}" for i in range(1, rng.randint(2, 4) + 1)]
@@ -45,7 +48,38 @@ def random_scene(seed: int, *, positive: bool = False) -> Scene:
         "task": _task(rng, objects, locations),
         "costmap": _costmap(rng, names, locations, samples, grasps, low),
     }
+    if contacts:
+        _add_contacts(random.Random(f"contacts {seed}"), data, low)
     return scene_from_data(data)
+
+
+def _add_contacts(rng: random.Random, data: dict, low: int) -> None:
+    """Contacts, the transits that reach them or start from them, and slide
+    rules between locations (some missing, some conditional)."""
+    contacts = ["push", "pull"][:rng.randint(1, 2)]
+    locations, grasps = data["locations"], data["grasps"]
+    places = locations + data["else_samples"]
+    at_contact = [f"{x}/{a}" for x in places for a in contacts]
+    every = ["home"] + [f"{x}/{g}" for x in places for g in grasps] + at_contact
+    pairs = [(s, t) for t in at_contact for s in every] + [(s, f"{x}/{g}") for s in at_contact
+                                                          for x in places for g in grasps]
+    motions = data["costmap"]["motions"]
+    for s, t in pairs:
+        if s != t and rng.random() < 0.9:
+            rules = [{"free": _some(rng, places), "cost": rng.randint(low, 9)} for _ in range(rng.randint(1, 2))]
+            if rng.random() < 0.9:
+                rules[-1]["free"] = []
+            motions.append({"mode": "empty", "from": s, "to": t, "rules": rules})
+    slides = []
+    for a in contacts:
+        for l in locations:
+            for m in locations:
+                if l != m and rng.random() < 0.6:
+                    rules = [{"free": _some(rng, places), "cost": rng.randint(low, 9)}
+                             for _ in range(rng.randint(1, 2))]
+                    slides.append({"contact": a, "from": l, "to": m, "rules": rules})
+    data["contacts"] = contacts
+    data["costmap"]["slides"] = slides
 
 
 def _task(rng: random.Random, objects: dict, locations: list[str]) -> str:

@@ -21,17 +21,17 @@ SCENES = [
 def well_formed_states(scene):
     """Spec §2, enumerated: at most one object per location and in the hand;
     grip set iff holding; holding => ee in L + {Else}; empty hand =>
-    ee in {Else} + {(o, g) : at[o] != Hand}."""
+    ee in {Else} + {(o, a) : at[o] != Hand, a a grasp or contact}."""
     objects, locations, grasps = scene.object_names, scene.locations, scene.grasps
     for at in itertools.product(locations + ("Else", "Hand"), repeat=len(objects)):
         if any(at.count(x) > 1 for x in locations + ("Hand",)):
             continue
         holding = "Hand" in at
-        for grip in (grasps if holding else (None,)):
+        for grip in (grasps if holding else (None,)):  # a contact never holds
             if holding:
                 ees = ("Else",) + locations
             else:
-                ees = ("Else",) + tuple((o, g) for o, x in zip(objects, at) for g in grasps)
+                ees = ("Else",) + tuple((o, a) for o, x in zip(objects, at) for a in grasps + scene.contacts)
             for ee in ees:
                 yield dict(zip(objects, at)), grip, ee
 

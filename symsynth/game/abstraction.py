@@ -7,7 +7,12 @@ against this module; it is written to be read next to the spec.
 Names of actions (the spec's, with the object added to `grab` and `drop`
 for readability):
 
-- robot: `transit(o,g)`, `grab(o)`, `transfer(l)`, `drop(o,l)`;
+- robot: `transit(o,a)`, `grab(o)`, `transfer(l)`, `drop(o,l)`, and in
+  scenes with contacts (semantics §4b) `slide(o,a,l')`: the object `o`
+  slid by its contact `a` to the location `l'`.  One name for every
+  displacement primitive: which primitive (push, pull, ...) carries it out
+  is the contact's, physical detail the game does not read, and a name the
+  game chose cannot collide with a plugin's;
 - human: `move(o,t)` (a pass is not a move and is not listed here).
 
 A name is what strategy files, run records and scripts hold; what a move
@@ -34,7 +39,7 @@ from symsynth.game.propositions import Proposition
 from symsynth.scene.costmap import Costmap
 from symsynth.scene.model import ELSE, EMPTY, HAND, Scene
 
-EndEffector = str | tuple[str, str]  # ELSE, a location, or (object, grasp)
+EndEffector = str | tuple[str, str]  # ELSE, a location, or (object, grasp or contact)
 
 @dataclass(frozen=True)
 class State:
@@ -42,7 +47,8 @@ class State:
 
     `at[i]` is where `scene.objects[i]` is: a location, `ELSE` or `HAND`;
     `grip` is the grasp holding the object in the hand, None when empty;
-    `ee` is `ELSE`, a location (holding) or `(object, grasp)` (empty hand).
+    `ee` is `ELSE`, a location (holding) or `(object, grasp or contact)`
+    (empty hand).
     """
 
     at: tuple[str, ...]
@@ -94,16 +100,17 @@ def within(units: int, resolution: float, budget: float) -> bool:
 class Move(NamedTuple):
     """One move of the game from a state (semantics §4), with what it does:
 
-    - `kind`: `transit`, `grab`, `transfer`, `drop` (the robot's) or `move`
-      (the human's); `action`: its name (`action_name`);
+    - `kind`: `transit`, `grab`, `transfer`, `drop`, `slide` (the robot's)
+      or `move` (the human's); `action`: its name (`action_name`);
     - `obj`, `serves`: the object it reaches, grabs, carries, drops or moves,
       and that object's index in `scene.objects`;
-    - `grasp`: the grasp a transit reaches and a grab closes, or the one the
-      held object is held by (transfer, drop); None for a human move;
+    - `grasp`: the grasp or contact a transit reaches, the grasp a grab
+      closes, the one the held object is held by (transfer, drop), the
+      contact a slide pushes with; None for a human move;
     - `location`: where the object is then: the location a transfer carries
-      it to or a drop sets it down on, the target of a human move (a
-      location or `ELSE`); for a transit or grab, where it stands
-      (`at[o]`);
+      it to, a drop sets it down on or a slide moves it to, the target of a
+      human move (a location or `ELSE`); for a transit or grab, where it
+      stands (`at[o]`);
     - `mode`, `starts`, `goals`: a transit's or transfer's mode and anchors
       (semantics §5: it moves in `mode` from one of `starts` to one of
       `goals`); None and () for the others;
@@ -137,11 +144,13 @@ def action_name(kind: str, *args: str) -> str:
 def robot_action_names(scene: Scene) -> frozenset[str]:
     """The name of every robot action of `scene`, available or not, in any
     state."""
-    objects, grasps, locations = scene.object_names, scene.grasps, scene.locations
-    return frozenset([action_name("transit", o, g) for o in objects for g in grasps]
+    objects, locations = scene.object_names, scene.locations
+    return frozenset([action_name("transit", o, a) for o in objects for a in scene.preimages]
                      + [action_name("grab", o) for o in objects]
                      + [action_name("transfer", l) for l in locations]
-                     + [action_name("drop", o, l) for o in objects for l in locations])
+                     + [action_name("drop", o, l) for o in objects for l in locations]
+                     + [action_name("slide", o, a, l) for o in objects for a in scene.contacts
+                        for l in locations])
 
 
 def motions(scene: Scene, v: State) -> list[Move]:
@@ -155,7 +164,7 @@ def motions(scene: Scene, v: State) -> list[Move]:
         for i, o in enumerate(names):
             if v.at[i] == HAND:
                 continue
-            for g in scene.grasps:
+            for g in scene.preimages:
                 if v.ee != (o, g):
                     T = anchors(scene, v.at[i], g)
                     moves.append(Move("transit", action_name("transit", o, g), o, i, g, v.at[i],
@@ -178,17 +187,40 @@ def legal_robot_moves(scene: Scene, v: State) -> list[Move]:
     """
     moves = motions(scene, v)
     held = v.held()
-    if held is None and isinstance(v.ee, tuple):
+    if held is None and isinstance(v.ee, tuple) and v.ee[1] in scene.grasps:
         o, g = v.ee
         i = scene.object_names.index(o)
         moves.append(Move("grab", action_name("grab", o), o, i, g, v.at[i],
                           State(_replace(v.at, i, HAND), g, v.at[i]), cost=scene.grab_cost))
+    elif held is None and isinstance(v.ee, tuple):
+        moves += slides(scene, v)
     elif held is not None and v.ee in scene.locations and v.ee not in v.at:
         o = scene.object_names[held]
         at = _replace(v.at, held, v.ee)
         moves.append(Move("drop", action_name("drop", o, v.ee), o, held, v.grip, v.ee,
                           State(at, None, (o, v.grip)), cost=scene.drop_cost))
     return [m for m in moves if m.cost != math.inf]
+
+
+def slides(scene: Scene, v: State) -> list[Move]:
+    """`slide(o,a,l')` from `v` (semantics §4b): the hand at contact `a` of
+    `o`, which stands at a location `l`; one move per other free location,
+    with its cost (inf where no slide rule is satisfied)."""
+    o, a = v.ee
+    i = scene.object_names.index(o)
+    start = v.at[i]
+    if start not in scene.locations:
+        return []  # an object at Else is grabbed, not slid
+    costmap, free = costmap_of(scene), _free_for(scene, v, i)
+    return [Move("slide", action_name("slide", o, a, l), o, i, a, l, State(_replace(v.at, i, l), None, v.ee),
+                 cost=slide_cost(costmap, a, start, l, free))
+            for l in scene.locations if l not in v.at]
+
+
+def slide_cost(costmap: Costmap, contact: str, start: str, goal: str, free: frozenset[str]) -> float:
+    """`slide(a, l, l', v, o)` when the places that count as free are `free`:
+    the least cost of a satisfied slide rule, inf when none is."""
+    return min((r.cost for r in costmap.slide_rules(contact, start, goal) if r.free <= free), default=math.inf)
 
 
 def robot_moves(scene: Scene, v: State) -> list[tuple[str, State, float]]:

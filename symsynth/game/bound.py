@@ -27,6 +27,12 @@ objects carrying all of l's tags.
   next brink.  Summing the segments between brinks, val >= L0(v) + h *
   strike at the human's turn, and at the robot's unless v is itself a
   brink (then the robot wins before the human can strike: L0(v)).
+
+In scenes with contacts (semantics §4b) the bound is 0: a slide puts an
+object on its location with no grab, drop or transfer, and the robot may
+stand at a contact's anchor, which none of the above counts.  (A bound
+with slides would take, per location, the cheaper of the carry chain and
+the cheapest chain of slides; not built yet.)
 """
 
 from __future__ import annotations
@@ -63,6 +69,8 @@ class LowerBound:
         self.enabled = False
         self.strike = 0
         self._cache: dict[State, float] = {}
+        if scene.contacts:
+            return  # module doc: slides reach a goal with no grab, drop or carry
         if not isinstance(formula, ast.Eventually):
             return
         parts = split_conjuncts(formula.arg)

@@ -70,7 +70,7 @@ def least_units(scene: Scene, resolution: float) -> int:
         return 0
     costs = [scene.grab_cost, scene.drop_cost]
     if scene.costmap is not None:
-        costs += [rule.cost for rules in scene.costmap.motions.values() for rule in rules]
+        costs += [rule.cost for rule in scene.costmap.all_rules()]
     return min((quantize(c, resolution) for c in costs if math.isfinite(c)), default=0)
 
 

@@ -107,7 +107,7 @@ def largest_cost(scene: Scene) -> float:
     and every rule of its costmap (0 when there is none)."""
     costs = [scene.grab_cost, scene.drop_cost]
     if scene.costmap is not None:
-        costs += [rule.cost for rules in scene.costmap.motions.values() for rule in rules]
+        costs += [rule.cost for rule in scene.costmap.all_rules()]
     return max((c for c in costs if math.isfinite(c)), default=0.0)
 
 

@@ -35,7 +35,7 @@ from symsynth.game.explicit import PASS
 from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, HAND, Scene
-from symsynth.symbolic.arena import FAMILIES, Arena
+from symsynth.symbolic.arena import Arena
 from symsynth.symbolic.fixpoint import Attractor, attractor
 
 Q = tuple[bool, ...]
@@ -199,8 +199,8 @@ class _Queries:
         arena, bdd = self.arena, self.bdd
         values = arena.enc.assignment(v)
         moves = []
-        for family in FAMILIES:
-            options = bdd.let(values, arena.robot[family])  # over (v', c)
+        for relation in arena.robot.values():
+            options = bdd.let(values, relation)  # over (v', c)
             targets = bdd.exist(set(arena.c.bits), options)
             for bits in bdd.pick_iter(targets, care_vars=set(arena.next_bits)):
                 w = arena.enc.decode(bits, primed=True)
@@ -320,6 +320,9 @@ def _counter_play(game: _Queries, start: Position) -> tuple[Step, ...]:
 def action_name(scene: Scene, v: State, w: State) -> str:
     """The robot action that leads from v to w (semantics §4's names)."""
     if v.grip is None:
+        if w.grip is None and w.at != v.at:  # the hand stays at the contact, the object moves
+            o, a = w.ee
+            return f"slide({o},{a},{w.at[scene.object_names.index(o)]})"
         if w.grip is None:
             o, g = w.ee
             return f"transit({o},{g})"

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
@@ -33,6 +33,7 @@ from symsynth.scene.yamlpos import read_json
 FORMAT = "symsynth.costmap/1"
 
 Key = tuple[str, str, str]  # (mode, from-anchor, to-anchor)
+SlideKey = tuple[str, str, str]  # (contact, from-location, to-location)
 
 #: The costmap methods a provenance may name (`planning.costmaps.METHODS`,
 #: which imports this module; a test keeps the two equal).
@@ -72,24 +73,41 @@ class Costmap:
     #: Who built it; None for hand-written and older files.  Like a rule's
     #: path, the game ignores it, and so does equality.
     provenance: Provenance | None = field(default=None, compare=False)
+    #: Slide rules (semantics §4b, v2): for a contact and an ordered pair of
+    #: locations, "if every place in `free` is free, the slide costs `cost`".
+    slides: Mapping[SlideKey, tuple[Rule, ...]] = field(default_factory=dict)
 
     def rules(self, mode: str, start: str, goal: str) -> tuple[Rule, ...]:
         return self.motions.get((mode, start, goal), ())
 
+    def slide_rules(self, contact: str, start: str, goal: str) -> tuple[Rule, ...]:
+        return self.slides.get((contact, start, goal), ())
+
+    def all_rules(self) -> Iterator[Rule]:
+        """Every rule, of motions and of slides."""
+        for rules in (*self.motions.values(), *self.slides.values()):
+            yield from rules
+
     def to_json(self) -> dict[str, Any]:
         motions = []
         for (mode, start, goal), rules in sorted(self.motions.items()):
-            entries = []
-            for rule in rules:
-                entry: dict[str, Any] = {"free": sorted(rule.free), "cost": rule.cost}
-                if rule.path is not None:
-                    entry["path"] = [list(q) for q in rule.path]
-                entries.append(entry)
-            motions.append({"mode": mode, "from": start, "to": goal, "rules": entries})
+            motions.append({"mode": mode, "from": start, "to": goal, "rules": _rules_json(rules)})
         head: dict[str, Any] = {"format": FORMAT}
         if self.provenance is not None:
             head["planner"] = self.provenance.to_json()
-        return head | {"motions": motions}
+        slides = [{"contact": contact, "from": start, "to": goal, "rules": _rules_json(rules)}
+                  for (contact, start, goal), rules in sorted(self.slides.items())]
+        return head | {"motions": motions} | ({"slides": slides} if slides else {})
+
+
+def _rules_json(rules: tuple[Rule, ...]) -> list[dict[str, Any]]:
+    entries = []
+    for rule in rules:
+        entry: dict[str, Any] = {"free": sorted(rule.free), "cost": rule.cost}
+        if rule.path is not None:
+            entry["path"] = [list(q) for q in rule.path]
+        entries.append(entry)
+    return entries
 
 
 class CostmapError(InputError):
@@ -103,25 +121,38 @@ def costmap_from_data(data: Any, source: str = "<costmap>") -> Costmap:
         raise CostmapError(f"{source}: expected a JSON object with 'format' and 'motions'")
     if data.get("format") != FORMAT:
         problems.append(f"format: expected {FORMAT!r}, found {data.get('format')!r}")
-    motions: dict[Key, list[Rule]] = {}
-    entries = data.get("motions")
-    if not isinstance(entries, list):
+    if not isinstance(data.get("motions"), list):
         problems.append("motions: expected a list")
-        entries = []
-    for i, entry in enumerate(entries):
-        where = f"motions[{i}]"
+    motions = _entries(data.get("motions"), "motions", "mode", problems)
+    slides = {}
+    if "slides" in data:
+        if not isinstance(data["slides"], list):
+            problems.append("slides: expected a list")
+        slides = _entries(data["slides"], "slides", "contact", problems)
+    provenance = None if "planner" not in data else _provenance(data["planner"], problems)
+    if problems:
+        raise CostmapError(f"{source}: invalid costmap:\n" + "\n".join(f"  {p}" for p in problems))
+    return Costmap(motions, provenance, slides)
+
+
+def _entries(entries: Any, name: str, head: str, problems: list[str]) -> dict[Key, tuple[Rule, ...]]:
+    """The list `motions` (keyed by mode, from, to) or `slides` (by contact,
+    from, to): rules gathered by key."""
+    gathered: dict[Key, list[Rule]] = {}
+    fields = (head, "from", "to")
+    for i, entry in enumerate(entries if isinstance(entries, list) else []):
+        where = f"{name}[{i}]"
         if not isinstance(entry, dict):
-            problems.append(f"{where}: expected an object with mode, from, to, rules")
+            problems.append(f"{where}: expected an object with {head}, from, to, rules")
             continue
-        missing = [k for k in ("mode", "from", "to", "rules") if k not in entry]
+        missing = [k for k in (*fields, "rules") if k not in entry]
         if missing:
             problems.append(f"{where}: missing {', '.join(missing)}")
             continue
-        if not all(isinstance(entry[k], str) for k in ("mode", "from", "to")):
-            problems.append(f"{where}: mode, from and to must be strings")
+        if not all(isinstance(entry[k], str) for k in fields):
+            problems.append(f"{where}: {head}, from and to must be strings")
             continue
-        key = (entry["mode"], entry["from"], entry["to"])
-        rules = motions.setdefault(key, [])
+        rules = gathered.setdefault((entry[head], entry["from"], entry["to"]), [])
         if not isinstance(entry["rules"], list):
             problems.append(f"{where}.rules: expected a list")
             continue
@@ -129,10 +160,7 @@ def costmap_from_data(data: Any, source: str = "<costmap>") -> Costmap:
             parsed = _rule(rule, f"{where}.rules[{j}]", problems)
             if parsed is not None:
                 rules.append(parsed)
-    provenance = None if "planner" not in data else _provenance(data["planner"], problems)
-    if problems:
-        raise CostmapError(f"{source}: invalid costmap:\n" + "\n".join(f"  {p}" for p in problems))
-    return Costmap({k: tuple(v) for k, v in motions.items()}, provenance)
+    return {k: tuple(v) for k, v in gathered.items()}
 
 
 def _provenance(value: Any, problems: list[str]) -> Provenance | None:

@@ -48,6 +48,7 @@ SCHEMA: dict[str, Any] = {
         "locations": {"type": "array", "items": NAME, "uniqueItems": True},
         "else_samples": {"type": "array", "items": NAME, "uniqueItems": True},
         "grasps": {"type": "array", "items": NAME, "uniqueItems": True, "minItems": 1},
+        "contacts": {"type": "array", "items": NAME, "uniqueItems": True},
         "primitives": {"type": "object", "additionalProperties": False,
                        "properties": {"grab": NONNEG, "drop": NONNEG}},
         "human": {"type": "object", "additionalProperties": False,
@@ -76,6 +77,7 @@ def _physical_schema() -> dict[str, Any]:
                             "additionalProperties": physical.OBSTACLE},
                  **{"else": physical.ELSE_REGION})
     schema["required"] = schema["required"] + ["grasps"]
+    del props["contacts"]  # physical contacts (a pose and a primitive each) are not read yet
     return schema
 
 
@@ -127,6 +129,11 @@ def scene_from_data(data: Any, source: Path | None = None,
     else_samples = tuple(x for x in geometry.places if x not in locations) if geometry else tuple(
         data.get("else_samples", ()))
     grasps = tuple(data.get("grasps", ("top",)))
+    contacts = tuple(data.get("contacts", ()))
+    for i, name in enumerate(contacts):
+        if name in grasps:
+            report.add(("contacts", i), f"{name!r} is already a grasp: a contact and a grasp are aimed at "
+                       "by the same name in actions and anchors, so their names must differ")
     for i, name in enumerate(locations):
         if name in (ELSE, HAND, HOME):
             report.add(("locations", i), f"{name!r} is reserved and cannot name a location")
@@ -149,7 +156,7 @@ def scene_from_data(data: Any, source: Path | None = None,
     primitives = data.get("costs", data.get("primitives", {}))
     scene = Scene(
         name=data["name"], objects=tuple(objects), locations=locations,
-        else_samples=else_samples, grasps=grasps,
+        else_samples=else_samples, grasps=grasps, contacts=contacts,
         grab_cost=float(primitives.get("grab", 5)), drop_cost=float(primitives.get("drop", 5)),
         k=int(data.get("human", {}).get("k", 0)), task=data.get("task"), source=source,
         geometry=geometry,
@@ -247,11 +254,32 @@ def costmap_problems(scene: Scene, costmap: Costmap) -> list[str]:
         for anchor in (start, goal):
             if anchor not in anchors:
                 problems.append(f"{what}: unknown anchor {anchor!r}; expected {HOME!r} or "
-                                f"PLACE/GRASP with places {', '.join(sorted(places))}")
-        for rule in rules:
-            unknown = sorted(rule.free - places)
-            if unknown:
-                problems.append(f"{what}: rule names unknown locations {', '.join(unknown)}")
+                                f"PLACE/GRASP with places {', '.join(sorted(places))}"
+                                + (f" (or PLACE/CONTACT with contacts {', '.join(scene.contacts)})"
+                                   if scene.contacts else ""))
+        problems += _unknown_places(what, rules, places)
+    for (contact, start, goal), rules in costmap.slides.items():
+        what = f"slide {contact} {start} -> {goal}"
+        if contact not in scene.contacts:
+            problems.append(f"{what}: unknown contact {contact!r}; "
+                            + (f"expected one of {', '.join(scene.contacts)}" if scene.contacts
+                               else "the scene has no contacts"))
+        for end in (start, goal):
+            if end not in scene.locations:
+                problems.append(f"{what}: {end!r} is not a location of interest; slides go between "
+                                f"locations ({', '.join(scene.locations)})")
+        if start == goal:
+            problems.append(f"{what}: a slide goes from one location to another")
+        problems += _unknown_places(what, rules, places)
+    return problems
+
+
+def _unknown_places(what: str, rules: tuple, places: set[str]) -> list[str]:
+    problems = []
+    for rule in rules:
+        unknown = sorted(rule.free - places)
+        if unknown:
+            problems.append(f"{what}: rule names unknown locations {', '.join(unknown)}")
     return problems
 
 

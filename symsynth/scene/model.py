@@ -34,6 +34,9 @@ class Scene:
     locations: tuple[str, ...]
     else_samples: tuple[str, ...]
     grasps: tuple[str, ...]
+    #: Contacts (semantics §1, v2): pre-images of displacement primitives,
+    #: disjoint from the grasps; a scene without them is a v1 scene.
+    contacts: tuple[str, ...] = ()
     grab_cost: float = 5.0
     drop_cost: float = 5.0
     k: int = 0
@@ -55,12 +58,18 @@ class Scene:
         return tuple(o.name for o in self.objects if tag in o.tags)
 
     @property
+    def preimages(self) -> tuple[str, ...]:
+        """G ∪ P: what the end-effector can be aimed at on an object (a
+        grasp to close, a contact to slide from)."""
+        return self.grasps + self.contacts
+
+    @property
     def modes(self) -> tuple[str, ...]:
         """`empty` and `o/g` for every object and grasp (semantics §5)."""
         return (EMPTY,) + tuple(f"{o.name}/{g}" for o in self.objects for g in self.grasps)
 
     @property
     def anchors(self) -> tuple[str, ...]:
-        """`home` and `x/g` for x in L ∪ E and g in G (semantics §5)."""
+        """`home` and `x/a` for x in L ∪ E and a in G ∪ P (semantics §5)."""
         places = self.locations + self.else_samples
-        return (HOME,) + tuple(f"{x}/{g}" for x in places for g in self.grasps)
+        return (HOME,) + tuple(f"{x}/{a}" for x in places for a in self.preimages)

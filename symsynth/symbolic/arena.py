@@ -55,7 +55,9 @@ from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, Scene
 from symsynth.symbolic.bitvec import Domain, constant, less_equal, less_than, subtract
 from symsynth.symbolic.encoding import StateEncoding
 
-FAMILIES = ("transit", "grab", "transfer", "drop")
+#: The robot's action families: v1's four, and `slide` in scenes with
+#: contacts (semantics §4b); `Arena.robot` holds those the scene has.
+FAMILIES = ("transit", "grab", "transfer", "drop", "slide")
 
 
 class Arena:
@@ -85,8 +87,9 @@ class Arena:
         letter_next = {key: self.enc.proposition(p, primed=True) for key, p in self.props.items()}
         self.dfa_next = {b: bdd.let(letter_next, d) if letter_next else d
                          for b, d in self.dfa.delta.items()}
-        self.robot = {family: build(self)
-                      for family, build in zip(FAMILIES, (_transit, _grab, _transfer, _drop))}
+        builders = (_transit, _grab, _transfer, _drop, _slide)
+        self.robot = {family: build(self) for family, build in zip(FAMILIES, builders)
+                      if family != "slide" or scene.contacts}
         self.human = _human(self)
 
     # -- the budget ------------------------------------------------------------
@@ -138,9 +141,8 @@ class Arena:
     def _all_units(self) -> Iterable[int]:
         yield self.units(self.scene.grab_cost)
         yield self.units(self.scene.drop_cost)
-        for rules in self.costmap.motions.values():
-            for rule in rules:
-                yield self.units(rule.cost)
+        for rule in self.costmap.all_rules():
+            yield self.units(rule.cost)
 
     def at_least(self, units: int) -> Function:
         """c >= units."""
@@ -166,6 +168,17 @@ class Arena:
             return self.bdd.true
         result = self.bdd.false
         for rule in self.costmap.rules(mode, start, goal):
+            condition = self.at_least(self.units(rule.cost))
+            for place in rule.free:
+                condition &= self.free_for(place, obj)
+            result |= condition
+        return result
+
+    def slide_cost(self, contact: str, start: str, goal: str, obj: str) -> Function:
+        """slide(a, l, l', v, o) <= c (semantics §4b), as a BDD over (v, c):
+        false when no slide rule is satisfied."""
+        result = self.bdd.false
+        for rule in self.costmap.slide_rules(contact, start, goal):
             condition = self.at_least(self.units(rule.cost))
             for place in rule.free:
                 condition &= self.free_for(place, obj)
@@ -221,17 +234,18 @@ def _keep(arena: Arena, objects: Iterable[str] = (), grip: bool = False, ee: boo
 
 def _empty_starts(arena: Arena) -> dict[str, Function]:
     """s -> [s in S(v)] for an empty hand: from ee = Else every anchor (and
-    home); from ee = (o', g') the anchors of o' with g'."""
+    home); from ee = (o', a') the anchors of o' with a' (a grasp or a
+    contact)."""
     enc, scene = arena.enc, arena.scene
     anywhere = enc.ee_is(ELSE)
     starts = {HOME: anywhere}
     for x in scene.locations + scene.else_samples:
         where = x if x in scene.locations else ELSE
-        for g in scene.grasps:
+        for a in scene.preimages:
             cond = anywhere
             for o in scene.object_names:
-                cond |= enc.ee_is((o, g)) & enc.at_is(o, where)
-            starts[f"{x}/{g}"] = cond
+                cond |= enc.ee_is((o, a)) & enc.at_is(o, where)
+            starts[f"{x}/{a}"] = cond
     return starts
 
 
@@ -247,12 +261,12 @@ def _goals(arena: Arena, obj: str, grasp: str) -> dict[str, Function]:
 
 
 def _transit(arena: Arena) -> Function:
-    """transit(o, g): hand empty, ee != (o, g); ee' = (o, g)."""
+    """transit(o, a), a a grasp or a contact: hand empty, ee != (o, a); ee' = (o, a)."""
     bdd, enc, scene = arena.bdd, arena.enc, arena.scene
     starts = _empty_starts(arena)
     moves = bdd.false
     for o in scene.object_names:
-        for g in scene.grasps:
+        for g in scene.preimages:
             cost = arena.motion(EMPTY, starts, _goals(arena, o, g), o)
             moves |= ~enc.ee_is((o, g)) & enc.ee_is((o, g), primed=True) & cost
     return enc.grip_is(None) & moves & _keep(arena, scene.object_names, grip=True)
@@ -304,11 +318,31 @@ def _drop(arena: Arena) -> Function:
     return moves & arena.at_least(arena.units(scene.drop_cost))
 
 
+def _slide(arena: Arena) -> Function:
+    """slide(o, a, l'): hand empty, ee = (o, a) with a a contact, at[o] = l in
+    L, l' in L free; at[o]' = l', ee' = (o, a) (semantics §4b)."""
+    bdd, enc, scene = arena.bdd, arena.enc, arena.scene
+    moves = bdd.false
+    for o in scene.object_names:
+        others = [p for p in scene.object_names if p != o]
+        for a in scene.contacts:
+            for l in scene.locations:
+                for target in scene.locations:
+                    if target == l:
+                        continue
+                    cost = arena.slide_cost(a, l, target, o)
+                    if cost == bdd.false:
+                        continue
+                    moves |= (enc.ee_is((o, a)) & enc.at_is(o, l) & ~enc.occupied(target)
+                              & enc.at_is(o, target, primed=True) & cost & _keep(arena, others))
+    return enc.grip_is(None) & moves & _keep(arena, grip=True, ee=True)
+
+
 # -- the human (semantics §4) -----------------------------------------------------------
 
 def _human(arena: Arena) -> Function:
     """move(o, t): at[o] != Hand; t = Else, or t in L free and not where the
-    held object is aligned; at[o]' = t; ee' = Else if ee was (o, g)."""
+    held object is aligned; at[o]' = t; ee' = Else if ee was (o, a)."""
     bdd, enc, scene = arena.bdd, arena.enc, arena.scene
     aligned_ok = {l: ~(enc.holding() & enc.ee_is(l)) for l in scene.locations}
     moves = bdd.false
@@ -317,9 +351,9 @@ def _human(arena: Arena) -> Function:
         targets = enc.at_is(o, ELSE, primed=True)
         for l in scene.locations:
             targets |= ~enc.occupied(l) & aligned_ok[l] & enc.at_is(o, l, primed=True)
-        aimed = bdd.false  # ee = (o, g) for some g
-        for g in scene.grasps:
-            aimed |= enc.ee_is((o, g))
+        aimed = bdd.false  # ee = (o, a) for some grasp or contact a
+        for a in scene.preimages:
+            aimed |= enc.ee_is((o, a))
         ee_after = (aimed & enc.ee_is(ELSE, primed=True)) | (~aimed & enc.ee.unchanged(bdd))
         moves |= (~enc.at_is(o, HAND) & targets & ee_after
                   & _keep(arena, others, grip=True))

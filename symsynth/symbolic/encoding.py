@@ -1,7 +1,7 @@
 """The abstract state of semantics §2 as bit-vectors, and its predicates.
 
 Variables, in the order they are declared (the order matters for BDD size):
-`grip` over G + [none], `ee` over [Else] + L + O x G, then for each object
+`grip` over G + [none], `ee` over [Else] + L + O x (G + P), then for each object
 `o`: `at.o` over L + [Else, Hand] (each object's bits together, every bit
 next to its primed copy).  The game (`symbolic.arena`) declares the human's
 counter and the DFA above them and the cost and budget bits below.
@@ -32,14 +32,14 @@ class StateEncoding:
     ee: Domain
     at_values: tuple[str, ...]            # L + (Else, Hand)
     grip_values: tuple[str | None, ...]   # G + (None,)
-    ee_values: tuple[object, ...]         # (Else,) + L + ((o, g), ...)
+    ee_values: tuple[object, ...]         # (Else,) + L + ((o, a), ...), a in G + P
 
     @classmethod
     def declare(cls, bdd: BDD, scene: Scene) -> StateEncoding:
         grip_values = scene.grasps + (None,)
         grip = Domain.declare(bdd, "#grip", len(grip_values))
         ee_values = ((ELSE,) + scene.locations
-                     + tuple((o, g) for o in scene.object_names for g in scene.grasps))
+                     + tuple((o, a) for o in scene.object_names for a in scene.preimages))
         ee = Domain.declare(bdd, "#ee", len(ee_values))
         at_values = scene.locations + (ELSE, HAND)
         at = {o: Domain.declare(bdd, f"#at.{o}", len(at_values)) for o in scene.object_names}
@@ -106,7 +106,7 @@ class StateEncoding:
         for loc in scene.locations:
             holding_ok |= self.ee_is(loc, primed)
         result &= ~in_hand | holding_ok
-        # empty hand => ee in {Else} + O x G   (ee = (o, g) with at[o] != Hand
+        # empty hand => ee in {Else} + O x (G + P)   (ee = (o, a) with at[o] != Hand
         # then holds by itself: nothing is in the hand)
         at_location = bdd.false
         for loc in scene.locations:

@@ -50,7 +50,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from symsynth.automata.bdd import Function, and_exists
-from symsynth.symbolic.arena import FAMILIES, Arena
+from symsynth.symbolic.arena import Arena
 
 
 @dataclass
@@ -96,11 +96,11 @@ def attractor(arena: Arena, *, with_costs: bool,
     move_sub = arena.move_substitution()
     moved = set(arena.next_bits)
     if with_costs:
-        relations = [arena.robot[f] for f in FAMILIES]
+        relations = list(arena.robot.values())
         hidden = moved | set(arena.c.bits)
         affordable = arena.affordable()
     else:
-        relations = [bdd.exist(set(arena.c.bits), arena.robot[f]) for f in FAMILIES]
+        relations = [bdd.exist(set(arena.c.bits), rel) for rel in arena.robot.values()]
         hidden = moved
         affordable = bdd.true
     wf = arena.enc.well_formed()
