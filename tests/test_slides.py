@@ -18,16 +18,22 @@ contacts, the `slide(o,a,l')` action and its conditional slide rules.
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import pytest
+import yaml
 
 from gamegen import random_scene
+from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.game.abstraction import State, human_moves, robot_moves, quantize
 from symsynth.game.explicit import solve_explicit
 from symsynth.game.solvers import SOLVERS
 from symsynth.game.symbolic import solve_symbolic
 from symsynth.logic import parse_ltlf
-from symsynth.scene import scene_from_data
+from symsynth.game.strategy import certify, read_strategy
+from symsynth.scene import load_scene, scene_from_data
 from test_encoding import well_formed_states
 from test_game_solvers import worst_case_of
 from test_game_symbolic import queries
@@ -218,3 +224,47 @@ def test_a_costmap_with_slides_is_written_as_it_is_read(tmp_path):
     write_costmap(costmap, tmp_path / "c.json")
     again = load_costmap(tmp_path / "c.json")
     assert again == costmap and again.slide_rules("push", "l3", "l2")[0].cost == 5
+
+
+# -- the bundled scene, the command line and strategy files -----------------------------------
+
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
+
+
+def test_the_bundled_push_scene_is_the_hand_solved_one(capsys):
+    """scenes/push-abstract.yaml is `box_scene(1)` (its comments solve it in
+    the same words), solved through the command line."""
+    scene = load_scene(SCENES / "push-abstract.yaml")
+    assert scene.costmap == box_scene(1).costmap and scene.contacts == ("push",) and scene.k == 1
+    for k, value in ((1, 46), (0, 10)):
+        assert main(["solve", str(SCENES / "push-abstract.yaml"), "--k", str(k), "--json"]) == 0
+        assert json.loads(capsys.readouterr().out)["cost_bound"] == value
+
+
+def test_a_strategy_file_with_slides_is_certified_and_a_forged_one_refused(tmp_path, capsys):
+    path = tmp_path / "strategy.json"
+    scene = load_scene(SCENES / "push-abstract.yaml")
+    assert main(["solve", str(SCENES / "push-abstract.yaml"), "--k", "0", "-o", str(path)]) == 0
+    certify(scene, read_strategy(path))  # raises if anything is off
+    data = json.loads(path.read_text())
+    data["positions"][1]["action"] = "slide(box,push,l3)"  # no slide rule from l1 to l3
+    path.write_text(json.dumps(data))
+    with pytest.raises(InputError, match=r"slide\(box,push,l3\)"):
+        certify(scene, read_strategy(path))
+    capsys.readouterr()
+
+
+def test_a_stuck_robot_at_a_contact_is_told_why(capsys):
+    """k = 1 and no grasp from Else either: the human takes the box to Else,
+    where it cannot be slid; the counter play ends with the reasons."""
+    data = yaml.safe_load((SCENES / "push-abstract.yaml").read_text())
+    data["costmap"] = box_scene(1).costmap.to_json()
+    data["costmap"]["motions"] = [m for m in data["costmap"]["motions"] if m["to"] != "e1/top"]
+    scene = scene_from_data(data)
+    from symsynth.cli.solve import stuck_reasons
+    reasons = stuck_reasons(scene, State(("Else",), None, ("box", "push")))
+    assert "slide(box,push,...): box is at Else, and only an object at a location of interest is slid" in reasons
+    reasons = stuck_reasons(scene, State(("l3",), None, ("box", "push")))
+    assert "slide(box,push,...): the costmap has no slide rule for push from l3 to l1" in reasons  # not l2: it has one
+    reasons = stuck_reasons(scene, State(("l2",), None, ("box", "push")))
+    assert "slide(box,push,...): the costmap has no slide rule for push from l2 to l1, l3" in reasons

@@ -5,12 +5,13 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 from pathlib import Path
 
 from symsynth.cli import options
 from symsynth.cli.options import check_writable
 from symsynth.errors import InputError
-from symsynth.game.abstraction import Move, State, initial_state, motions, robot_moves
+from symsynth.game.abstraction import Move, State, initial_state, motions, robot_moves, slides
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import Solution, Step, task_formula
 from symsynth.game.horizon import solve_game
@@ -132,9 +133,10 @@ def costmap_json(got: Obtained) -> dict:
 def costmap_report(got: Obtained) -> None:
     origin = "reused from the cache" if got.cached else \
         f"computed in {sum(got.stats.seconds.values()):.1f} s"
-    rules = sum(len(r) for r in got.costmap.motions.values())
+    rules = sum(1 for _ in got.costmap.all_rules())
+    slides = f"{len(got.costmap.slides)} slides, " if got.costmap.slides else ""
     print(f"costmap    {got.method}, planner {got.planner}, seed {got.seed}: "
-          f"{len(got.costmap.motions)} motions, {rules} rules, {origin}")
+          f"{len(got.costmap.motions)} motions, {slides}{rules} rules, {origin}")
     if got.path is not None:
         print(f"           {got.path}")
 
@@ -240,7 +242,32 @@ def stuck_reasons(scene: Scene, v: State) -> list[str]:
             reasons.append(f"drop({o},...): {o} is held but not aligned with a location")
         if not wanted:
             reasons.append(f"transfer: {o} is held and every other location is occupied")
+    if held is None and isinstance(v.ee, tuple) and v.ee[1] in scene.contacts:
+        reasons += _why_no_slide(scene, v)
     return reasons + [_why(scene, m) for m in wanted]
+
+
+def _why_no_slide(scene: Scene, v: State) -> list[str]:
+    """Why the robot, at contact `a` of `o`, cannot slide `o` to each place
+    it cannot (semantics §4b); nothing for the slides it can make."""
+    o, a = v.ee
+    start = v.at[scene.object_names.index(o)]
+    name = f"slide({o},{a},...)"
+    if start not in scene.locations:
+        return [f"{name}: {o} is at {ELSE}, and only an object at a location of interest is slid"]
+    targets = [l for l in scene.locations if l not in v.at]
+    if not targets:
+        return [f"{name}: every other location is occupied"]
+    available = {m.location for m in slides(scene, v) if m.cost != math.inf}
+    unruled = [l for l in targets if not scene.costmap.slide_rules(a, start, l)]
+    blocked = [l for l in targets if l not in unruled and l not in available]
+    reasons = []
+    if unruled:
+        reasons.append(f"{name}: the costmap has no slide rule for {a} from {start} to {', '.join(unruled)}")
+    if blocked:
+        reasons.append(f"{name}: the costmap's slide rules for {a} from {start} to {', '.join(blocked)} "
+                       "all need a location free that is occupied")
+    return reasons
 
 
 def _why(scene: Scene, m: Move) -> str:
