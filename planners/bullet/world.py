@@ -62,9 +62,9 @@ class World:
             if mode.object not in self.held_body:
                 raise PlannerError(f"mode {mode}: no object {mode.object!r} in the scene "
                                    f"(objects: {', '.join(sorted(self.held_body))})")
-            if mode.grasp not in self.geometry.grasps:
+            if mode.grasp not in self.geometry.hand_frames:
                 raise PlannerError(f"mode {mode}: no grasp {mode.grasp!r} in the scene "
-                                   f"(grasps: {', '.join(sorted(self.geometry.grasps))})")
+                                   f"(grasps and contacts: {', '.join(sorted(self.geometry.hand_frames))})")
         for body, owners in self.place_bodies:
             on = places and bool(owners - {mode.object})
             set_group(self.client, body, -1, PLACE if on else OFF)
@@ -75,7 +75,7 @@ class World:
         if mode.object is not None:
             self.held = self.held_body[mode.object]
             shape = self.geometry.shapes[mode.object]
-            offset = self.geometry.grasps[mode.grasp].pose.inverse() @ shape.centre_offset()
+            offset = self.geometry.hand_frame(mode.grasp).pose.inverse() @ shape.centre_offset()
             self.offset = (offset.xyz, offset.quat)
             set_group(self.client, self.held, -1, HELD)
         self.mode = (mode, places)

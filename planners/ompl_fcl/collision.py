@@ -164,12 +164,12 @@ class CollisionWorld:
         if mode.object is None:
             return None
         if mode not in self._held:
-            if mode.object not in self.geometry.shapes or mode.grasp not in self.geometry.grasps:
+            if mode.object not in self.geometry.shapes or mode.grasp not in self.geometry.hand_frames:
                 raise PlannerError(
                     f"mode {mode}: objects are {', '.join(sorted(self.geometry.shapes))}, "
-                    f"grasps are {', '.join(sorted(self.geometry.grasps))}")
+                    f"grasps and contacts are {', '.join(sorted(self.geometry.hand_frames))}")
             solid = self._shape_solids[self.geometry.shapes[mode.object]]
-            in_hand = np.linalg.inv(self.geometry.grasps[mode.grasp].pose.matrix())
+            in_hand = np.linalg.inv(self.geometry.hand_frame(mode.grasp).pose.matrix())
             self._held[mode] = _Held(solid, in_hand, fcl.CollisionObject(solid.geometry, fcl.Transform()))
         return self._held[mode]
 

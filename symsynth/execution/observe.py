@@ -34,13 +34,13 @@ def observe(scene: Scene, world: SimWorld) -> State:
     at = tuple(HAND if name == world.held else location_at(scene, world.poses[name])
                for name in scene.object_names)
     ee_pose = world.ee_pose()
-    grasps = scene.geometry.grasps
+    grasps = scene.geometry.hand_frames  # grasps and contacts
     if world.held is not None:
         pre_image = grasps[world.grasp].pre_image()
         ee = next((l for l in scene.locations if close(ee_pose, scene.geometry.places[l] @ pre_image)), ELSE)
         return State(at, world.grasp, ee)
     for name in scene.object_names:
-        for g in scene.grasps:
+        for g in scene.preimages:
             if close(ee_pose, world.poses[name] @ grasps[g].pre_image()):
                 return State(at, None, (name, g))
     return State(at, None, ELSE)

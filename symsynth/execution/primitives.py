@@ -23,6 +23,9 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
 
 from symsynth.errors import SymsynthError
 from symsynth.execution.motion import steps
@@ -90,6 +93,44 @@ def drop(world: SimWorld, approaches: Approaches, location: str) -> Primitive:
     up = down[::-1]
     hits |= _walk(world, up, ignore={name})
     return Primitive(down + up[1:], frozenset(hits))
+
+
+CONTACT_TOLERANCE = 0.002  # metres: the hand is at a contact pose
+
+
+def slide(world: SimWorld, move: Any, path: Sequence[Config]) -> Primitive:
+    """Slide `move.obj` with its contact `move.grasp` to `move.location`
+    along `path` (a slide rule's evidence, `planning.slides`): the object
+    is taken along, kinematically, from where the hand reaches the contact
+    pose at the object's pose to where it reaches the contact pose at the
+    target, and is then set down exactly on the target's pose."""
+    name, contact, goal = move.obj, move.grasp, move.location
+    frame = world.geometry.hand_frame(contact)
+    at_contact = world.poses[name] @ frame.pose
+    at_goal = world.geometry.places[goal] @ frame.pose
+    hits: set[str] = set()
+    stage = "before"
+    for config in steps(path, WALK):
+        world.set_config(config)
+        ee = world.ee_pose()
+        if stage == "before" and _near(ee, at_contact):
+            world.attach(name, contact)
+            stage = "sliding"
+        elif stage == "sliding" and _near(ee, at_goal):
+            world.detach()
+            world.place(name, world.geometry.places[goal])
+            stage = "after"
+        hits |= world.touching(ignore={name})
+    if stage != "after":
+        if stage == "sliding":
+            world.detach()
+        raise PrimitiveFailed(f"{move.action}: the path never brings the hand to the contact "
+                              + ("pose at the target" if stage == "sliding" else f"pose at {name}"))
+    return Primitive(tuple(path), frozenset(hits))
+
+
+def _near(a: Pose, b: Pose) -> bool:
+    return float(np.linalg.norm(np.subtract(a.xyz, b.xyz))) <= CONTACT_TOLERANCE and a.angle_to(b) <= 0.02
 
 
 def _approach(planner: Planner, at: Config, start: Pose, end: Pose, what: str) -> tuple[Config, ...]:

@@ -54,13 +54,14 @@ from symsynth.execution.observe import observe, place_at
 from symsynth.execution.record import STRIDE, Recorder
 from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import (Move, State, action_name, anchors, legal_human_moves, legal_robot_moves,
-                                       robot_action_names, state_json)
+                                       robot_action_names, state_json, slide_rule)
 from symsynth.game.explicit import GameGraph
 from symsynth.game.solution import Position
 from symsynth.game.strategy import format_position, format_state
 from symsynth.logic import ast
 from symsynth.planning.anchors import anchor_configs
 from symsynth.planning.protocol import Mode, Planner
+from symsynth.primitives import displacement, primitive
 from symsynth.scene.geometry import Pose, point_text
 from symsynth.scene.model import ELSE, HOME, Scene
 
@@ -350,11 +351,10 @@ class _Episode:
         expected, abstract = move.after, move.cost
         index = len(self.run.steps) + 1
         caption = f"{index}. robot {action}"
-        if move.kind in ("grab", "drop"):
-            if move.kind == "grab":
-                done = primitives.grab(self.world, self.sim.approaches, move.obj, move.grasp)
-            else:
-                done = primitives.drop(self.world, self.sim.approaches, move.location)
+        if move.kind == "slide":
+            step = self._slide(move, v, index, caption)
+        elif move.kind in ("grab", "drop"):  # through the registry, as a third-party primitive would be
+            done = primitive(move.kind).execute(self.world, self.sim.approaches, move)
             measured = self.scene.grab_cost if move.kind == "grab" else self.scene.drop_cost
             self._follow(done.path, caption, measured)
             if done.touched:
@@ -373,6 +373,23 @@ class _Episode:
                           f"{format_state(expected, self.scene.object_names)}")
         return step.state
 
+    def _slide(self, move: Move, v: State, index: int, caption: str) -> Step:
+        """A slide (semantics §4b): the contact's primitive follows the
+        evidence path of the slide rule that priced it; measured as the
+        radians travelled x per_radian, plus the primitive's fixed cost."""
+        rule = slide_rule(self.scene, v, move)
+        if rule is None or rule.path is None:
+            raise ActionFailed(f"{move.action}: the costmap's slide rule has no evidence path to follow")
+        geometry = self.scene.geometry
+        plugin = displacement(geometry.contacts[move.grasp].primitive)
+        done = plugin.execute(self.world, move, rule.path)
+        measured = done.radians * geometry.per_radian + geometry.primitive_costs.get(plugin.name, plugin.fixed_cost)
+        self._follow(done.path, caption, measured)
+        if done.touched:
+            self._diverge("contact", f"{move.action}: the slide penetrates {', '.join(sorted(done.touched))}", index)
+        return Step("robot", move.action, observe(self.scene, self.world), move.cost, measured, done.radians,
+                    "slide")
+
     def _move(self, move: Move, index: int, caption: str) -> Step:
         """A transit or transfer: along an evidence path, or planned at run time."""
         world, scene = self.world, self.scene
@@ -380,11 +397,11 @@ class _Episode:
         if move.kind == "transit":  # to the object where it really stands, which may be on no place
             mode = Mode()
             place = place_at(scene, world.poses[obj])
-            target = world.poses[obj] @ scene.geometry.grasps[grasp].pre_image()
+            target = world.poses[obj] @ scene.geometry.hand_frame(grasp).pre_image()
         else:
             mode = Mode(obj, grasp)
             place = move.location
-            target = scene.geometry.places[place] @ scene.geometry.grasps[grasp].pre_image()
+            target = scene.geometry.places[place] @ scene.geometry.hand_frame(grasp).pre_image()
         goal = None if place is None else anchors(scene, place, grasp)[0]  # one of move.goals
         outside = self._outside(obj, goal)
         found = None

@@ -113,7 +113,7 @@ class SimWorld:
 
     def attach(self, name: str, grasp: str) -> None:
         self.held, self.grasp = name, grasp
-        in_hand = self.geometry.grasps[grasp].pose.inverse()  # the object's frame in the hand's
+        in_hand = self.geometry.hand_frame(grasp).pose.inverse()  # the object's frame in the hand's
         centre = self.geometry.shapes[name].centre_offset()
         self._in_hand = (in_hand.xyz, in_hand.quat)
         self._centre = (centre.xyz, centre.quat)

@@ -36,7 +36,7 @@ from typing import NamedTuple
 
 from symsynth.errors import InputError
 from symsynth.game.propositions import Proposition
-from symsynth.scene.costmap import Costmap
+from symsynth.scene.costmap import Costmap, Rule
 from symsynth.scene.model import ELSE, EMPTY, HAND, Scene
 
 EndEffector = str | tuple[str, str]  # ELSE, a location, or (object, grasp or contact)
@@ -215,6 +215,16 @@ def slides(scene: Scene, v: State) -> list[Move]:
     return [Move("slide", action_name("slide", o, a, l), o, i, a, l, State(_replace(v.at, i, l), None, v.ee),
                  cost=slide_cost(costmap, a, start, l, free))
             for l in scene.locations if l not in v.at]
+
+
+def slide_rule(scene: Scene, v: State, move: Move) -> Rule | None:
+    """The slide rule that gives a slide from `v` its cost (the least-cost
+    satisfied one, whose evidence path the simulator follows); None when
+    none is satisfied."""
+    start = v.at[move.serves]
+    satisfied = [r for r in costmap_of(scene).slide_rules(move.grasp, start, move.location)
+                 if r.free <= _free_for(scene, v, move.serves)]
+    return min(satisfied, key=lambda r: r.cost, default=None)
 
 
 def slide_cost(costmap: Costmap, contact: str, start: str, goal: str, free: frozenset[str]) -> float:

@@ -28,9 +28,9 @@ def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
     if planner.contacts(Mode(), home).static:
         problems.append(f"{HOME}: the robot collides with itself or a static obstacle")
     for place, pose in geometry.places.items():
-        for grasp in scene.grasps:
+        for grasp in scene.preimages:  # grasps and contacts
             name = f"{place}/{grasp}"
-            target = pose @ geometry.grasps[grasp].pre_image()  # world frame
+            target = pose @ geometry.hand_frame(grasp).pre_image()  # world frame
             config = planner.inverse_kinematics(target, home)
             if config is None:
                 problems.append(f"{name}: unreachable (no inverse kinematics solution within the joint "
@@ -52,7 +52,7 @@ def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
 
 def motions(scene: Scene, mode: Mode) -> tuple[Query, ...]:
     """The anchor pairs a mode's actions can ask for (semantics §4, §5):
-    transits go from any anchor to any `x/g`; transfers holding `o` with `g`
+    transits go from any anchor to any `x/a` (a grasp or a contact); transfers holding `o` with `g`
     go from `x/g` (`x` in L or E) to `l/g` (`l` in L).
 
     `always`: the object a transit goes to fetch stands at its target.
@@ -63,7 +63,7 @@ def motions(scene: Scene, mode: Mode) -> tuple[Query, ...]:
     locations = set(scene.locations)
     places = scene.locations + scene.else_samples
     if mode.object is None:
-        targets = [f"{x}/{g}" for x in places for g in scene.grasps]
+        targets = [f"{x}/{a}" for x in places for a in scene.preimages]
         return tuple(Query(s, t, always=frozenset({place_of(t)}))
                      for s in (HOME,) + tuple(targets) for t in targets if s != t)
     g = mode.grasp

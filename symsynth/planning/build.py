@@ -27,7 +27,8 @@ from symsynth.planning import cache, costmaps
 from symsynth.planning.anchors import anchor_configs, motions
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
 from symsynth.planning.registry import planner_class, planner_version
-from symsynth.scene.costmap import Costmap, CostmapError, Provenance, costmap_from_data
+from symsynth.primitives import displacement
+from symsynth.scene.costmap import Costmap, CostmapError, Provenance, Rule, SlideKey, costmap_from_data
 from symsynth.scene.load import costmap_problems
 from symsynth.scene.model import Scene
 
@@ -37,7 +38,7 @@ class Stats:
     """Where the time went, for reports and the benchmark."""
 
     seconds: dict[str, float] = field(default_factory=lambda: {
-        "anchors": 0.0, "roadmaps": 0.0, "edge checks": 0.0, "searches": 0.0})
+        "anchors": 0.0, "roadmaps": 0.0, "edge checks": 0.0, "searches": 0.0, "slides": 0.0})
     roadmaps: int = 0
     vertices: int = 0
     edges: int = 0
@@ -139,10 +140,24 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
                 result[method].update({key: value for key, value in rules.items() if value})
             stats.motions += len(queries)
     clock = stats.add("searches", clock)
+    slides = slide_rules(scene, planner, configs)
+    stats.add("slides", clock)
     bar.close()
     stats.rules = sum(len(r) for found in result.values() for r in found.values())
-    return {method: Costmap(dict(sorted(found.items())), provenance(scene, method, name, seed))
+    return {method: Costmap(dict(sorted(found.items())), provenance(scene, method, name, seed), slides)
             for method, found in result.items()}, stats
+
+
+def slide_rules(scene: Scene, planner: Planner, configs: dict[str, Config]) -> dict[SlideKey, tuple[Rule, ...]]:
+    """The slide rules of every contact, from its displacement primitive
+    (`planning.primitive`); the same for every costmap method: a slide is
+    one Cartesian path, not a roadmap search."""
+    found: dict[SlideKey, list[Rule]] = {}
+    for contact, spec in sorted(scene.geometry.contacts.items()):
+        for rule in displacement(spec.primitive).slides(scene, planner, contact, configs):
+            found.setdefault((rule.contact, rule.start, rule.goal), []).append(
+                Rule(rule.free, rule.cost, rule.path))
+    return {key: tuple(sorted(rules, key=lambda r: (r.cost, sorted(r.free)))) for key, rules in sorted(found.items())}
 
 
 def provenance(scene: Scene, method: str, planner_name: str, seed: int) -> Provenance:

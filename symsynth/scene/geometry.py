@@ -145,6 +145,16 @@ class Grasp:
 
 
 @dataclass(frozen=True)
+class Contact(Grasp):
+    """A contact (semantics §1, v2): a pose of the end-effector relative to
+    the object, reached like a grasp's through its pre-image, from which the
+    displacement primitive `primitive` slides the object; the hand never
+    closes."""
+
+    primitive: str = ""
+
+
+@dataclass(frozen=True)
 class PlannerSettings:
     name: str = "ompl-fcl"
     roadmap_size: int = 300  # vertices per mode, anchors not counted
@@ -165,3 +175,15 @@ class Geometry:
     initial: dict[str, Pose] = field(default_factory=dict)  # objects at Else -> pose
     per_radian: float = 1.0
     planner: PlannerSettings = PlannerSettings()
+    contacts: dict[str, Contact] = field(default_factory=dict)
+    #: Fixed costs of displacement primitives set by the scene (`costs: {push: 2}`).
+    primitive_costs: dict[str, float] = field(default_factory=dict)
+
+    def hand_frame(self, name: str) -> Grasp:
+        """The grasp or contact `name`: where the end-effector stands on an
+        object (a slide carries the object in its contact's frame)."""
+        return self.grasps[name] if name in self.grasps else self.contacts[name]
+
+    @property
+    def hand_frames(self) -> dict[str, Grasp]:
+        return {**self.grasps, **self.contacts}

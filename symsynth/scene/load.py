@@ -19,6 +19,7 @@ from typing import Any
 import jsonschema
 
 from symsynth.errors import InputError, LTLfSyntaxError
+from symsynth.primitives import PrimitiveError, displacement
 from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data, load_costmap
 from symsynth.scene import physical
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, ObjectSpec, Scene
@@ -77,7 +78,7 @@ def _physical_schema() -> dict[str, Any]:
                             "additionalProperties": physical.OBSTACLE},
                  **{"else": physical.ELSE_REGION})
     schema["required"] = schema["required"] + ["grasps"]
-    del props["contacts"]  # physical contacts (a pose and a primitive each) are not read yet
+    props["contacts"] = {"type": "object", "propertyNames": NAME, "additionalProperties": physical.CONTACT}
     return schema
 
 
@@ -132,8 +133,10 @@ def scene_from_data(data: Any, source: Path | None = None,
     contacts = tuple(data.get("contacts", ()))
     for i, name in enumerate(contacts):
         if name in grasps:
-            report.add(("contacts", i), f"{name!r} is already a grasp: a contact and a grasp are aimed at "
-                       "by the same name in actions and anchors, so their names must differ")
+            report.add(("contacts", name if is_physical else i), f"{name!r} is already a grasp: a contact and "
+                       "a grasp are aimed at by the same name in actions and anchors, so their names must differ")
+    if is_physical:
+        _check_primitives(data, report)
     for i, name in enumerate(locations):
         if name in (ELSE, HAND, HOME):
             report.add(("locations", i), f"{name!r} is reserved and cannot name a location")
@@ -174,6 +177,24 @@ def scene_from_data(data: Any, source: Path | None = None,
     report.raise_if_any()
     checks.raise_if_any()
     return dataclasses.replace(scene, costmap=loaded)
+
+
+def _check_primitives(data: dict, report: Report) -> None:
+    """Each physical contact names an installed displacement primitive, and
+    each fixed cost under `costs` (besides per_radian, grab and drop) one
+    that some contact uses."""
+    used = set()
+    for name, spec in (data.get("contacts") or {}).items():
+        try:
+            displacement(spec["primitive"])
+            used.add(spec["primitive"])
+        except PrimitiveError as error:
+            report.add(("contacts", name, "primitive"), str(error))
+    for key in data.get("costs") or {}:
+        if key not in ("per_radian", "grab", "drop") and key not in used:
+            report.add(("costs", key), f"no contact uses a primitive {key!r}: expected per_radian, grab, drop "
+                       "or the fixed cost of a contact's primitive"
+                       + (f" ({', '.join(sorted(used))})" if used else ""))
 
 
 def _check_object_names(name: str, spec: dict, locations: tuple[str, ...], else_samples: tuple[str, ...],

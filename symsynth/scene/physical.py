@@ -43,7 +43,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from symsynth.scene.geometry import Body, Geometry, Grasp, PlannerSettings, Pose, Robot, Shape, point_text
+from symsynth.scene.geometry import Body, Contact, Geometry, Grasp, PlannerSettings, Pose, Robot, Shape, point_text
 from symsynth.scene.mesh import MeshError, load_mesh
 
 NUMBER = {"type": "number"}
@@ -76,6 +76,9 @@ OBSTACLE = {"type": "object", "additionalProperties": False,
             "properties": {**SHAPE_KEYS, **POSE_KEYS}, **ONE_SHAPE}
 GRASP = {"type": "object", "additionalProperties": False, "required": ["xyz"],
          "properties": {**POSE_KEYS, "approach": {"type": "number", "minimum": 0}}}
+CONTACT = {"type": "object", "additionalProperties": False, "required": ["primitive", "xyz"],
+           "properties": {**POSE_KEYS, "approach": {"type": "number", "minimum": 0},
+                          "primitive": {"type": "string", "pattern": "^[A-Za-z0-9_-]+$"}}}
 ELSE_REGION = {
     "type": "object", "additionalProperties": False, "required": ["samples", "region"],
     "properties": {
@@ -85,7 +88,7 @@ ELSE_REGION = {
         "clearance": POSITIVE,
     },
 }
-COSTS = {"type": "object", "additionalProperties": False,
+COSTS = {"type": "object", "additionalProperties": {"type": "number", "minimum": 0},  # a primitive's fixed cost
          "properties": {"per_radian": {"type": "number", "minimum": 0},
                         "grab": {"type": "number", "minimum": 0},
                         "drop": {"type": "number", "minimum": 0}}}
@@ -141,6 +144,10 @@ def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report
     places.update(samples)
     grasps = {name: Grasp(name, pose_of(spec), float(spec.get("approach", 0.05)))
               for name, spec in data["grasps"].items()}
+    contacts = {name: Contact(name, pose_of(spec), float(spec.get("approach", 0.05)), spec["primitive"])
+                for name, spec in (data.get("contacts") or {}).items()}
+    costs = {key: float(value) for key, value in (data.get("costs") or {}).items()
+             if key not in ("per_radian", "grab", "drop")}
     settings = data.get("planner", {})
     if "seconds" in settings and "roadmap_size" in settings:
         report.add(("planner", "seconds"), "give the roadmap either a size (roadmap_size) or a time limit "
@@ -156,7 +163,7 @@ def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report
         return None
     return Geometry(robot=robot, obstacles=obstacles, shapes=shapes, places=places, grasps=grasps,
                     initial=initial, per_radian=float(data.get("costs", {}).get("per_radian", 1.0)),
-                    planner=planner)
+                    planner=planner, contacts=contacts, primitive_costs=costs)
 
 
 def else_places(data: dict[str, Any], locations: dict[str, Pose], initial: dict[str, Pose],

@@ -1,0 +1,84 @@
+"""Push and pull: the hand at a contact slides an object along the table.
+
+Both follow `planning.slides`' three segments (approach, slide, retreat);
+they differ in the direction a slide may take relative to the direction
+the hand faces at the contact (its z axis, projected on the table):
+
+* `push`: the hand stands behind the object and moves the way it faces,
+  pushing the object ahead of it (away from the robot, for a contact on
+  the near side);
+* `pull`: the hand stands on the far side and moves back against the way
+  it faces, drawing the object along (toward the robot).
+
+A slide is possible within `TOLERANCE` of that direction, for any object:
+no grasp is needed, so a box wider than the gripper opens can still be
+pushed.  The slide is carried out in the simulator kinematically: the
+object keeps its pose relative to the hand.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping
+from typing import Any, ClassVar
+
+from symsynth.execution import primitives as world_primitives
+from symsynth.planning.primitive import SlideRule
+from symsynth.planning.protocol import Config, Planner
+from symsynth.planning.slides import direction, slide_rule
+from symsynth.scene.model import Scene
+
+TOLERANCE = math.radians(20)
+
+
+class _Slide:
+    kind: ClassVar[str] = "displacement"
+    fixed_cost: ClassVar[float] = 2.0
+    name: ClassVar[str]
+    forward: ClassVar[bool]  # the slide goes the way the hand faces
+
+    def slides(self, scene: Scene, planner: Planner, contact: str,
+               anchors: Mapping[str, Config]) -> list[SlideRule]:
+        fixed = scene.geometry.primitive_costs.get(self.name, self.fixed_cost)
+        found = []
+        for start in scene.locations:
+            for goal in scene.locations:
+                if start == goal or not self.possible(scene, contact, start, goal):
+                    continue
+                # one slide rule serves every object (semantics §4b keys it by contact and
+                # locations): it must hold for each shape, so it needs all their places free and
+                # costs the dearest; a shape that cannot make the slide rules it out
+                per_shape = {}
+                for obj in scene.object_names:
+                    shape = repr(scene.geometry.shapes[obj])
+                    if shape not in per_shape:
+                        per_shape[shape] = slide_rule(scene, planner, obj, contact, start, goal, anchors, fixed)
+                if per_shape and None not in per_shape.values():
+                    dearest = max(per_shape.values(), key=lambda rule: rule.cost)
+                    free = frozenset().union(*(rule.free for rule in per_shape.values()))
+                    found.append(dataclasses.replace(dearest, free=free))
+        return found
+
+    def possible_pairs(self, scene: Scene, contact: str) -> list[tuple[str, str]]:
+        """The (from, to) pairs of locations whose direction suits the primitive."""
+        return [(a, b) for a in scene.locations for b in scene.locations
+                if a != b and self.possible(scene, contact, a, b)]
+
+    def possible(self, scene: Scene, contact: str, start: str, goal: str) -> bool:
+        angle = direction(scene, contact, start, goal)
+        return angle <= TOLERANCE if self.forward else angle >= math.pi - TOLERANCE
+
+    def execute(self, world: Any, move: Any, path: tuple[Config, ...]) -> Any:
+        return world_primitives.slide(world, move, path)
+
+
+class Push(_Slide):
+    name: ClassVar[str] = "push"
+    forward: ClassVar[bool] = True
+
+
+class Pull(_Slide):
+    name: ClassVar[str] = "pull"
+    forward: ClassVar[bool] = False
+

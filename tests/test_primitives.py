@@ -1,0 +1,122 @@
+"""Motion primitives as plugins (entry-point group `symsynth.primitives`):
+the built-ins registered through it, physical contacts and their errors,
+a push's slide computed on a small geometry and re-checked independently,
+and the slide carried out in the simulator."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from symsynth.errors import InputError
+from symsynth.planning.build import compute_costmap
+from symsynth.planning.protocol import Mode
+from symsynth.planning.registry import planner_class
+from symsynth.planning.slides import MAX_JUMP, slide_path
+from symsynth.primitives import PrimitiveError, displacement, primitive, primitive_names
+from symsynth.scene import load_scene, scene_from_data
+
+DATA = Path(__file__).parent / "data"
+
+
+def test_the_built_ins_are_registered_through_the_entry_point_group():
+    assert set(primitive_names()) >= {"grab", "drop", "push", "pull"}
+    assert {n: primitive(n).kind for n in ("grab", "drop", "push", "pull")} == {
+        "grab": "prehensile", "drop": "prehensile", "push": "displacement", "pull": "displacement"}
+    assert set(primitive_names("displacement")) >= {"push", "pull"}
+
+
+def test_unknown_and_prehensile_primitives_are_refused_for_contacts():
+    with pytest.raises(PrimitiveError, match="unknown primitive 'shove'; installed primitives: .*push"):
+        displacement("shove")
+    with pytest.raises(PrimitiveError, match="'grab' is a prehensile primitive; a contact needs a displacement"):
+        displacement("grab")
+
+
+def physical():
+    return yaml.safe_load((DATA / "push-small.yaml").read_text())
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d["contacts"].update(top=d["contacts"]["behind"]), "contacts.top: 'top' is already a grasp"),
+    (lambda d: d["contacts"]["behind"].pop("primitive"), "contacts.behind: 'primitive' is required"),
+    (lambda d: d["contacts"]["behind"].update(primitive="shove"),
+     "contacts.behind.primitive: unknown primitive 'shove'"),
+    (lambda d: d["contacts"]["behind"].update(primitive="drop"),
+     "contacts.behind.primitive: 'drop' is a prehensile primitive"),
+    (lambda d: d["costs"].update(pull=3), "costs.pull: no contact uses a primitive 'pull'"),
+])
+def test_physical_contact_errors_are_named(change, message):
+    data = physical()
+    change(data)
+    with pytest.raises(InputError) as error:
+        scene_from_data(data, source=DATA / "push-small.yaml")
+    assert message in str(error.value)
+
+
+@pytest.fixture(scope="module")
+def scene_and_planner():
+    scene = load_scene(DATA / "push-small.yaml")
+    return scene, planner_class("ompl-fcl")(scene)
+
+
+def anchor(planner, scene, name):
+    place, _, contact = name.partition("/")
+    pose = scene.geometry.places[place] @ scene.geometry.hand_frame(contact).pre_image()
+    return planner.inverse_kinematics(pose, tuple(scene.geometry.robot.home))
+
+
+def test_a_push_slides_the_way_the_hand_faces(scene_and_planner):
+    """The contact `behind` faces +x: push goes l1 -> l2 (+x), not back,
+    nor sideways to l3; a pull with the same contact goes only l2 -> l1."""
+    scene, planner = scene_and_planner
+    anchors = {a: anchor(planner, scene, a) for a in scene.anchors if a != "home"}
+    push = {(r.start, r.goal) for r in displacement("push").slides(scene, planner, "behind", anchors)}
+    assert push == {("l1", "l2")}
+    assert set(displacement("pull").possible_pairs(scene, "behind")) == {("l2", "l1")}
+
+
+def test_the_slide_path_is_checked_again_independently(scene_and_planner):
+    """The path starts and ends at the anchors, moves in small steps, has
+    no static contact anywhere (re-checked configuration by configuration),
+    and puts the hand at the contact pose at l1 and at l2 on its way
+    (forward kinematics through inverse kinematics' own check)."""
+    scene, planner = scene_and_planner
+    anchors = {a: anchor(planner, scene, a) for a in ("l1/behind", "l2/behind")}
+    path, touched = slide_path(scene, planner, "box", "behind", "l1", "l2", anchors)
+    assert path[0] == tuple(anchors["l1/behind"]) and path[-1] == tuple(anchors["l2/behind"])
+    steps = np.linalg.norm(np.diff(np.asarray(path), axis=0), axis=1)
+    assert steps[:-1].max() <= MAX_JUMP
+    assert not any(planner.contacts(Mode(), q).static for q in path)
+    assert touched == frozenset()  # nothing stands near the way (l3 is 0.25 m aside, e1 behind)
+    # a place on the way is swept: move l3 between l1 and l2, beside the line by less than the box
+    data = physical()
+    data["locations"]["l3"] = {"xyz": [0.59, 0.08, 0.0]}
+    near = scene_from_data(data, source=DATA / "push-small.yaml")
+    _, touched = slide_path(near, planner_class("ompl-fcl")(near), "box", "behind", "l1", "l2", anchors)
+    assert "l3" in touched
+
+
+def test_the_push_scene_is_solved_and_simulated_with_the_slide(tmp_path, monkeypatch, capsys):
+    """Costmap built with the push's slide rule; the strategy pushes (the
+    grab costs 100); the simulator carries the slide out and measures it
+    at its abstract cost."""
+    from symsynth.cli import main
+
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path))
+    scene = load_scene(DATA / "push-small.yaml")
+    costmap, _ = compute_costmap(scene, "sg", progress=False)
+    (rule,) = costmap.slide_rules("behind", "l1", "l2")
+    length = float(np.linalg.norm(np.diff(np.asarray(rule.path), axis=0), axis=1).sum())
+    assert rule.cost == pytest.approx(length * 10 + 2)  # per_radian 10, the scene's push cost 2
+    assert main(["simulate", str(DATA / "push-small.yaml"), "--human", "none", "--json"]) == 0
+    import json
+    runs = json.loads(capsys.readouterr().out)["runs"]
+    steps = runs[0]["trace"]
+    assert runs[0]["completed"] and runs[0]["divergences"] == []
+    assert [s["action"] for s in steps] == ["transit(box,behind)", "slide(box,behind,l2)"]
+    assert steps[1]["source"] == "slide" and steps[1]["state"]["at"] == {"box": "l2"}
+    assert steps[1]["measured_cost"] == pytest.approx(steps[1]["abstract_cost"])
