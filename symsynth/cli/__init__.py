@@ -17,10 +17,10 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 
 from symsynth import __version__
-from symsynth.cli import costmap, dfa, show, simulate, solve, synth
+from symsynth.cli import bench, costmap, dfa, show, simulate, solve, synth
 from symsynth.errors import SymsynthError, SymsynthWarning
 
-COMMANDS = (dfa, solve, costmap, show, simulate, synth)
+COMMANDS = (dfa, solve, costmap, show, simulate, synth, bench)
 
 
 class Parser(argparse.ArgumentParser):

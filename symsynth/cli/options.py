@@ -64,3 +64,31 @@ def size(text: str) -> tuple[int, int]:
     if not (16 <= width <= 8192 and 16 <= height <= 8192):
         raise argparse.ArgumentTypeError(f"each side must be 16..8192 pixels, found {text}")
     return width, height
+
+
+def add_executor(parser: argparse.ArgumentParser, jobs_help: str, default_jobs: int | None = None) -> None:
+    """--executor, --address and --jobs: where independent jobs run (`symsynth.parallel`)."""
+    from symsynth.parallel import EXECUTORS
+
+    parser.add_argument("--executor", choices=tuple(EXECUTORS), default="local",
+                        help="local processes (default) or a Ray cluster (pip install 'symsynth[ray]')")
+    parser.add_argument("--address", metavar="ADDR",
+                        help="with --executor ray: the cluster to join ('auto' or HOST:PORT); "
+                             "none starts a local Ray instance")
+    parser.add_argument("--jobs", type=_jobs, default=default_jobs, metavar="N", help=jobs_help)
+
+
+def _jobs(text: str) -> int:
+    value = count(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be >= 1, found {value}")
+    return value
+
+
+def executor(args: argparse.Namespace):
+    """The executor the options name."""
+    from symsynth.parallel import EXECUTORS
+
+    if args.address is not None and args.executor != "ray":
+        raise InputError("--address names a Ray cluster: give --executor ray with it")
+    return EXECUTORS[args.executor](args.jobs, args.address)

@@ -10,11 +10,8 @@ shapes) share one roadmap and its checks.
 
 from __future__ import annotations
 
-import ctypes
 import dataclasses
-import multiprocessing
 import os
-import signal
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -23,6 +20,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from symsynth.errors import InputError
+from symsynth.parallel import Executor, LocalPool
 from symsynth.planning import cache, costmaps
 from symsynth.planning.anchors import anchor_configs, motions
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
@@ -81,18 +79,22 @@ def mode_anchors(planner: Planner, mode: Mode, configs: dict) -> dict[str, tuple
 
 def compute_costmap(scene: Scene, method: str, planner_name: str | None = None,
                     seed: int | None = None, progress: bool = True,
-                    planner_factory: Callable[[Scene], Planner] | None = None) -> tuple[Costmap, Stats]:
+                    planner_factory: Callable[[Scene], Planner] | None = None,
+                    executor: Executor | None = None) -> tuple[Costmap, Stats]:
     """The costmap of a physical scene by `method` (`sg` or `recursive`)."""
-    found, stats = compute_costmaps(scene, (method,), planner_name, seed, progress, planner_factory)
+    found, stats = compute_costmaps(scene, (method,), planner_name, seed, progress, planner_factory, executor)
     return found[method], stats
 
 
 def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str | None = None,
                      seed: int | None = None, progress: bool = True,
-                     planner_factory: Callable[[Scene], Planner] | None = None
-                     ) -> tuple[dict[str, Costmap], Stats]:
+                     planner_factory: Callable[[Scene], Planner] | None = None,
+                     executor: Executor | None = None) -> tuple[dict[str, Costmap], Stats]:
     """The costmaps of several methods from one set of roadmaps and edge
-    checks (the methods differ only in their graph searches)."""
+    checks (the methods differ only in their graph searches).  The roadmaps
+    of the modes are built in parallel: on the `executor` given, else on a
+    local pool of a process per core.  The graph searches (about 1% of the
+    time on the bundled scenes) run here."""
     if scene.geometry is None:
         raise PlannerError(f"scene {scene.name!r} is abstract (no robot): give it a costmap instead")
     for method in methods:
@@ -122,9 +124,11 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
             jobs.append((members, anchors))
         else:
             bar.update()
+    if planner_factory is not None:  # a factory given in this process: the jobs run here
+        executor = None
     workers = 1 if planner_factory is not None else min(len(jobs), os.cpu_count() or 1)
-    stats.workers = max(workers, 1)
-    built = _roadmaps(scene, name, planner, jobs, settings, seed, workers, bar)
+    stats.workers = max(workers if executor is None else executor.workers, 1)
+    built = _roadmaps(scene, name, planner, jobs, settings, seed, workers, bar, executor)
     clock = time.perf_counter()
     for (members, anchors), (roadmap, blocked, seconds) in zip(jobs, built):
         stats.seconds["roadmaps"] += seconds[0]
@@ -183,25 +187,23 @@ def _factory(scene: Scene, name: str, planner_factory: Callable[[Scene], Planner
 
 
 def _roadmaps(scene: Scene, name: str, planner: Planner, jobs: list, settings, seed: int, workers: int,
-              bar) -> list:
+              bar, executor: Executor | None = None) -> list:
     """Roadmap and blocked-by sets of each job's mode, in job order; on
-    several processes when there are several modes and cores (each builds
-    its own planner: the results do not depend on where they are computed)."""
+    several processes when there are several modes and cores, or on the
+    `executor` given (each worker builds its own planner: the results do not
+    depend on where they are computed)."""
     args = [(members[0], {name: q for name, (q, _) in anchors.items()}, settings.roadmap_size, seed,
              settings.resolution, settings.seconds) for members, anchors in jobs]
-    if workers <= 1:
+    if executor is None and workers <= 1:
         results = []
         for job in args:
             bar.set_postfix_str(f"{job[0]}: roadmap and edge checks")
             results.append(_roadmap_job(planner, *job))
             bar.update()
         return results
-    context = multiprocessing.get_context("fork")
     results: list = [None] * len(args)
-    # Leaving the block terminates the workers at once, also on an interrupt
-    # (an executor's shutdown would wait for the running roadmaps).
-    with context.Pool(workers, initializer=_start_worker, initargs=(scene, name)) as pool:
-        for i, result in pool.imap_unordered(_worker_job, list(enumerate(args))):
+    with executor or LocalPool(workers) as running:
+        for i, result in running.imap(_worker_job, args, setup=_start_worker, setup_args=(scene, name)):
             results[i] = result
             bar.update()
     return results
@@ -211,32 +213,13 @@ _worker_planner: Planner | None = None
 
 
 def _start_worker(scene: Scene, name: str) -> None:
-    """A worker: killed with its parent (even by SIGKILL, which leaves the
-    parent no chance to stop it), deaf to the terminal's Ctrl-C (the parent
-    handles it and terminates the pool), ended by SIGTERM without a word,
-    with its own planner."""
+    """A worker's own planner."""
     global _worker_planner
-    die_with_parent()
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the parent's handler, which it inherits
     _worker_planner = planner_class(name)(scene)
 
 
-def _worker_job(indexed):
-    i, job = indexed
-    return i, _roadmap_job(_worker_planner, *job)
-
-
-def die_with_parent() -> None:
-    """Ask Linux to send this process SIGKILL when its parent dies
-    (prctl PR_SET_PDEATHSIG); elsewhere nothing happens."""
-    try:
-        libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG = 1
-    except (OSError, AttributeError):
-        return
-    if os.getppid() == 1:  # the parent died before the call
-        os._exit(1)
+def _worker_job(job):
+    return _roadmap_job(_worker_planner, *job)
 
 
 def _roadmap_job(planner: Planner, mode: Mode, anchors: dict, size: int, seed: int, resolution: float,
@@ -316,8 +299,10 @@ def _check_output(scene: Scene, costmap: Costmap, planner: str) -> None:
 
 def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | None = None,
                    seed: int | None = None, *, use_cache: bool = True, progress: bool = True,
-                   planner_factory: Callable[[Scene], Planner] | None = None) -> Obtained:
-    """The cached costmap of a physical scene, or a new one (then cached)."""
+                   planner_factory: Callable[[Scene], Planner] | None = None,
+                   executor: Executor | None = None) -> Obtained:
+    """The cached costmap of a physical scene, or a new one (then cached);
+    its roadmaps built on `executor` (default: a local pool)."""
     name = planner_name or scene.geometry.planner.name
     seed = scene.geometry.planner.seed if seed is None else seed
     _factory(scene, name, planner_factory)  # fails before anything is hashed or computed
@@ -332,7 +317,7 @@ def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | 
             hit = dataclasses.replace(hit, provenance=built)
             cache.store(hit, path)
         return Obtained(hit, method, name, seed, True, path, None)
-    costmap, stats = compute_costmap(scene, method, name, seed, progress, planner_factory)
+    costmap, stats = compute_costmap(scene, method, name, seed, progress, planner_factory, executor)
     _check_output(scene, costmap, name)
     if path is not None:
         cache.store(costmap, path)

@@ -1,0 +1,69 @@
+"""An experiment's runs on an executor, each row appended to the CSV as its
+run ends; --resume skips the runs the CSV already has."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from tqdm import tqdm
+
+from symsynth.bench.experiment import Experiment, Run
+from symsynth.bench.results import RowWriter, drop_partial_line, read_rows
+from symsynth.bench.worker import execute
+from symsynth.errors import InputError
+from symsynth.parallel import Executor
+
+RESULTS = "results.csv"
+
+
+@dataclass(frozen=True)
+class Done:
+    """What a call of `run_experiment` did."""
+
+    path: Path
+    ran: int
+    skipped: int  # already in the CSV (--resume)
+    failed: int  # of those that ran: timeout, out-of-memory or error
+
+
+def run_row(run: Run, measured: dict[str, Any]) -> dict[str, Any]:
+    """The CSV row of `run`: its settings, then what the child measured
+    (which names the planner and roadmap size the scene chose)."""
+    return {"run": run.id, "cell": run.cell, "label": run.label, "params": run.params,
+            "scene_file": run.scene_file, "seed": run.seed, "method": run.method, "planner": run.planner,
+            "solver": run.solver, "k": run.k, "budget": run.budget, "resolution": run.resolution,
+            "roadmap_size": run.roadmap_size} | measured
+
+
+def _timed(spec: dict[str, Any]) -> dict[str, Any]:
+    """`execute` with the run's wall-clock seconds, parent's view (start-up included)."""
+    clock = time.perf_counter()
+    measured = execute(spec)
+    return measured | {"seconds_run": time.perf_counter() - clock}
+
+
+def run_experiment(experiment: Experiment, folder: Path, executor: Executor, resume: bool = False) -> Done:
+    """Run what the CSV in `folder` lacks (all of it without `resume`, when
+    there must be no CSV yet); rows are appended as runs end."""
+    path = folder / RESULTS
+    if path.exists() and not resume and path.stat().st_size > 0:
+        raise InputError(f"{path} exists: give --resume to run what it lacks, or another -o folder")
+    if resume:
+        drop_partial_line(path)
+    done = {row["run"] for row in read_rows(path)}
+    pending = [run for run in experiment.runs if run.id not in done]
+    failed = 0
+    with RowWriter(path) as writer, tqdm(total=len(experiment.runs), initial=len(experiment.runs) - len(pending),
+                                         desc=experiment.name, unit="run", disable=None) as bar:
+        if pending:
+            bar.set_postfix_str(pending[0].cell)
+        with executor as running:
+            for i, measured in running.imap(_timed, [run.to_json() for run in pending]):
+                writer.append(run_row(pending[i], measured))
+                failed += measured.get("status") != "ok"
+                bar.set_postfix_str(f"{pending[i].cell} seed {pending[i].seed}: {measured.get('status')}")
+                bar.update()
+    return Done(path, len(pending), len(experiment.runs) - len(pending), failed)

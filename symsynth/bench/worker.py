@@ -1,0 +1,169 @@
+"""One run in a child process: `python -m symsynth.bench.worker` reads the
+run (JSON) on stdin and writes its measurements (JSON) on the stdout it was
+given; anything printed on the way (a planner's C library writes to file
+descriptor 1) goes to stderr.
+
+`execute(run)` starts that child with the run's memory limit (the address
+space, `RLIMIT_AS`, set by the child itself before it works), waits at most
+the run's seconds, and returns the measurements with the exit status:
+ok, timeout, out-of-memory or error (with its message).  The child and the
+planner's workers it forks are one process group, killed together; the
+child is killed with its parent (`die_with_parent`), even by SIGKILL.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import resource
+import signal
+import subprocess
+import sys
+import time
+from importlib import metadata
+from typing import Any
+
+#: Packages whose versions each row records (those that decide the numbers).
+PACKAGES = ("dd", "numpy", "scipy", "ompl", "python-fcl", "pybullet", "lark")
+#: Lines of a failed child's stderr kept in its error message.
+STDERR_LINES = 3
+
+
+def execute(run: dict[str, Any]) -> dict[str, Any]:
+    """The measurements of `run` (a `Run.to_json()`), made in a child process."""
+    command = [sys.executable, "-m", "symsynth.bench.worker"]
+    child = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, start_new_session=True)
+    try:
+        out, err = child.communicate(json.dumps(run).encode(), timeout=run["seconds"])
+    except subprocess.TimeoutExpired:
+        _kill(child)
+        child.communicate()
+        return {"status": "timeout", "error": f"still running after the limit of {run['seconds']:g} s"}
+    except BaseException:  # an interrupt: no child left behind
+        _kill(child)
+        child.communicate()
+        raise
+    finally:
+        _kill(child)  # the planner's workers, if the child left any
+    text = err.decode(errors="replace").strip()
+    try:
+        found = json.loads(out.decode().strip().splitlines()[-1])
+    except (IndexError, ValueError):  # died without an answer
+        if "MemoryError" in text or "out of memory" in text.lower():
+            return {"status": "out-of-memory", "error": f"beyond {run['memory_mb']} MB: {_tail(text)}"}
+        how = (f"killed by {signal.Signals(-child.returncode).name}" if child.returncode < 0
+               else f"exit status {child.returncode}")
+        return {"status": "error", "error": f"the run's process ended without a result ({how}): {_tail(text)}"}
+    return found
+
+
+def _kill(child: subprocess.Popen) -> None:
+    try:
+        os.killpg(child.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
+def _tail(text: str) -> str:
+    return " | ".join(text.splitlines()[-STDERR_LINES:]) or "nothing on stderr"
+
+
+def versions(planner: str | None) -> dict[str, str]:
+    """symsynth's, the planner plugin's, Python's and `PACKAGES`' versions."""
+    from symsynth import __version__
+    from symsynth.planning.registry import planner_version
+
+    found = {"symsynth": __version__, "python": platform.python_version()}
+    if planner is not None:
+        found[f"planner {planner}"] = planner_version(planner) or "unknown"
+    for package in PACKAGES:
+        try:
+            found[package] = metadata.version(package)
+        except metadata.PackageNotFoundError:
+            continue
+    return found
+
+
+def measure(run: dict[str, Any]) -> dict[str, Any]:
+    """Solve the run's cell and measure it (in this process)."""
+    import dataclasses
+
+    from symsynth.automata import compile_ltlf
+    from symsynth.automata.bdd import peak_nodes  # noqa: F401 - CUDD loaded before the clock starts
+    from symsynth.game.horizon import solve_game
+    from symsynth.game.solution import task_formula
+    from symsynth.game.solvers import SOLVERS
+    from symsynth.planning.build import obtain_costmap
+    from symsynth.scene import load_scene
+
+    row: dict[str, Any] = {"host": platform.node(), "cpus": os.cpu_count(), "load": os.getloadavg()[0],
+                           "started": time.strftime("%Y-%m-%dT%H:%M:%S")}
+    scene = load_scene(run["scene_file"])
+    planner = None
+    if scene.geometry is not None:
+        settings = scene.geometry.planner
+        if run["roadmap_size"] is not None:
+            settings = dataclasses.replace(settings, roadmap_size=run["roadmap_size"])
+        scene = dataclasses.replace(scene, geometry=dataclasses.replace(scene.geometry, planner=settings))
+        clock = time.perf_counter()
+        got = obtain_costmap(scene, run["method"], run["planner"], run["seed"], use_cache=run["cache"],
+                             progress=False)
+        row["seconds_abstraction"] = time.perf_counter() - clock
+        scene = dataclasses.replace(scene, costmap=got.costmap)
+        planner = got.planner
+        row |= {"planner": got.planner, "roadmap_size": settings.roadmap_size, "costmap_cached": got.cached,
+                "costmap_rules": sum(len(r) for r in got.costmap.motions.values())}
+        if got.stats is not None:
+            s = got.stats
+            row |= {f"seconds_{phase.replace(' ', '_')}": value for phase, value in s.seconds.items()}
+            row |= {"roadmaps": s.roadmaps, "roadmap_vertices": s.vertices, "roadmap_edges": s.edges,
+                    "edge_checks": s.edges, "graph_searches": s.motions, "planner_workers": s.workers}
+    formula = task_formula(scene, None)
+    row["dfa_states"] = compile_ltlf(formula).num_states  # the DFA every solver composes with the game
+    clock = time.perf_counter()
+    solution = solve_game(SOLVERS[run["solver"]], scene, formula, k=run["k"], budget=run["budget"],
+                          resolution=run["resolution"])
+    row["seconds_synthesis"] = time.perf_counter() - clock
+    row |= {"k": solution.k, "E_p": "inf" if solution.cost_bound is None else solution.cost_bound, "units": solution.units,
+            "realizable": solution.realizable, "positions": solution.states,
+            "bdd_peak_nodes": solution.stats.get("peak_nodes"),
+            "synthesis_phases": {name: round(s, 6) for name, s in solution.seconds.items()},
+            "versions": versions(planner)}
+    return row
+
+
+def peak_memory_mb() -> float:
+    """The largest resident set of this process and of its children, in MB."""
+    own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    children = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    return max(own, children) / 1024  # Linux counts in KB
+
+
+def main() -> int:
+    from symsynth.errors import SymsynthError
+    from symsynth.parallel import die_with_parent
+
+    die_with_parent()
+    answer = os.fdopen(os.dup(1), "w")
+    os.dup2(2, 1)  # whatever the libraries print goes to stderr
+    run = json.load(sys.stdin)
+    limit = run["memory_mb"] << 20
+    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+    try:
+        row = measure(run) | {"status": "ok"}
+    except MemoryError:
+        row = {"status": "out-of-memory", "error": f"beyond {run['memory_mb']} MB"}
+    except SymsynthError as error:
+        row = {"status": "error", "error": str(error)}
+    except Exception as error:  # noqa: BLE001 - a bug in one run is its row, the experiment goes on
+        row = {"status": "error", "error": f"{type(error).__name__}: {error}"}
+    row["peak_memory_mb"] = round(peak_memory_mb(), 1)
+    answer.write(json.dumps(row) + "\n")
+    answer.flush()
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
