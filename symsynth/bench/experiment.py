@@ -161,7 +161,13 @@ def load_experiment(path: str | Path) -> Experiment:
         report.raise_if_any()
     for error in sorted(jsonschema.Draft202012Validator(SCHEMA).iter_errors(data),
                         key=lambda e: list(map(str, e.absolute_path))):
-        report.add(tuple(error.absolute_path), schema_message(error))
+        where = tuple(error.absolute_path)
+        if error.validator == "additionalProperties" and isinstance(error.instance, dict):
+            allowed = error.schema.get("properties", {})
+            for key in (key for key in error.instance if key not in allowed):  # at the key's own line
+                report.add(where + (key,), f"unknown key {key!r}; allowed keys: {', '.join(sorted(allowed))}")
+            continue
+        report.add(where, schema_message(error))
     for where, value in _non_finite(data):
         report.add(where, f"expected a finite number, found {value}")
     if "trials" in data and "seeds" in data:

@@ -102,7 +102,7 @@ def breakdown(rows: Sequence[dict[str, str]], cells: Sequence[str], path: Path) 
     axis.set_yticks(range(len(shown)), shown, fontsize="small")
     axis.invert_yaxis()
     axis.set_xlabel("seconds (mean over the runs; roadmaps and edge checks summed over the planner's workers)")
-    axis.legend(fontsize="small", loc="lower right")
+    axis.legend(fontsize="small", loc="best")
     figure.tight_layout()
     _save(figure, path)
 

@@ -6,6 +6,7 @@ import argparse
 import json
 from pathlib import Path
 
+from symsynth.cli import options
 from symsynth.cli.options import check_writable, count
 from symsynth.errors import InputError
 from symsynth.planning.build import obtain_costmap
@@ -30,7 +31,10 @@ other places and gives one rule per motion; 'recursive' (Alg. 3) gives
 path, and the file records who built it (key 'planner': the planner, its
 version, method, seed and roadmap settings).  The result is cached (keyed
 by the scene's geometry, method, planner and seed; same seed, same file),
-so 'symsynth solve SCENE' reuses it.
+so 'symsynth solve SCENE' reuses it.  The roadmaps of the modes are built
+in parallel: on local processes (--jobs, default one per core), or with
+--executor ray on a Ray cluster (--address to join one; none starts a local
+instance); the file is the same either way.
 
   symsynth costmap verify FILE --scene SCENE [--planner NAME]
 
@@ -65,6 +69,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("-o", "--output", type=Path, metavar="FILE", help="also write the costmap to FILE")
     parser.add_argument("--no-cache", action="store_true", help="compute even if a cached costmap exists")
     parser.add_argument("--json", action="store_true", help="print a summary as JSON")
+    options.add_executor(parser, "roadmaps built at once (default: one per core)")
     parser.set_defaults(run=run)
 
 
@@ -82,7 +87,9 @@ def run(args: argparse.Namespace) -> int:
                          "not computed")
     if args.output is not None:  # before the planning, which takes a while
         check_writable(args.output, "costmap file")
-    got = obtain_costmap(scene, args.method, args.planner, args.seed, use_cache=not args.no_cache)
+    executor = None if args.executor == "local" and args.jobs is None else options.executor(args)
+    got = obtain_costmap(scene, args.method, args.planner, args.seed, use_cache=not args.no_cache,
+                         executor=executor)
     if args.output is not None:
         write_costmap(got.costmap, args.output)
     written = args.output or got.path
