@@ -147,7 +147,6 @@ def test_no_overwrite_without_resume(straight, tmp_path, capsys):
 
 def test_ray_rows_equal_local(straight, tmp_path):
     """A local Ray instance gives the local pool's rows, timings aside."""
-    pytest.importorskip("ray")
     out = tmp_path / "out"
     done = cli("bench", str(write_experiment(tmp_path)), "-o", str(out), "--executor", "ray", "--jobs", "2")
     stdout, stderr = done.communicate(timeout=120)
@@ -176,7 +175,6 @@ def test_malformed_experiment(tmp_path, capsys, change, where, message):
 
 def test_costmap_on_ray_is_the_local_file(tmp_path):
     """`symsynth costmap --executor ray` writes the file the local build does."""
-    pytest.importorskip("ray")
     scene = tmp_path / "line.yaml"
     scene.write_text((SCENES / "line.yaml").read_text().replace("roadmap_size: 150", "roadmap_size: 30"))
     files = {}

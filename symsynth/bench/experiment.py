@@ -34,7 +34,7 @@ from symsynth.errors import InputError
 from symsynth.game.solvers import SOLVERS
 from symsynth.planning.costmaps import METHODS
 from symsynth.scene import load_scene
-from symsynth.scene.load import Report, schema_message
+from symsynth.scene.load import Report, non_finite, schema_message
 from symsynth.scene.yamlpos import read_yaml
 
 NAME = {"type": "string", "pattern": "^[A-Za-z0-9_.-]+$"}
@@ -168,7 +168,7 @@ def load_experiment(path: str | Path) -> Experiment:
                 report.add(where + (key,), f"unknown key {key!r}; allowed keys: {', '.join(sorted(allowed))}")
             continue
         report.add(where, schema_message(error))
-    for where, value in _non_finite(data):
+    for where, value in non_finite(data):
         report.add(where, f"expected a finite number, found {value}")
     if "trials" in data and "seeds" in data:
         report.add(("seeds",), "give trials (seeds 0..trials-1) or seeds, not both")
@@ -231,13 +231,3 @@ def _variants(entry: dict, index: int, base: Path, report: Report) -> list[tuple
         found.append((str(file), entry.get("label", scene.name), params, scene.geometry is not None))
     return found
 
-
-def _non_finite(data: Any, path: tuple = ()):
-    if isinstance(data, float) and not math.isfinite(data):
-        yield path, data
-    elif isinstance(data, dict):
-        for key, value in data.items():
-            yield from _non_finite(value, path + (key,))
-    elif isinstance(data, list):
-        for i, value in enumerate(data):
-            yield from _non_finite(value, path + (i,))

@@ -118,7 +118,7 @@ def scene_from_data(data: Any, source: Path | None = None,
         flagged.add(tuple(error.absolute_path))
     # JSON Schema's bounds let YAML's .inf and .nan through (nan > 0 is false,
     # so is nan <= 0); the costmap, a format of its own, checks its numbers itself
-    for where, value in _non_finite({key: v for key, v in data.items() if key != "costmap"}):
+    for where, value in non_finite({key: v for key, v in data.items() if key != "costmap"}):
         if where not in flagged:
             report.add(where, f"expected a finite number, found {_yaml_float(value)}")
     report.raise_if_any()
@@ -211,16 +211,16 @@ def _check_object_names(name: str, spec: dict, locations: tuple[str, ...], else_
             report.add(("objects", name, "tags", i), f"{tag!r} is {places[tag]} and cannot be a tag")
 
 
-def _non_finite(data: Any, path: KeyPath = ()) -> Iterator[tuple[KeyPath, float]]:
+def non_finite(data: Any, path: KeyPath = ()) -> Iterator[tuple[KeyPath, float]]:
     """The key path and value of every float in `data` that is not finite."""
     if isinstance(data, float) and not math.isfinite(data):
         yield path, data
     elif isinstance(data, dict):
         for key, value in data.items():
-            yield from _non_finite(value, path + (key,))
+            yield from non_finite(value, path + (key,))
     elif isinstance(data, list):
         for i, value in enumerate(data):
-            yield from _non_finite(value, path + (i,))
+            yield from non_finite(value, path + (i,))
 
 
 def _yaml_float(value: float) -> str:

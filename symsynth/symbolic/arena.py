@@ -166,19 +166,18 @@ class Arena:
         """cost(mode, s, t, v, o) <= c, as a BDD over (v, c)."""
         if start == goal:
             return self.bdd.true
-        result = self.bdd.false
-        for rule in self.costmap.rules(mode, start, goal):
-            condition = self.at_least(self.units(rule.cost))
-            for place in rule.free:
-                condition &= self.free_for(place, obj)
-            result |= condition
-        return result
+        return self._satisfied(self.costmap.rules(mode, start, goal), obj)
 
     def slide_cost(self, contact: str, start: str, goal: str, obj: str) -> Function:
         """slide(a, l, l', v, o) <= c (semantics §4b), as a BDD over (v, c):
         false when no slide rule is satisfied."""
+        return self._satisfied(self.costmap.slide_rules(contact, start, goal), obj)
+
+    def _satisfied(self, rules, obj: str) -> Function:
+        """The least cost of a satisfied rule <= c: some rule's places free
+        for `obj`, and c at least its cost (false for no rules)."""
         result = self.bdd.false
-        for rule in self.costmap.slide_rules(contact, start, goal):
+        for rule in rules:
             condition = self.at_least(self.units(rule.cost))
             for place in rule.free:
                 condition &= self.free_for(place, obj)
