@@ -33,7 +33,7 @@ import jsonschema
 from symsynth.errors import InputError
 from symsynth.game.solvers import SOLVERS
 from symsynth.planning.costmaps import METHODS
-from symsynth.scene import load_scene
+from symsynth.scene import Scene, load_scene
 from symsynth.scene.load import Report, non_finite, schema_message
 from symsynth.scene.yamlpos import read_yaml
 
@@ -96,8 +96,9 @@ class ExperimentError(InputError):
 @dataclass(frozen=True)
 class Run:
     """One run: everything the child process needs, all plain values (it is
-    sent as JSON).  None means "the scene's own" (k, planner, roadmap size)
-    or "not applicable" (costmap settings of an abstract scene)."""
+    sent as JSON).  What the file leaves out is the scene's own (k, planner,
+    roadmap size), filled in here so the cell names it; None means "not
+    applicable" (the costmap settings of an abstract scene)."""
 
     scene_file: str
     label: str
@@ -106,7 +107,7 @@ class Run:
     method: str | None
     planner: str | None
     solver: str
-    k: int | None
+    k: int
     budget: float | None
     resolution: float
     roadmap_size: int | None
@@ -120,10 +121,8 @@ class Run:
         """The run's settings without its seed: runs of one cell are trials of each other."""
         parts = [self.label + "".join(f" {k}={v}" for k, v in self.params.items())]
         if self.physical:
-            parts += [self.method, self.planner or "(scene's planner)"]
-            if self.roadmap_size is not None:
-                parts.append(f"roadmap={self.roadmap_size}")
-        parts += [self.solver, f"k={'scene' if self.k is None else self.k}"]
+            parts += [self.method, self.planner, f"roadmap={self.roadmap_size}"]
+        parts += [self.solver, f"k={self.k}"]
         if self.budget is not None:
             parts.append(f"budget={self.budget:g}")
         if self.resolution != 1:
@@ -180,14 +179,19 @@ def load_experiment(path: str | Path) -> Experiment:
     limits = data.get("limits", {})
     seeds = data.get("seeds", range(data.get("trials", 1)))
     runs: dict[str, Run] = {}
-    for (file, label, params, physical), method, planner, solver, k, budget, resolution, size, seed in \
-            itertools.product(scenes, data.get("methods", ["recursive"]), data.get("planners", [None]),
+    # Seed by seed, every cell within each: a change in the machine's load falls on every cell
+    # alike, and an experiment stopped early has whole trials of every cell.
+    for seed, (file, label, params, scene), method, planner, solver, k, budget, resolution, size in \
+            itertools.product(seeds, scenes, data.get("methods", ["recursive"]), data.get("planners", [None]),
                               data.get("solvers", ["symbolic"]), data.get("k", [None]),
                               data.get("budgets", [None]), data.get("resolutions", [1.0]),
-                              data.get("roadmap_sizes", [None]), seeds):
+                              data.get("roadmap_sizes", [None])):
+        physical = scene.geometry is not None
         run = Run(file, label, params, physical, method if physical else None,
-                  planner if physical else None, solver, k, None if budget is None else float(budget),
-                  float(resolution), size if physical else None, seed, bool(data.get("cache", False)),
+                  (planner or scene.geometry.planner.name) if physical else None, solver,
+                  scene.k if k is None else k, None if budget is None else float(budget), float(resolution),
+                  (size or scene.geometry.planner.roadmap_size) if physical else None, seed,
+                  bool(data.get("cache", False)),
                   float(limits.get("seconds", DEFAULT_SECONDS)), int(limits.get("memory_mb", DEFAULT_MEMORY_MB)))
         same = runs.setdefault(run.id, run)  # an abstract scene's runs repeat over the costmap axes
         if same.scene_file != run.scene_file:
@@ -205,8 +209,8 @@ def load_experiment(path: str | Path) -> Experiment:
                       tuple(dict.fromkeys(run.cell for run in ordered)))
 
 
-def _variants(entry: dict, index: int, base: Path, report: Report) -> list[tuple[str, str, dict, bool]]:
-    """(file, label, params, physical) of each value combination of the
+def _variants(entry: dict, index: int, base: Path, report: Report) -> list[tuple[str, str, dict, Scene]]:
+    """(file, label, params, scene) of each value combination of the
     entry's sweep; the file's `{name}` fields are filled with the values."""
     where = ("scenes", index)
     sweep = entry.get("sweep", {})
@@ -228,6 +232,6 @@ def _variants(entry: dict, index: int, base: Path, report: Report) -> list[tuple
         except InputError as error:
             report.add(where + ("file",), f"{file}: " + str(error).replace("\n", "\n  "))
             continue
-        found.append((str(file), entry.get("label", scene.name), params, scene.geometry is not None))
+        found.append((str(file), entry.get("label", scene.name), params, scene))
     return found
 
