@@ -192,3 +192,18 @@ def test_csv_rows_are_whole_lines(straight):
     """Every line of the CSV is one row of every column (fields hold no newline)."""
     text = (straight[0] / "results.csv").read_text()
     assert all(len(fields) == len(COLUMNS) for fields in csv.reader(text.splitlines()))
+
+
+@pytest.mark.parametrize("limits, status, message", [
+    ("{seconds: 0.2}", "timeout", "still running after the limit of 0.2 s"),
+    ("{memory_mb: 100}", "out-of-memory", "beyond 100 MB"),
+])
+def test_limits_end_a_run_with_its_status(tmp_path, capsys, limits, status, message):
+    """A run past its limit is a row with that status (exit 1), not the end of the experiment."""
+    path = tmp_path / "limits.yaml"
+    path.write_text(f'name: limits\nscenes: [{{file: "{SCENES / "arch-abstract.yaml"}"}}]\n'
+                    f"solvers: [explicit]\nlimits: {limits}\n")
+    assert main(["bench", str(path), "-o", str(tmp_path / "out")]) == 1
+    [row] = read_rows(tmp_path / "out" / "results.csv")
+    assert row["status"] == status and message in row["error"], row["error"]
+    assert f"0/1 (1 {status})" in capsys.readouterr().out

@@ -58,12 +58,20 @@ def run_experiment(experiment: Experiment, folder: Path, executor: Executor, res
     failed = 0
     with RowWriter(path) as writer, tqdm(total=len(experiment.runs), initial=len(experiment.runs) - len(pending),
                                          desc=experiment.name, unit="run", disable=None) as bar:
-        if pending:
-            bar.set_postfix_str(pending[0].cell)
+        unfinished = dict.fromkeys(range(len(pending)))  # in the order the runs start
+        _show(bar, pending, unfinished)
         with executor as running:
             for i, measured in running.imap(_timed, [run.to_json() for run in pending]):
                 writer.append(run_row(pending[i], measured))
                 failed += measured.get("status") != "ok"
-                bar.set_postfix_str(f"{pending[i].cell} seed {pending[i].seed}: {measured.get('status')}")
+                del unfinished[i]
+                _show(bar, pending, unfinished)
                 bar.update()
     return Done(path, len(pending), len(experiment.runs) - len(pending), failed)
+
+
+def _show(bar: tqdm, pending: list[Run], unfinished: dict[int, None]) -> None:
+    """The earliest run not finished: the one running (with --jobs N, the first of N)."""
+    if unfinished:
+        run = pending[next(iter(unfinished))]
+        bar.set_postfix_str(f"{run.cell}, seed {run.seed}")

@@ -26,6 +26,8 @@ from typing import Any
 
 #: Packages whose versions each row records (those that decide the numbers).
 PACKAGES = ("dd", "numpy", "scipy", "ompl", "python-fcl", "pybullet", "lark")
+#: What a child that died for want of memory says on stderr (Python, OpenBLAS, CUDD, C++).
+_OUT_OF_MEMORY = ("memoryerror", "out of memory", "memory allocation", "cannot allocate memory", "bad_alloc")
 #: Lines of a failed child's stderr kept in its error message.
 STDERR_LINES = 3
 
@@ -51,7 +53,7 @@ def execute(run: dict[str, Any]) -> dict[str, Any]:
     try:
         found = json.loads(out.decode().strip().splitlines()[-1])
     except (IndexError, ValueError):  # died without an answer
-        if "MemoryError" in text or "out of memory" in text.lower():
+        if any(sign in text.lower() for sign in _OUT_OF_MEMORY):
             return {"status": "out-of-memory", "error": f"beyond {run['memory_mb']} MB: {_tail(text)}"}
         how = (f"killed by {signal.Signals(-child.returncode).name}" if child.returncode < 0
                else f"exit status {child.returncode}")
