@@ -207,3 +207,14 @@ def test_limits_end_a_run_with_its_status(tmp_path, capsys, limits, status, mess
     [row] = read_rows(tmp_path / "out" / "results.csv")
     assert row["status"] == status and message in row["error"], row["error"]
     assert f"0/1 (1 {status})" in capsys.readouterr().out
+
+
+def test_first_trials_then_the_rest(straight, tmp_path, capsys):
+    """--trials 1 runs seed 0 of every cell; --resume then adds the rest."""
+    out, experiment = tmp_path / "out", write_experiment(tmp_path)
+    assert main(["bench", str(experiment), "-o", str(out), "--trials", "1", "--jobs", "2"]) == 0
+    rows = read_rows(out / "results.csv")
+    assert len(rows) == RUNS // 2 and {row["seed"] for row in rows} == {"0"}
+    assert "| toy symbolic k=1 | 1/1 |" in (out / "table.md").read_text()
+    assert main(["bench", str(experiment), "-o", str(out), "--resume", "--jobs", "2"]) == 0
+    assert stable(read_rows(out / "results.csv")) == stable(straight[1])

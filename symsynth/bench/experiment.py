@@ -24,7 +24,7 @@ import hashlib
 import itertools
 import math
 import string
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -148,6 +148,13 @@ class Experiment:
     plot_x: str | None = None
     description: str = ""
     cells: tuple[str, ...] = field(default=())
+
+
+    def first_trials(self, n: int) -> Experiment:
+        """The runs of the first `n` seeds only (a quick look, or the first
+        part of a long experiment that a later --resume completes)."""
+        seeds = list(dict.fromkeys(run.seed for run in self.runs))[:n]
+        return replace(self, runs=tuple(run for run in self.runs if run.seed in seeds))
 
 
 def load_experiment(path: str | Path) -> Experiment:

@@ -20,7 +20,7 @@ Run every cell of an experiment file (YAML; docs/bench.md) for each of its
 seeds, each run in a child process with the file's time and memory limits:
 
   symsynth bench EXPERIMENT.yaml [-o DIR] [--executor local|ray] [--address ADDR]
-                 [--jobs N] [--resume]
+                 [--jobs N] [--resume] [--trials N]
 
 Output in DIR (default results/NAME, NAME the experiment's):
   results.csv    one row per run, appended as each run ends (columns in
@@ -50,6 +50,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="folder of the results (default: results/NAME)")
     parser.add_argument("--resume", action="store_true",
                         help="keep DIR's results.csv and run only the runs it lacks")
+    parser.add_argument("--trials", type=options.count, metavar="N",
+                        help="only the first N seeds of the file's (a quick look; --resume without "
+                             "--trials completes it later)")
     options.add_executor(parser, "runs at once (default: 1, so that timings do not compete; "
                                  "each physical run also uses a process per core for its roadmaps)",
                          default_jobs=1)
@@ -58,6 +61,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     experiment = load_experiment(args.experiment)
+    if args.trials is not None:
+        experiment = experiment.first_trials(args.trials)
     folder = args.output or Path("results") / experiment.name
     try:
         folder.mkdir(parents=True, exist_ok=True)
@@ -65,7 +70,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"cannot make the results folder {folder}: {error.strerror or error}") from None
     options.check_writable(folder / "table.md", "table")
     done = run_experiment(experiment, folder, options.executor(args), resume=args.resume)
-    rows = read_rows(done.path)
+    ids = {run.id for run in experiment.runs}
+    rows = [row for row in read_rows(done.path) if row["run"] in ids]  # not those of other --trials
     command = "symsynth " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:2] == ["bench"] \
         else f"symsynth bench {shlex.quote(str(args.experiment))}"
     table = (f"# {experiment.name}\n\n{experiment.description.strip()}\n\n`{command}`: "
