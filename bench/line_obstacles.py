@@ -11,6 +11,10 @@ scene's k by the symbolic solver.  Runs go seed by seed, N = 0..4 within each,
 so that a change in the machine's load falls on every N alike.  Each row is one seed; the per-N summary
 gives the mean over the seeds.  The paper (He et al., RA-L 2019, Sec. VI-B)
 ran 10 trials per N with MoveIt on a UR5.
+
+The same runs, with the CSV, table and plots of every comparison run:
+`symsynth bench experiments/line-obstacles.yaml`; this script adds the
+check of the paper's claims on the numbers.
 """
 
 from __future__ import annotations

@@ -11,6 +11,9 @@ collision library on two boxes, measured side by side in the same run.
 
 Targets (issue 4; the paper took 485 s, 79 s and 450 s with MoveIt on a UR5):
 arch recursive under 30 s, line start-goal under 10 s, roadmaps included.
+
+The costmap table alone, as a comparison run: `symsynth bench
+experiments/planners.yaml`.
 """
 
 from __future__ import annotations
