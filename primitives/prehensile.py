@@ -2,13 +2,23 @@
 
 The game charges the scene's fixed costs (`costs: {grab, drop}`); the
 simulator carries them out with `execution.primitives` (approach along the
-grasp's axis, close or open, retreat)."""
+grasp's axis, close or open, retreat).
+
+`Grab.holds` says which objects a grasp can close on: those no wider,
+across the fingers (the hand's y axis), than the robot's `opening`.  The
+costmap has no motion holding an object the hand cannot close on, so such
+an object is never carried (a box wider than the gripper opens can still
+be pushed)."""
 
 from __future__ import annotations
 
+import math
 from typing import Any, ClassVar
 
+import numpy as np
+
 from symsynth.execution import primitives as world_primitives
+from symsynth.scene.geometry import Geometry
 
 
 class Grab:
@@ -17,6 +27,26 @@ class Grab:
 
     def execute(self, world: Any, approaches: Any, move: Any) -> Any:
         return world_primitives.grab(world, approaches, move.obj, move.grasp)
+
+    def holds(self, geometry: Geometry, obj: str, grasp: str) -> bool:
+        """Whether the hand closes on `obj` with `grasp`: its width across
+        the fingers at most the robot's opening (always, when the robot has
+        none, or for a mesh)."""
+        opening = geometry.robot.opening
+        width = _width(geometry, obj, grasp)
+        return opening is None or width is None or width <= opening + 1e-9
+
+
+def _width(geometry: Geometry, obj: str, grasp: str) -> float | None:
+    """The object's extent along the hand's y axis (the fingers' closing
+    direction) at the grasp, in the object's frame."""
+    across = geometry.grasps[grasp].pose.matrix()[:3, 1]
+    shape = geometry.shapes[obj]
+    if shape.kind == "box":
+        return float(np.abs(across) @ np.asarray(shape.size))
+    if shape.kind == "cylinder":
+        return 2 * shape.radius * math.hypot(across[0], across[1]) + shape.height * abs(float(across[2]))
+    return None
 
 
 class Drop:

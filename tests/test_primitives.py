@@ -120,3 +120,30 @@ def test_the_push_scene_is_solved_and_simulated_with_the_slide(tmp_path, monkeyp
     assert [s["action"] for s in steps] == ["transit(box,behind)", "slide(box,behind,l2)"]
     assert steps[1]["source"] == "slide" and steps[1]["state"]["at"] == {"box": "l2"}
     assert steps[1]["measured_cost"] == pytest.approx(steps[1]["abstract_cost"])
+
+
+SCENES = Path(__file__).resolve().parents[1] / "scenes"
+
+
+def test_the_bundled_push_scene_needs_its_contact(tmp_path, monkeypatch, capsys):
+    """scenes/push.yaml: the box is wider than the opening, so only the push
+    moves it, after the block beside its way is carried off; unrealizable
+    without the contact, and with one human move (the box taken to Else,
+    where it cannot be slid, nor grasped)."""
+    import json
+    from symsynth.cli import main
+
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path / "cache"))
+    assert main(["solve", str(SCENES / "push.yaml"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["cost_bound"] is not None
+    actions = [s["action"] for s in out["principal_play"]]
+    assert actions[-2:] == ["transit(box,behind)", "slide(box,behind,l2)"] and "drop(b,park)" in actions
+    assert main(["solve", str(SCENES / "push.yaml"), "--k", "1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["cost_bound"] is None
+    data = yaml.safe_load((SCENES / "push.yaml").read_text())
+    del data["contacts"]
+    data["costs"].pop("push")
+    (tmp_path / "nopush.yaml").write_text(yaml.safe_dump(data))
+    assert main(["solve", str(tmp_path / "nopush.yaml"), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["cost_bound"] is None

@@ -25,7 +25,7 @@ from symsynth.planning import cache, costmaps
 from symsynth.planning.anchors import anchor_configs, motions
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
 from symsynth.planning.registry import planner_class, planner_version
-from symsynth.primitives import displacement
+from symsynth.primitives import displacement, primitive
 from symsynth.scene.costmap import Costmap, CostmapError, Provenance, Rule, SlideKey, costmap_from_data
 from symsynth.scene.load import costmap_problems
 from symsynth.scene.model import Scene
@@ -77,6 +77,14 @@ def mode_anchors(planner: Planner, mode: Mode, configs: dict) -> dict[str, tuple
     return found
 
 
+def holds(scene: Scene, mode: Mode) -> bool:
+    """A holding mode only when the grab primitive can close the hand on
+    its object with its grasp (a box wider than the opening cannot be
+    held: the costmap gets no motion in that mode); the empty hand always."""
+    grab = primitive("grab")
+    return mode.object is None or not hasattr(grab, "holds") or grab.holds(scene.geometry, mode.object, mode.grasp)
+
+
 def compute_costmap(scene: Scene, method: str, planner_name: str | None = None,
                     seed: int | None = None, progress: bool = True,
                     planner_factory: Callable[[Scene], Planner] | None = None,
@@ -109,7 +117,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     configs = anchor_configs(planner, scene)
     clock = stats.add("anchors", clock)
 
-    modes = [Mode.parse(m) for m in scene.modes]
+    modes = [m for m in map(Mode.parse, scene.modes) if holds(scene, m)]
     groups: dict[tuple, list[Mode]] = {}
     for mode in modes:
         groups.setdefault(_geometric_key(scene, mode), []).append(mode)

@@ -131,6 +131,9 @@ class Robot:
     ee_link: str
     joints: tuple[str, ...] = ()  # controlled joints; () = every movable joint but the fixed ones
     fixed: tuple[tuple[str, float], ...] = ()  # joints held at a value (e.g. open fingers)
+    #: The widest an object may be, across the fingers (the hand's y axis),
+    #: for the hand to close on it; None: not checked.
+    opening: float | None = None
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,9 @@ robot:                 # all keys optional; the default is the Franka Panda
   home: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]
   ee_link: panda_hand
   fixed: {panda_finger_joint1: 0.04, panda_finger_joint2: 0.04}
+  opening: 0.08        # widest object across the fingers the hand closes on (grab);
+                       # unchecked when left out (scenes/arch.yaml leaves it out: its bridge
+                       # is 14 cm across the fingers, as the paper's abstraction allows)
 obstacles:
   table: {box: [1.2, 1.6, 0.05], xyz: [0.3, 0, -0.05]}
 objects:
@@ -24,7 +27,9 @@ else:                  # Else samples: explicit, or drawn in a region
   region: {min: [0.3, -0.4], max: [0.7, 0.4]}
 grasps:
   top: {xyz: [0, 0, 0.1634], rpy: [3.14159265, 0, 0], approach: 0.05}
-costs: {per_radian: 1, grab: 5, drop: 5}
+contacts:              # optional: poses for displacement primitives (push, pull, plugins)
+  behind: {primitive: push, xyz: [-0.16, 0, 0.12], rpy: [0, 2.356, 0], approach: 0.05}
+costs: {per_radian: 1, grab: 5, drop: 5, push: 2}   # push: the primitive's fixed cost
 planner: {name: ompl-fcl, roadmap_size: 300, resolution: 0.05, seed: 0}
 ```
 
@@ -70,6 +75,7 @@ ROBOT = {
         "ee_link": {"type": "string"},
         "joints": {"type": "array", "items": {"type": "string"}, "minItems": 1},
         "fixed": {"type": "object", "additionalProperties": NUMBER},
+        "opening": {"type": "number", "exclusiveMinimum": 0},
     },
 }
 OBSTACLE = {"type": "object", "additionalProperties": False,
@@ -273,8 +279,9 @@ def _robot(spec: dict[str, Any], base: Path, report: Report) -> Robot | None:
     if len(home) != len(joints):
         report.add(("robot", "home"), f"expected {len(joints)} joint values ({', '.join(joints)}), "
                    f"found {len(home)}")
+    opening = spec.get("opening")  # not checked unless given (module doc)
     return Robot(urdf=urdf, base=pose_of(spec.get("base", {})), home=home, ee_link=ee_link or "",
-                 joints=joints, fixed=tuple(sorted(fixed.items())))
+                 joints=joints, fixed=tuple(sorted(fixed.items())), opening=opening)
 
 
 def _find_urdf(name: str, base: Path) -> Path | None:
