@@ -2,7 +2,8 @@
 
 A slide of object `o` by contact `a` from location `l` to `l2` is three
 straight Cartesian segments of the end-effector, followed by inverse
-kinematics in small steps (each seeded with the last configuration):
+kinematics in small steps (each seeded with the last configuration, a step halved where the
+solution jumps: `_reach`):
 
 1. *approach*: from the anchor `l/a` (the contact's pre-image) in to the
    contact pose, the object standing at `l`;
@@ -40,6 +41,7 @@ from symsynth.scene.model import Scene
 
 STEP = 0.01  # metres between inverse kinematics steps along a segment
 MAX_JUMP = 0.3  # radians (joint-space norm) between two steps
+SPLITS = 5  # halvings of a step whose inverse kinematics jumps
 SAME_HEIGHT = 1e-3  # metres
 SAME_ORIENTATION = 1e-3  # radians
 
@@ -65,15 +67,18 @@ def slide_path(scene: Scene, planner: Planner, obj: str, contact: str, start: st
                 (there @ frame.pose, there @ frame.pre_image())]
     mode = Mode()
     for a, b in segments:
+        previous = a
         for pose in _between(a, b):
-            q = planner.inverse_kinematics(pose, path[-1])
-            if q is None or np.linalg.norm(np.subtract(q, path[-1])) > MAX_JUMP:
+            reached = _reach(planner, path[-1], previous, pose, 0)
+            if reached is None:
                 return None
-            found = planner.contacts(mode, q)
-            if found.static:
-                return None
-            touched |= found.locations
-            path.append(tuple(q))
+            for q in reached:
+                found = planner.contacts(mode, q)
+                if found.static:
+                    return None
+                touched |= found.locations
+                path.append(q)
+            previous = pose
     if path[-1] != tuple(last):
         ending: Contacts = planner.motion_contacts(Mode(), path[-1], tuple(last), geometry.planner.resolution)
         if ending.static:
@@ -144,6 +149,24 @@ def direction(scene: Scene, contact: str, start: str, goal: str) -> float:
         return math.pi
     cos = float(np.dot(facing, move) / (np.linalg.norm(facing) * np.linalg.norm(move)))
     return math.acos(max(-1.0, min(1.0, cos)))
+
+
+def _reach(planner: Planner, q: Config, a: Pose, b: Pose, depth: int) -> list[Config] | None:
+    """Configurations from `q` (at pose `a`) to pose `b`: one inverse
+    kinematics step, or, when it fails or jumps to another branch of the
+    arm's solutions, two half steps (at most `SPLITS` times over: an
+    inverse kinematics that is not local at 1 cm often is at 5 mm)."""
+    found = planner.inverse_kinematics(b, q)
+    if found is not None and np.linalg.norm(np.subtract(found, q)) <= MAX_JUMP:
+        return [tuple(found)]
+    if depth == SPLITS:
+        return None
+    middle = Pose(tuple(float(v) for v in (np.add(a.xyz, b.xyz) / 2)), b.quat)
+    first = _reach(planner, q, a, middle, depth + 1)
+    if first is None:
+        return None
+    second = _reach(planner, first[-1], middle, b, depth + 1)
+    return None if second is None else first + second
 
 
 def _between(a: Pose, b: Pose) -> list[Pose]:
