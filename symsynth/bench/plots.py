@@ -7,7 +7,8 @@ whole or not at all):
   mean with a ±std band;
 - `breakdown.png`: where each cell's time went (anchors, roadmaps, edge
   checks, graph searches, synthesis), means over its runs that ended ok;
-- `scaling.png`: game positions against synthesis time per solver, log-log.
+- `scaling.png`: game positions against synthesis time, a line per solver
+  and scene label, log-log.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ import matplotlib
 matplotlib.use("Agg")  # files only, no display
 
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 from symsynth.bench.results import by_cell, mean_std, number  # noqa: E402
 from symsynth.files import atomic_output  # noqa: E402
@@ -78,6 +80,7 @@ def sweep(rows: Sequence[dict[str, str]], x: str, path: Path) -> bool:
             axis.fill_between(xs, [m - s for m, s in zip(means, stds)], [m + s for m, s in zip(means, stds)],
                               alpha=0.2)
         axis.set_xlabel(x)
+        axis.xaxis.set_major_locator(MaxNLocator(integer=True))  # a count of obstacles has no halves
         axis.set_ylabel(label)
         axis.grid(alpha=0.3)
     axes[1].legend(fontsize="small")
@@ -101,20 +104,20 @@ def breakdown(rows: Sequence[dict[str, str]], cells: Sequence[str], path: Path) 
         left = [a + b for a, b in zip(left, widths)]
     axis.set_yticks(range(len(shown)), shown, fontsize="small")
     axis.invert_yaxis()
-    axis.set_xlabel("seconds (mean over the runs; roadmaps and edge checks summed over the planner's workers)")
+    axis.set_xlabel("mean seconds per run (roadmaps, edge checks: CPU seconds summed over the workers)")
     axis.legend(fontsize="small", loc="best")
     figure.tight_layout()
     _save(figure, path)
 
 
 def scaling(rows: Sequence[dict[str, str]], path: Path) -> None:
-    """Positions against synthesis seconds, a series per solver."""
+    """Positions against synthesis seconds, a series per solver and scene label."""
     figure, axis = plt.subplots(figsize=SCALING_SIZE)
     solvers: dict[str, list[tuple[float, float]]] = {}
     for row in _ok(rows):
         size, seconds = number(row["positions"]), number(row["seconds_synthesis"])
         if size and seconds:
-            solvers.setdefault(row["solver"], []).append((size, seconds))
+            solvers.setdefault(f"{row['solver']}, {row['label']}", []).append((size, seconds))
     for solver, points in sorted(solvers.items()):
         points.sort()
         axis.plot([p[0] for p in points], [p[1] for p in points], marker="o", linestyle="-", label=solver)
