@@ -93,7 +93,6 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
     import dataclasses
 
     from symsynth.automata import compile_ltlf
-    from symsynth.automata.bdd import peak_nodes  # noqa: F401 - CUDD loaded before the clock starts
     from symsynth.game.horizon import solve_game
     from symsynth.game.solution import task_formula
     from symsynth.game.solvers import SOLVERS
