@@ -1,19 +1,18 @@
 """Push and pull: the hand at a contact slides an object along the table.
 
-Both follow `planning.slides`' three segments (approach, slide, retreat);
-they differ in the direction a slide may take relative to the direction
-the hand faces at the contact (its z axis, projected on the table):
+Both follow `planning.slides`' three segments (approach, slide, retreat),
+and in both the hand leads: the slide goes the way the hand faces at the
+contact (its z axis, projected on the table, within `TOLERANCE`), the
+object ahead of it.  They differ in where that takes the object:
 
-* `push`: the hand stands behind the object and moves the way it faces,
-  pushing the object ahead of it (away from the robot, for a contact on
-  the near side);
-* `pull`: the hand stands on the far side and moves back against the way
-  it faces, drawing the object along (toward the robot).
+* `push` (a contact behind the object, on the robot's side): away from
+  the robot's base;
+* `pull` (a contact on the far side): toward the robot's base, drawing the
+  object out, e.g. from under a shelf.
 
-A slide is possible within `TOLERANCE` of that direction, for any object:
-no grasp is needed, so a box wider than the gripper opens can still be
-pushed.  The slide is carried out in the simulator kinematically: the
-object keeps its pose relative to the hand.
+Any object can be slid: no grasp is needed, so a box wider than the
+gripper opens can still be pushed.  In the simulator the object keeps
+its pose relative to the hand while it slides (kinematically).
 """
 
 from __future__ import annotations
@@ -22,6 +21,8 @@ import dataclasses
 import math
 from collections.abc import Mapping
 from typing import Any, ClassVar
+
+import numpy as np
 
 from symsynth.execution import primitives as world_primitives
 from symsynth.planning.primitive import SlideRule
@@ -36,7 +37,7 @@ class _Slide:
     kind: ClassVar[str] = "displacement"
     fixed_cost: ClassVar[float] = 2.0
     name: ClassVar[str]
-    forward: ClassVar[bool]  # the slide goes the way the hand faces
+    outward: ClassVar[bool]  # the slide takes the object away from the robot's base
 
     def slides(self, scene: Scene, planner: Planner, contact: str,
                anchors: Mapping[str, Config]) -> list[SlideRule]:
@@ -66,8 +67,14 @@ class _Slide:
                 if a != b and self.possible(scene, contact, a, b)]
 
     def possible(self, scene: Scene, contact: str, start: str, goal: str) -> bool:
-        angle = direction(scene, contact, start, goal)
-        return angle <= TOLERANCE if self.forward else angle >= math.pi - TOLERANCE
+        """The hand leads (the slide within TOLERANCE of its facing), and the
+        slide goes away from the robot's base (push) or toward it (pull)."""
+        if direction(scene, contact, start, goal) > TOLERANCE:
+            return False
+        places, base = scene.geometry.places, np.asarray(scene.geometry.robot.base.xyz[:2])
+        farther = (np.linalg.norm(np.asarray(places[goal].xyz[:2]) - base)
+                   > np.linalg.norm(np.asarray(places[start].xyz[:2]) - base))
+        return farther == self.outward
 
     def execute(self, world: Any, move: Any, path: tuple[Config, ...]) -> Any:
         return world_primitives.slide(world, move, path)
@@ -75,10 +82,10 @@ class _Slide:
 
 class Push(_Slide):
     name: ClassVar[str] = "push"
-    forward: ClassVar[bool] = True
+    outward: ClassVar[bool] = True
 
 
 class Pull(_Slide):
     name: ClassVar[str] = "pull"
-    forward: ClassVar[bool] = False
+    outward: ClassVar[bool] = False
 

@@ -69,14 +69,19 @@ def anchor(planner, scene, name):
     return planner.inverse_kinematics(pose, tuple(scene.geometry.robot.home))
 
 
-def test_a_push_slides_the_way_the_hand_faces(scene_and_planner):
-    """The contact `behind` faces +x: push goes l1 -> l2 (+x), not back,
-    nor sideways to l3; a pull with the same contact goes only l2 -> l1."""
+def test_a_push_slides_the_way_the_hand_faces_away_from_the_robot(scene_and_planner):
+    """The contact `behind` faces +x, away from the robot: push goes l1 -> l2
+    only (not back, nor sideways to l3), and pull nowhere (it draws toward
+    the robot, with the hand leading); pull-small's contact on the far
+    side faces the robot: pull goes l2 -> l1 there, push nowhere."""
     scene, planner = scene_and_planner
     anchors = {a: anchor(planner, scene, a) for a in scene.anchors if a != "home"}
     push = {(r.start, r.goal) for r in displacement("push").slides(scene, planner, "behind", anchors)}
     assert push == {("l1", "l2")}
-    assert set(displacement("pull").possible_pairs(scene, "behind")) == {("l2", "l1")}
+    assert displacement("pull").possible_pairs(scene, "behind") == []
+    far = load_scene(DATA / "pull-small.yaml")
+    assert displacement("pull").possible_pairs(far, "far") == [("l2", "l1")]
+    assert displacement("push").possible_pairs(far, "far") == []
 
 
 def test_the_slide_path_is_checked_again_independently(scene_and_planner):
