@@ -8,7 +8,10 @@ grasp's axis, close or open, retreat).
 across the fingers (the hand's y axis), than the robot's `opening`.  The
 costmap has no motion holding an object the hand cannot close on, so such
 an object is never carried (a box wider than the gripper opens can still
-be pushed)."""
+be pushed).  `Grab.reaches` says where a grasp can close at all: where the
+hand's straight approach from the anchor down to the grasp pose meets no
+static obstacle (under a low shelf it does not); the costmap has no motion
+holding anything at a place it cannot reach."""
 
 from __future__ import annotations
 
@@ -18,6 +21,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from symsynth.execution import primitives as world_primitives
+from symsynth.planning.slides import straight
 from symsynth.scene.geometry import Geometry
 
 
@@ -27,6 +31,14 @@ class Grab:
 
     def execute(self, world: Any, approaches: Any, move: Any) -> Any:
         return world_primitives.grab(world, approaches, move.obj, move.grasp)
+
+    def reaches(self, scene: Any, planner: Any, place: str, grasp: str, anchor: Any) -> bool:
+        """Whether the hand, empty, goes straight from the anchor `place/grasp`
+        (configuration `anchor`) to the grasp pose at `place` by inverse
+        kinematics without meeting a static obstacle."""
+        pose, frame = scene.geometry.places[place], scene.geometry.grasps[grasp]
+        return straight(planner, anchor, pose @ frame.pre_image(), pose @ frame.pose,
+                        scene.geometry.planner.resolution) is not None
 
     def holds(self, geometry: Geometry, obj: str, grasp: str) -> bool:
         """Whether the hand closes on `obj` with `grasp`: its width across

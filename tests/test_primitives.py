@@ -152,3 +152,35 @@ def test_the_bundled_push_scene_needs_its_contact(tmp_path, monkeypatch, capsys)
     (tmp_path / "nopush.yaml").write_text(yaml.safe_dump(data))
     assert main(["solve", str(tmp_path / "nopush.yaml"), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["cost_bound"] is None
+
+
+def test_costmap_verify_rechecks_slide_evidence(scene_and_planner):
+    """The built slide rule verifies; a forged cost, a path that does not end
+    at the goal's anchor and a `free` set that leaves out a swept place are
+    each caught."""
+    import dataclasses
+    from symsynth.planning.verify import verify_costmap
+    from symsynth.scene.costmap import Costmap
+
+    scene, planner = scene_and_planner
+    costmap, _ = compute_costmap(scene, "sg", progress=False)
+    checked, failures = verify_costmap(costmap, scene, planner, 0.01, progress=False)
+    assert failures == [] and checked == sum(1 for _ in costmap.all_rules())
+    key = ("behind", "l1", "l2")
+    (rule,) = costmap.slides[key]
+    for forged, reason in [(dataclasses.replace(rule, cost=rule.cost - 1), "cost"),
+                           (dataclasses.replace(rule, path=rule.path[:-1]), "ends at"),
+                           (dataclasses.replace(rule, free=frozenset()), None)]:
+        _, failures = verify_costmap(Costmap({}, None, {key: (forged,)}), scene, planner, 0.01, progress=False)
+        if reason is None:  # push-small sweeps nothing: an empty free set is still right
+            assert failures == []
+        else:
+            assert failures and {f.mode for f in failures} == {"slide behind"}
+            assert any(reason in f.reason for f in failures)
+    # a place beside the way: the rule must name it
+    data = physical()
+    data["locations"]["l3"] = {"xyz": [0.59, 0.08, 0.0]}
+    near = scene_from_data(data, source=DATA / "push-small.yaml")
+    near_planner = planner_class("ompl-fcl")(near)
+    _, failures = verify_costmap(Costmap({}, None, {key: (rule,)}), near, near_planner, 0.01, progress=False)
+    assert any("sweeps l3" in f.reason for f in failures)

@@ -85,6 +85,17 @@ def holds(scene: Scene, mode: Mode) -> bool:
     return mode.object is None or not hasattr(grab, "holds") or grab.holds(scene.geometry, mode.object, mode.grasp)
 
 
+def graspable(scene: Scene, planner: Planner, configs: dict[str, Config]) -> set[str]:
+    """The grasp anchors `x/g` where the grab primitive can close the hand
+    (`reaches`; every one when the installed grab does not say)."""
+    grab = primitive("grab")
+    names = {f"{x}/{g}" for x in scene.locations + scene.else_samples for g in scene.grasps}
+    if not hasattr(grab, "reaches"):
+        return names
+    return {n for n in names if n in configs
+            and grab.reaches(scene, planner, n.rsplit("/", 1)[0], n.rsplit("/", 1)[1], configs[n])}
+
+
 def compute_costmap(scene: Scene, method: str, planner_name: str | None = None,
                     seed: int | None = None, progress: bool = True,
                     planner_factory: Callable[[Scene], Planner] | None = None,
@@ -126,8 +137,11 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     bar = tqdm(total=len(groups), desc=f"costmap ({', '.join(methods)}, {name})", unit="mode",
                disable=not progress, leave=False)
     jobs = []
+    reached = graspable(scene, planner, configs)
     for members in groups.values():
         anchors = mode_anchors(planner, members[0], configs)
+        if members[0].object is not None:
+            anchors = {n: found for n, found in anchors.items() if n in reached}
         if anchors:
             jobs.append((members, anchors))
         else:

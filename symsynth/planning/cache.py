@@ -32,7 +32,7 @@ from symsynth.scene.model import Scene
 
 #: Bumped whenever the way costmaps are computed changes, so that no cached
 #: costmap of an older revision is reused.
-FORMAT_REVISION = 3  # 3: the file holds its key (`KEY_FIELD`)
+FORMAT_REVISION = 4  # 3: the file holds its key (`KEY_FIELD`); 4: contacts, slides, grasp reach
 
 
 def cache_dir() -> Path:

@@ -19,7 +19,7 @@ inverse kinematics that fails, or that jumps more than `MAX_JUMP` radians
 (another branch of the arm's solutions), or any static collision along the
 path makes the slide impossible.  The places the hand touches along the
 path and those the object's footprint sweeps on the table (bounding
-circles: `_swept_places`), other than `l` and `l2`, are the rule's `free`
+circles: `swept_places`), other than `l` and `l2`, are the rule's `free`
 set (the object itself is not checked by the planner in the contact's frame: it
 slides touching the table, and inverse kinematics' tolerance of 0.01 rad
 would tilt it into the table); its cost is the path's length in radians x `per_radian`, plus
@@ -59,26 +59,18 @@ def slide_path(scene: Scene, planner: Planner, obj: str, contact: str, start: st
     if first is None or last is None:
         return None
     path = [tuple(first)]
-    swept = _swept_places(scene, obj, start, goal)
+    swept = swept_places(scene, obj, start, goal)
     if swept is None:
         return None
     touched: set[str] = set(swept)
     segments = [(here @ frame.pre_image(), here @ frame.pose), (here @ frame.pose, there @ frame.pose),
                 (there @ frame.pose, there @ frame.pre_image())]
-    mode = Mode()
     for a, b in segments:
-        previous = a
-        for pose in _between(a, b):
-            reached = _reach(planner, path[-1], previous, pose, 0)
-            if reached is None:
-                return None
-            for q in reached:
-                found = planner.contacts(mode, q)
-                if found.static:
-                    return None
-                touched |= found.locations
-                path.append(q)
-            previous = pose
+        found = straight(planner, path[-1], a, b, geometry.planner.resolution)
+        if found is None:
+            return None
+        path += found[0][1:]
+        touched |= found[1]
     if path[-1] != tuple(last):
         ending: Contacts = planner.motion_contacts(Mode(), path[-1], tuple(last), geometry.planner.resolution)
         if ending.static:
@@ -86,6 +78,31 @@ def slide_path(scene: Scene, planner: Planner, obj: str, contact: str, start: st
         touched |= ending.locations
         path.append(tuple(last))
     return tuple(path), frozenset(touched - {start, goal})
+
+
+def straight(planner: Planner, q: Config, a: Pose, b: Pose, resolution: float
+             ) -> tuple[list[Config], frozenset[str]] | None:
+    """The end-effector along the straight line from pose `a` (where the
+    robot stands at `q`) to pose `b`, the hand empty, by inverse kinematics
+    in `STEP`s: the configurations (`q` first) and the places the motion
+    through them touches (each joint-space segment checked at `resolution`
+    radians, as `costmap verify` checks it again); None when a step fails
+    or the hand meets a static obstacle.  Shared by the slides and by the
+    grab's approach (`symsynth_primitives`)."""
+    path, touched = [tuple(q)], set()
+    previous = a
+    for pose in _between(a, b):
+        reached = _reach(planner, path[-1], previous, pose, 0)
+        if reached is None:
+            return None
+        for config in reached:
+            found = planner.motion_contacts(Mode(), path[-1], config, resolution)
+            if found.static:
+                return None
+            touched |= found.locations
+            path.append(config)
+        previous = pose
+    return path, frozenset(touched)
 
 
 def slide_rule(scene: Scene, planner: Planner, obj: str, contact: str, start: str, goal: str,
@@ -100,7 +117,7 @@ def slide_rule(scene: Scene, planner: Planner, obj: str, contact: str, start: st
     return SlideRule(contact, start, goal, touched, cost, path)
 
 
-def _swept_places(scene: Scene, obj: str, start: str, goal: str) -> frozenset[str] | None:
+def swept_places(scene: Scene, obj: str, start: str, goal: str) -> frozenset[str] | None:
     """The places other than `start` and `goal` whose objects the slid
     object's footprint may meet on its way: those within the sum of the two
     footprints' radii of the straight segment from `start` to `goal`

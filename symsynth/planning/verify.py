@@ -36,6 +36,8 @@ from symsynth.planning.build import mode_anchors, physical_queries
 from symsynth.planning.costmaps import Query
 from symsynth.planning.protocol import Mode, Planner
 from symsynth.planning.registry import planner_names
+from symsynth.planning.slides import swept_places
+from symsynth.primitives import displacement
 from symsynth.scene.costmap import Costmap
 from symsynth.scene.geometry import point_text
 from symsynth.scene.model import Scene
@@ -151,7 +153,59 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
             if touched:
                 fail(f"touches {', '.join(sorted(touched))}, which the rule assumes may be occupied")
                 break
+    for (contact, start, goal), rules in costmap.slides.items():
+        for i, rule in enumerate(rules):
+            checked += 1
+            for reason in _slide_problems(scene, planner, configs, limits, resolution, contact, start, goal, rule):
+                failures.append(Failure(f"slide {contact}", start, goal, i, reason))
     return checked, failures
+
+
+def _slide_problems(scene: Scene, planner: Planner, configs: dict, limits: np.ndarray, resolution: float,
+                    contact: str, start: str, goal: str, rule) -> list[str]:
+    """What is wrong with a slide rule's evidence (`planning.slides`): its
+    path must run from anchor `start/contact` to `goal/contact` within the
+    joint limits, cost per_radian x its length plus its primitive's fixed
+    cost, meet no static obstacle with the hand, and touch (with the hand)
+    or sweep (with the object's footprint) no place outside its `free` set
+    but the two locations."""
+    spec = scene.geometry.contacts.get(contact)
+    if spec is None or start not in scene.locations or goal not in scene.locations:
+        return ["not a slide of this scene"]
+    if rule.path is None or len(rule.path) == 0:
+        return ["no evidence path"]
+    outside = _outside_limits(rule.path, limits)
+    if outside is not None:
+        return [outside]
+    problems = []
+    for end, point, anchor in (("starts", rule.path[0], f"{start}/{contact}"),
+                               ("ends", rule.path[-1], f"{goal}/{contact}")):
+        if anchor not in configs or not _same_config(point, configs[anchor]):
+            problems.append(f"{end} at {point_text(point)}, not at anchor {anchor}")
+    plugin = displacement(spec.primitive)
+    fixed = scene.geometry.primitive_costs.get(plugin.name, plugin.fixed_cost)
+    expected = scene.geometry.per_radian * path_length(rule.path) + fixed
+    if not math.isclose(rule.cost, expected, rel_tol=1e-9, abs_tol=1e-9):
+        problems.append(f"cost {rule.cost} but the path is {path_length(rule.path):.6f} rad x "
+                        f"{scene.geometry.per_radian} per radian + {fixed} ({plugin.name}) = {expected:.6f}")
+    allowed = rule.free | {start, goal}
+    places = frozenset(scene.locations + scene.else_samples)
+    for a, b in zip(rule.path, rule.path[1:] or rule.path):
+        contacts = planner.motion_contacts(Mode(), tuple(a), tuple(b), resolution)
+        if contacts.static:
+            problems.append("the hand collides with the robot itself or a static obstacle")
+            break
+        touched = (contacts.locations & places) - allowed
+        if touched:
+            problems.append(f"the hand touches {', '.join(sorted(touched))}, which the rule assumes may be occupied")
+            break
+    swept = set()
+    for obj in scene.object_names:
+        swept |= swept_places(scene, obj, start, goal) or set()
+    if swept - allowed:
+        problems.append(f"the object sweeps {', '.join(sorted(swept - allowed))}, which the rule assumes may be "
+                        "occupied")
+    return problems
 
 
 def _outside_limits(path, limits: np.ndarray) -> str | None:
