@@ -1,18 +1,18 @@
 """The registry of motion primitives: the entry-point group
 `symsynth.primitives`, built-ins and third-party plugins alike (what a
-primitive does is `planning.primitive`'s protocols).
+primitive does is `planning.primitive`'s protocols; the lookup is
+`plugins`').
 
-It sits at the bottom of the package, next to the errors, so that a scene
-can check the primitive each of its contacts names without the scene layer
-importing the planning layer; loading a plugin imports whatever the plugin
-needs.
+It sits at the bottom of the package, so that a scene can check the
+primitive each of its contacts names without the scene layer importing
+the planning layer; loading a plugin imports whatever the plugin needs.
 """
 
 from __future__ import annotations
 
-from importlib.metadata import EntryPoint, entry_points
 from typing import Any
 
+from symsynth import plugins
 from symsynth.errors import InputError
 
 GROUP = "symsynth.primitives"
@@ -23,29 +23,18 @@ class PrimitiveError(InputError):
     """A primitive that is not installed, does not load, or is of the wrong kind."""
 
 
-def _entry_points() -> dict[str, EntryPoint]:
-    return {ep.name: ep for ep in entry_points(group=GROUP)}
-
-
 def primitive_names(kind: str | None = None) -> tuple[str, ...]:
     """The installed primitives (of one kind), by entry-point name."""
-    names = sorted(_entry_points())
+    names = sorted(plugins.found(GROUP))
     return tuple(n for n in names if kind is None or primitive(n).kind == kind)
 
 
 def primitive(name: str) -> Any:
     """The primitive registered as `name`, ready to use."""
-    found = _entry_points()
-    if name not in found:
-        known = ", ".join(sorted(found)) or "none are installed"
-        raise PrimitiveError(f"unknown primitive {name!r}; installed primitives: {known}")
-    try:
-        cls = found[name].load()
-    except (ImportError, AttributeError) as error:
-        raise PrimitiveError(f"primitive plugin {name!r} ({found[name].value}) failed to load: {error}") from None
+    cls = plugins.load(GROUP, name, "primitive", PrimitiveError)
     if getattr(cls, "kind", None) not in KINDS or not isinstance(getattr(cls, "name", None), str):
-        raise PrimitiveError(f"primitive plugin {name!r} ({found[name].value}) is not a primitive: it needs "
-                             f"a 'name' and a 'kind' ({' or '.join(KINDS)})")
+        raise PrimitiveError(f"primitive plugin {name!r} ({plugins.found(GROUP)[name].value}) is not a "
+                             f"primitive: it needs a 'name' and a 'kind' ({' or '.join(KINDS)})")
     return cls()
 
 

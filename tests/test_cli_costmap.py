@@ -136,7 +136,7 @@ def test_show_writes_a_picture(capsys, tmp_path, small_arch):
     (["costmap", ARCH, "--seed", "-1"], "--seed: must be >= 0"),
     (["solve", ARCH, "--seed", "x"], "--seed: expected a whole number"),
     (["costmap", ARCH, "-o", "/nonexistent/folder/c.json"], "cannot write costmap file"),
-    (["costmap", ARCH, "--planner", "moveit"], "unknown planner 'moveit'; known planners: ompl-fcl, pybullet"),
+    (["costmap", ARCH, "--planner", "moveit"], "unknown planner 'moveit'; installed planners: ompl-fcl, pybullet"),
     (["costmap", "scenes/toy.yaml"], "an abstract scene (no 'robot' key)"),
     (["costmap", "verify", "x.json"], "usage: symsynth costmap verify FILE --scene SCENE"),
     (["costmap", ARCH, "scenes/line.yaml"], "expected one scene file, found 2"),

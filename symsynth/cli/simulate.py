@@ -24,7 +24,7 @@ from symsynth.planning.costmaps import METHODS
 from symsynth.planning.verify import installed_planner
 from symsynth.scene import Scene, load_scene
 
-BUILT_IN_HUMANS = ("none", "random", "adversarial")
+HUMANS_GROUP = "symsynth.humans"  # none, random, adversarial, and any installed
 HELP = "run a strategy in a PyBullet world against a simulated human"
 DESCRIPTION = """\
 Execute a strategy in simulation (paper Sec. V-B): the robot follows the
@@ -122,7 +122,7 @@ def _probability(text: str) -> float:
 
 
 def run(args: argparse.Namespace) -> int:
-    from symsynth.execution.human import AdversarialHuman, NoHuman, RandomHuman, ScriptedHuman, read_script
+    from symsynth.execution.human import HUMANS, HumanContext, ScriptedHuman, read_script
     from symsynth.execution.record import Recorder
     from symsynth.execution.simulate import SLACK, Policy, Simulator
     from symsynth.bullet import check_display
@@ -148,9 +148,9 @@ def run(args: argparse.Namespace) -> int:
     elif args.k is not None:
         scene = dataclasses.replace(scene, k=args.k)
     script = None
-    if args.human not in BUILT_IN_HUMANS:
+    if args.human not in HUMANS:
         if not Path(args.human).is_file():
-            raise InputError(f"--human: expected none, random, adversarial or a script file, "
+            raise InputError(f"--human: expected {', '.join(HUMANS)} or a script file, "
                              f"found {args.human!r} (no such file)")
         script = read_script(args.human, scene)  # against the k of the strategy
     progress = not args.json
@@ -209,12 +209,8 @@ def run(args: argparse.Namespace) -> int:
     bar = tqdm(range(args.runs), desc="runs", unit=" run", disable=None if progress and args.runs > 1 else True)
     for i in bar:
         seed = args.seed + i
-        if args.human == "none":
-            human = NoHuman()
-        elif args.human == "random":
-            human = RandomHuman(seed, args.move_probability)
-        elif args.human == "adversarial":
-            human = AdversarialHuman(seed, policy.budget)
+        if script is None:
+            human = HUMANS[args.human](HumanContext(seed, args.move_probability, policy.budget))
         else:
             human = ScriptedHuman(script.entries)  # from its first entry
         record = recorder if args.record is not None and i == 0 else None

@@ -32,6 +32,7 @@ from typing import Any, Protocol
 
 import jsonschema
 
+from symsynth import plugins
 from symsynth.errors import InputError
 from symsynth.game.abstraction import robot_action_names
 from symsynth.game.solution import Position
@@ -115,6 +116,35 @@ class AdversarialHuman:
         values = [worth(turn.position)] + [worth(o.after) for o in turn.options]
         best = max(values)
         return self.rng.choice([c for c, v in zip(candidates, values) if v == best])
+
+
+@dataclass(frozen=True)
+class HumanContext:
+    """What a registered human is made from, one per run: the run's seed,
+    the move probability (`--move-probability`) and the budget the strategy
+    guarantees from a position (None where it does not win)."""
+
+    seed: int
+    probability: float
+    budget: Callable[[Position], float | None]
+
+
+def no_human(context: HumanContext) -> Human:
+    return NoHuman()
+
+
+def random_human(context: HumanContext) -> Human:
+    return RandomHuman(context.seed, context.probability)
+
+
+def adversarial_human(context: HumanContext) -> Human:
+    return AdversarialHuman(context.seed, context.budget)
+
+
+#: The entry-point group of simulated humans: a name -> a function from a
+#: `HumanContext` to a `Human` (none, random, adversarial are registered
+#: there; a script file is not a registered human).
+HUMANS = plugins.Registry("symsynth.humans", "human", InputError)
 
 
 class ScriptedHuman:

@@ -1,20 +1,24 @@
-"""The game solvers by name, for the command line and for comparison runs.
+"""The game solvers by name, for the command line and for comparison runs:
+the entry-point group `symsynth.solvers` (`plugins`), where symsynth's own
+three register like any other.
 
 Every solver has the signature of `Solver` and returns a `Solution` whose
-value is semantics §6's `E_p`; they differ in how they compute it.
+value is semantics §6's `E_p`; they differ in how they compute it.  A
+third-party solver is checked against the same contract by
+`tests/test_game_solvers.py` once it is registered.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Protocol
 
-from symsynth.game.explicit import solve_explicit
-from symsynth.game.forward import solve_forward
+from symsynth import plugins
+from symsynth.errors import InputError
 from symsynth.game.solution import Solution
-from symsynth.game.symbolic import solve_symbolic
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
+
+GROUP = "symsynth.solvers"
 
 
 class Solver(Protocol):
@@ -23,9 +27,6 @@ class Solver(Protocol):
                  resolution: float = 1.0) -> Solution: ...
 
 
-SOLVERS: dict[str, Callable[..., Solution]] = {
-    "symbolic": solve_symbolic,
-    "explicit": solve_explicit,
-    "forward": solve_forward,
-}
+#: name -> solver, loaded when asked for.
+SOLVERS = plugins.Registry(GROUP, "solver", InputError)
 DEFAULT_SOLVER = "symbolic"

@@ -1,0 +1,40 @@
+"""The entry-point registries (`symsynth.plugins`): symsynth's planners,
+primitives, solvers and humans are found through the same groups a
+third-party plugin registers in (pyproject.toml), and an unknown name is
+an error that lists the installed ones."""
+
+from __future__ import annotations
+
+import pytest
+
+from symsynth import plugins
+from symsynth.errors import InputError
+from symsynth.execution.human import HUMANS, HumanContext
+from symsynth.game.explicit import solve_explicit
+from symsynth.game.solvers import SOLVERS
+from symsynth.planning.registry import planner_names
+
+
+def test_the_built_ins_are_registered_by_entry_point():
+    assert {n: plugins.found("symsynth.solvers")[n].value for n in SOLVERS} == {
+        "explicit": "symsynth.game.explicit:solve_explicit", "forward": "symsynth.game.forward:solve_forward",
+        "symbolic": "symsynth.game.symbolic:solve_symbolic"}
+    assert SOLVERS["explicit"] is solve_explicit
+    assert set(HUMANS) == {"none", "random", "adversarial"}
+    assert set(planner_names()) == {"ompl-fcl", "pybullet"}
+    assert set(plugins.found("symsynth.primitives")) >= {"grab", "drop", "push", "pull"}
+
+
+def test_a_registry_is_a_mapping_and_names_what_is_installed():
+    assert "symbolic" in SOLVERS and "simplex" not in SOLVERS and len(SOLVERS) == 3
+    with pytest.raises(KeyError):
+        SOLVERS["simplex"]
+    with pytest.raises(InputError, match="unknown solver 'simplex'; installed solvers: explicit, forward, symbolic"):
+        SOLVERS.get_or_fail("simplex")
+
+
+def test_registered_humans_are_made_from_a_context():
+    context = HumanContext(seed=3, probability=1.0, budget=lambda position: None)
+    humans = {name: HUMANS[name](context) for name in HUMANS}
+    assert {name: human.name for name, human in humans.items()} == {
+        "none": "none", "random": "random", "adversarial": "adversarial"}
