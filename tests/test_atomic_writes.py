@@ -13,7 +13,7 @@ import sys
 
 import pytest
 
-from conftest import SCENES
+from support.paper import SCENES
 from symsynth.cli import main
 from symsynth.files import write_atomic
 from symsynth.errors import InputError

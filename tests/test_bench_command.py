@@ -24,7 +24,7 @@ from PIL import Image
 from symsynth.bench import plots
 from symsynth.bench.results import COLUMNS, MEASURED, read_rows
 from symsynth.cli import main
-from conftest import SCENES
+from support.paper import SCENES
 
 EXPERIMENT = f"""\
 name: tiny

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from planner_conformance import HOME, INTO_TABLE, RESOLUTION, scene
+from support.planner_conformance import HOME, INTO_TABLE, RESOLUTION, scene
 from symsynth.planning.protocol import Contacts, Mode
 from symsynth.planning.segment import segment
 from symsynth_planners.bullet import BulletPlanner

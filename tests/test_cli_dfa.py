@@ -7,7 +7,7 @@ import re
 
 import pytest
 
-from reference import JsonDFA, all_traces, distinguishing_trace, minimal_num_states, reference_dfa
+from support.reference import JsonDFA, all_traces, distinguishing_trace, minimal_num_states, reference_dfa
 from symsynth.cli import main
 from symsynth.logic import atoms, holds, parse_ltlf
 

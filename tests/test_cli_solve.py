@@ -19,8 +19,9 @@ from symsynth.game.solvers import SOLVERS
 from symsynth.game.strategy import read_strategy
 from symsynth.logic import parse_ltlf
 from symsynth.scene import load_scene
-from conftest import SCENES
-from test_strategy_file import PICK, check_file, costmap_json, scene_data
+from support.paper import SCENES
+from support.games import PICK
+from support.strategy_files import check_file, costmap_json, scene_data
 
 SOLVER_NAMES = sorted(SOLVERS)
 

@@ -10,7 +10,7 @@ import math
 
 import pytest
 
-from planar import PlanarPlanner, planar_scene
+from support.planar import PlanarPlanner, planar_scene
 from symsynth.errors import InputError, SymsynthWarning
 from symsynth.game.solvers import SOLVERS
 from symsynth.game.solution import task_formula
@@ -21,17 +21,11 @@ from symsynth.planning.costmaps import Query
 from symsynth.planning.protocol import Mode, PlannerError
 from symsynth.planning.verify import path_length, verify_costmap
 from symsynth.scene.costmap import Costmap, Provenance
+from support.planar import WALL, gap_scene
 
 # A wall at y = 0.3 with a gap at x in [0.45, 0.55]; place P sits in the gap.
 # South: home (0, 0), l2 (0.8, 0.18), l3 (0.35, 0.12) to park a, Else e1 (0.2, 0.18).  North: l1 (0.5, 0.58).
 # Anchors lie 0.08 south of their place: l1/top at (0.5, 0.5), a grid vertex.
-WALL = {"west": (0.225, 0.3, 0.225, 0.02), "east": (0.775, 0.3, 0.225, 0.02)}
-
-
-def gap_scene(**kw):
-    return planar_scene(places={"P": (0.5, 0.3), "l1": (0.5, 0.58), "l2": (0.8, 0.18), "l3": (0.35, 0.12)},
-                        objects={"a": "P", "b": "l2"}, obstacles=WALL,
-                        else_samples={"e1": (0.2, 0.18)}, task="F(at(b, l1))", **kw)
 
 
 def build(scene, method):

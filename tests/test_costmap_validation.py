@@ -10,14 +10,14 @@ import json
 import numpy as np
 import pytest
 
-from conftest import SCENES
-from planar import PlanarPlanner, planar_scene
+from support.paper import SCENES
+from support.planar import PlanarPlanner, planar_scene
 from symsynth.cli import main
 from symsynth.errors import InputError, SymsynthWarning
 from symsynth.planning.build import compute_costmap, obtain_costmap
 from symsynth.planning.verify import verify_costmap
 from symsynth.scene.costmap import Costmap, write_costmap
-from test_costmap_build import gap_scene
+from support.planar import gap_scene
 
 
 def obtain(scene, **kw):

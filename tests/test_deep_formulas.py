@@ -13,8 +13,8 @@ import json
 import pytest
 import yaml
 
-from conftest import SCENES
-from reference import minimal_num_states
+from support.paper import SCENES
+from support.reference import minimal_num_states
 from symsynth.automata import compile_ltlf
 from symsynth.cli import main
 from symsynth.game.solvers import SOLVERS

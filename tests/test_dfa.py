@@ -13,10 +13,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from reference import (
+from support.reference import (
     JsonDFA, all_traces, distinguishing_trace, letters, minimal_num_states, minimize, reference_dfa,
 )
-from strategies import formulas, traces, weaken
+from support.strategies import formulas, traces, weaken
 from symsynth.automata import ExplicitDFA, SymbolicDFA, compile_ltlf
 from symsynth.logic import ast, atoms, holds, parse_ltlf, to_string
 

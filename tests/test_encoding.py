@@ -1,7 +1,6 @@
 """The bit-vector encoding of the abstract state against a brute-force
 enumeration of semantics §2's well-formed states and §3's propositions."""
 
-import itertools
 
 import pytest
 
@@ -9,6 +8,7 @@ from symsynth.automata.bdd import new_manager
 from symsynth.game.propositions import Proposition
 from symsynth.scene import scene_from_data
 from symsynth.symbolic.encoding import StateEncoding
+from support.games import well_formed_states
 
 SCENES = [
     ({"a": {"at": "l1"}, "b": {"at": "Else"}, "c": {}}, ["l1", "l2", "l3"], ["top", "side"]),
@@ -16,24 +16,6 @@ SCENES = [
     ({"w1": {"tags": ["white"]}, "w2": {"tags": ["white"]}, "k": {"tags": ["black"]}, "d": {}},
      ["l1", "l2", "l3", "l4", "l5"], ["g"]),
 ]
-
-
-def well_formed_states(scene):
-    """Spec §2, enumerated: at most one object per location and in the hand;
-    grip set iff holding; holding => ee in L + {Else}; empty hand =>
-    ee in {Else} + {(o, a) : at[o] != Hand, a a grasp or contact}."""
-    objects, locations, grasps = scene.object_names, scene.locations, scene.grasps
-    for at in itertools.product(locations + ("Else", "Hand"), repeat=len(objects)):
-        if any(at.count(x) > 1 for x in locations + ("Hand",)):
-            continue
-        holding = "Hand" in at
-        for grip in (grasps if holding else (None,)):  # a contact never holds
-            if holding:
-                ees = ("Else",) + locations
-            else:
-                ees = ("Else",) + tuple((o, a) for o, x in zip(objects, at) for a in grasps + scene.contacts)
-            for ee in ees:
-                yield dict(zip(objects, at)), grip, ee
 
 
 def prop_holds(scene, prop, at):

@@ -28,7 +28,7 @@ import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from conftest import SCENES
+from support.paper import SCENES
 from symsynth.cli import main
 from symsynth.game.solvers import SOLVERS
 from symsynth.scene import load_scene

@@ -2,14 +2,11 @@
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
 
-from game_bench import Cell, _target_speedup, main, parse_sizes  # noqa: E402
+from bench.game_bench import Cell, _target_speedup, main, parse_sizes
 
 
 def test_sizes_parse():

@@ -14,51 +14,17 @@ import math
 
 import pytest
 
-from gamegen import random_scene
+from support.gamegen import random_scene
 from symsynth.automata import compile_ltlf
 from symsynth.game.abstraction import (State, human_moves, initial_state, letter, quantize,
                                        robot_moves)
 from symsynth.game.explicit import solve_explicit
 from symsynth.game.propositions import interpret_all
 from symsynth.logic import parse_ltlf
-from symsynth.scene import scene_from_data
-
-
-def make_scene(objects, locations, motions, *, else_samples=(), k=0, task="true",
-               grasps=("top",), grab=5, drop=5):
-    """`objects`: name -> location; `motions`: (mode, from, to) -> cost, or a
-    list of (free, cost) rules."""
-    entries = []
-    for (mode, start, goal), rules in motions.items():
-        rules = [([], rules)] if isinstance(rules, (int, float)) else rules
-        entries.append({"mode": mode, "from": start, "to": goal,
-                        "rules": [{"free": list(free), "cost": cost} for free, cost in rules]})
-    return scene_from_data({
-        "name": "hand", "objects": {o: {"at": at, "tags": ["block"]} for o, at in objects.items()},
-        "locations": list(locations), "else_samples": list(else_samples), "grasps": list(grasps),
-        "primitives": {"grab": grab, "drop": drop}, "human": {"k": k}, "task": task,
-        "costmap": {"format": "symsynth.costmap/1", "motions": entries}})
-
-
-def actions(play):
-    return [step.action for step in play]
+from support.games import game_graph, make_scene, pick
 
 
 # -- scenes shared with test_game_solvers ------------------------------------------
-
-#: One block `b` at l1 to be put at l2; Else sample e1; grab = drop = 5.
-PICK = {
-    ("empty", "home", "l1/top"): 7, ("empty", "l2/top", "l1/top"): 3,
-    ("empty", "e1/top", "l1/top"): 2,
-    ("empty", "home", "e1/top"): 6, ("empty", "l1/top", "e1/top"): 8,
-    ("empty", "l2/top", "e1/top"): 4,
-    ("b/top", "l1/top", "l2/top"): 4, ("b/top", "e1/top", "l2/top"): 9,
-}
-
-
-def pick(k, motions=PICK):
-    return make_scene({"b": "l1"}, ["l1", "l2"], motions, else_samples=["e1"], k=k,
-                      task="F(at(b, l2))")
 
 
 # -- the abstraction on single states -----------------------------------------------
@@ -167,40 +133,6 @@ def brute_force(scene, formula, k, cap=CAP):
     v0 = initial_state(scene)
     q0 = read(dfa.initial, v0)
     return 0 if dfa.is_accepting(q0) else human(v0, q0, k, cap)
-
-
-def game_graph(scene, formula, k, units=lambda c: quantize(c, 1.0)):
-    """The positions (v, q, h, robot's turn) reachable from the initial one,
-    each with its successors as (units(cost), position or "WIN"); None for
-    the start when the first letter is already accepted."""
-    props = interpret_all(formula, scene)
-    dfa = compile_ltlf(formula)
-    read = functools.cache(lambda q, v: dfa.step(q, letter(scene, props, v)))
-
-    def successors(pos):
-        v, q, h, robot = pos
-        if robot:
-            moves = [(units(c), w) for _, w, c in robot_moves(scene, v)]
-        else:
-            moves = [(0, w) for _, w in human_moves(scene, v)] if h > 0 else []
-        out = [] if robot else [(0, (v, q, h, True))]  # the pass
-        for cost, w in moves:
-            q2 = read(q, w)
-            out.append((cost, "WIN" if dfa.is_accepting(q2) else (w, q2, h - (not robot), not robot)))
-        return out
-
-    v0 = initial_state(scene)
-    q0 = read(dfa.initial, v0)
-    if dfa.is_accepting(q0):
-        return None, {}
-    start = (v0, q0, k, False)
-    graph, todo = {}, [start]
-    while todo:
-        pos = todo.pop()
-        if pos not in graph:
-            graph[pos] = successors(pos)
-            todo += [succ for _, succ in graph[pos] if succ != "WIN"]
-    return start, graph
 
 
 def horizon_value(scene, formula, k):

@@ -12,11 +12,10 @@ from __future__ import annotations
 
 import math
 import sys
-from pathlib import Path
 
 import pytest
 
-from gamegen import random_scene
+from support.gamegen import random_scene
 from symsynth.game.abstraction import initial_state
 from symsynth.game.explicit import GameGraph, Node, _dijkstra, solve_explicit
 from symsynth.game.bound import LowerBound
@@ -24,11 +23,9 @@ from symsynth.game.forward import solve_forward
 from symsynth.game.solvers import SOLVERS
 from symsynth.game.strategy import reachable_positions, worst_units
 from symsynth.logic import parse_ltlf
-from test_game_explicit import make_scene
-from test_game_solvers import worst_case_of
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
-from gamefamily import pattern_scene  # noqa: E402
+from bench.gamefamily import pattern_scene
+from support.games import make_scene, worst_case_of
 
 
 def test_registered():

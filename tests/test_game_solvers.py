@@ -6,7 +6,6 @@ every human behaviour by `worst_case_of`, independently of the solver).
 
 from __future__ import annotations
 
-import functools
 import math
 
 import pytest
@@ -19,8 +18,8 @@ from symsynth.game.propositions import interpret_all
 from symsynth.game.solvers import SOLVERS
 from symsynth.logic import parse_ltlf
 from symsynth.scene import scene_from_data
-from gamegen import random_scene
-from test_game_explicit import PICK, actions, make_scene, pick
+from support.gamegen import random_scene
+from support.games import CLEAR, PICK, actions, make_scene, pick, worst_case_of
 
 
 @pytest.fixture(params=sorted(SOLVERS))
@@ -47,16 +46,6 @@ def test_counter_play_takes_the_cheapest_action(solve):
 
 # -- hand-solved scenes ------------------------------------------------------------
 
-#: b at l1 must go to l3; a at l2 blocks the cheap transfer (see
-#: test_conditional_rule_makes_the_robot_clear_a_location).
-CLEAR = {
-    ("empty", "home", "l2/top"): 6, ("empty", "l1/top", "l2/top"): 2,
-    ("empty", "l3/top", "l2/top"): 2, ("empty", "l4/top", "l2/top"): 2,
-    ("empty", "home", "l1/top"): 5, ("empty", "l2/top", "l1/top"): 3,
-    ("empty", "l3/top", "l1/top"): 2, ("empty", "l4/top", "l1/top"): 3,
-    ("a/top", "l2/top", "l4/top"): 2,
-    ("b/top", "l1/top", "l3/top"): [(["l2"], 2), ([], 40)],
-}
 
 def test_task_true_at_start_costs_nothing(solve):
     """b already stands at l1 and the task is F(at(b, l1)): the first letter
@@ -170,55 +159,7 @@ def test_bad_input_is_named(solve):
         solve(scene, k=-1)
 
 
-
 # -- properties on generated scenes -------------------------------------------------
-
-def worst_case_of(scene, solution, formula):
-    """The largest cost the returned strategy pays against any human, found by
-    following it through every human behaviour (raises on a cycle).
-
-    The recursive closures below form a reference cycle; the BDDs (the DFA's
-    and the strategy's) are reached only through `held`, which is emptied on
-    the way out, so no BDD manager is left for the cycle collector to free
-    before its nodes."""
-    props = interpret_all(formula, scene)
-    held = {"dfa": compile_ltlf(formula), "strategy": solution.strategy}
-    try:
-        return _worst_case(scene, solution.k, solution.resolution, props, held)
-    finally:
-        held.clear()
-
-
-def _worst_case(scene, k, resolution, props, held):
-    dfa = held["dfa"]
-    read = functools.cache(lambda q, v: held["dfa"].step(q, letter(scene, props, v)))
-    on_path = set()
-
-    @functools.cache
-    def robot(v, q, h):
-        key = (v, q, h)
-        assert key not in on_path, "the strategy goes in circles"
-        on_path.add(key)
-        action = held["strategy"][key]
-        (w, c), = [(w, c) for a, w, c in robot_moves(scene, v) if a == action]
-        q2 = read(q, w)
-        units = quantize(c, resolution)
-        result = units + (0 if held["dfa"].is_accepting(q2) else human(w, q2, h))
-        on_path.discard(key)
-        return result
-
-    @functools.cache
-    def human(v, q, h):
-        worst = robot(v, q, h)
-        for _, w in (human_moves(scene, v) if h > 0 else ()):
-            q2 = read(q, w)
-            if not held["dfa"].is_accepting(q2):
-                worst = max(worst, robot(w, q2, h - 1))
-        return worst
-
-    v0 = initial_state(scene)
-    q0 = read(dfa.initial, v0)
-    return 0 if dfa.is_accepting(q0) else human(v0, q0, k)
 
 
 @pytest.mark.parametrize("seed", range(40))

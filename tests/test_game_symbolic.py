@@ -14,19 +14,12 @@ from __future__ import annotations
 
 import pytest
 
-from gamegen import random_scene
+from support.gamegen import random_scene
 from symsynth.game.abstraction import State, human_moves, initial_state, quantize, robot_moves
 from symsynth.game.explicit import solve_explicit
 from symsynth.game.strategy import reachable_positions, worst_units
-from symsynth.game.symbolic import _Queries, solve_symbolic
-from symsynth.logic import parse_ltlf
-from symsynth.symbolic.arena import Arena
-from test_encoding import well_formed_states
-from test_game_explicit import PICK, pick
-
-
-def queries(scene, k=1, resolution=1.0):
-    return _Queries(Arena(scene, parse_ltlf(scene.task), k, resolution))
+from symsynth.game.symbolic import solve_symbolic
+from support.games import PICK, pick, queries, well_formed_states
 
 
 @pytest.mark.parametrize("seed", range(12))

@@ -8,14 +8,11 @@ instances.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
 
-from gamefamily import pattern_data, pattern_scene  # noqa: E402
+from bench.gamefamily import pattern_data, pattern_scene
 from symsynth.game.abstraction import initial_state, robot_moves  # noqa: E402
 from symsynth.game.explicit import solve_explicit  # noqa: E402
 from symsynth.scene.costmap import Rule  # noqa: E402

@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 import yaml
 
-from gamegen import random_scene
+from support.gamegen import random_scene
 from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.game import horizon
@@ -15,8 +15,7 @@ from symsynth.game.horizon import least_units, solve_game
 from symsynth.game.solvers import SOLVERS
 from symsynth.logic import parse_ltlf
 from symsynth.scene import load_scene
-from test_game_explicit import make_scene
-from test_game_solvers import worst_case_of
+from support.games import make_scene, worst_case_of
 
 #: b at l1; the robot wins once b has left l1.  Transit 4 + grab 5 = 9; a
 #: human move of b (or of c, which is in nobody's way) cannot make it

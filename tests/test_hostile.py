@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from conftest import SCENES
+from support.paper import SCENES
 from symsynth.cli import main
 from symsynth.game.solvers import SOLVERS
 from symsynth.scene import load_scene

@@ -13,7 +13,6 @@ import copy
 import dataclasses
 import functools
 import math
-import sys
 from pathlib import Path
 
 import pytest
@@ -161,11 +160,7 @@ def test_both_methods_win_and_recursive_is_no_dearer(n):
 def test_the_benchmark_derives_its_time_verdict_from_the_numbers():
     """bench/line_obstacles.py calls the gap between the methods' times noise
     only when no run's graph searches (the only work that differs) could explain it."""
-    sys.path.insert(0, str(SCENES.parent / "bench"))
-    try:
-        from line_obstacles import time_verdict
-    finally:
-        sys.path.pop(0)
+    from bench.line_obstacles import time_verdict
     noisy = time_verdict({"sg": [3.0, 4.0], "recursive": [3.5, 4.1]}, [0.01, 0.03])
     assert "differ by 0.10-0.50 s, more than the searches took in any run" in noisy and "noise" in noisy
     close = time_verdict({"sg": [3.0, 4.0], "recursive": [3.02, 4.01]}, [0.01, 0.03])

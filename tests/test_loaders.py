@@ -12,7 +12,7 @@ import time
 import pytest
 import yaml
 
-from conftest import SCENES
+from support.paper import SCENES
 from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.execution.human import read_script

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from hypothesis import given, settings
 
-from strategies import formula_texts, parser_formulas
+from support.strategies import formula_texts, parser_formulas
 from symsynth.errors import LTLfSyntaxError
 from symsynth.logic import atoms, parse_ltlf, to_string
 from symsynth.logic.ast import (

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from strategies import formulas, traces
+from support.strategies import formulas, traces
 from symsynth.logic import holds, parse_ltlf
 from symsynth.logic.ast import (
     FALSE, TRUE, Always, And, Eventually, Last, Next, Not, Or, Release, Until, WeakNext,

@@ -12,7 +12,7 @@ Both solvers must agree on every value.
 import dataclasses
 
 import pytest
-from conftest import small
+from support.paper import small
 
 from symsynth.game.solution import task_formula
 from symsynth.game.solvers import SOLVERS

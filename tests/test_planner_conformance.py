@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from importlib.metadata import entry_points
 
-from planner_conformance import PlannerConformance
+from support.planner_conformance import PlannerConformance
 
 REGISTERED = sorted(ep.name for ep in entry_points(group="symsynth.planners"))
 
@@ -23,7 +23,7 @@ def test_the_time_limit_case_of_a_planner_without_one(monkeypatch):
     """The suite's time-limit test on a plugin that does not declare
     `time_limited` (both built-in ones do): it passes because the scene's
     time limit is refused before the planner is built, and fails if it is not."""
-    import planner_conformance
+    from support import planner_conformance
 
     from symsynth.planning import build
     from symsynth.planning.registry import planner_class

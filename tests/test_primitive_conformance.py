@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from primitive_conformance import check_displacement
+from support.primitive_conformance import check_displacement
 from symsynth.planning.registry import planner_class
 from symsynth.primitives import displacement
 from symsynth.scene import load_scene

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from primitive_conformance import check_displacement
+from support.primitive_conformance import check_displacement
 
 HERE = Path(__file__).parent
 PLUGIN = HERE / "plugins" / "symsynth-nudge"

@@ -17,14 +17,14 @@ from fractions import Fraction
 
 import pytest
 
-from gamegen import random_scene
+from support.gamegen import random_scene
 from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.game.abstraction import quantize
 from symsynth.game.solvers import SOLVERS
 from symsynth.logic import parse_ltlf
 from symsynth.scene.costmap import Costmap
-from test_game_explicit import game_graph
+from support.games import game_graph
 
 TOY = "scenes/toy.yaml"
 

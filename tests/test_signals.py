@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import SCENES
+from support.paper import SCENES
 
 
 def children(pid: int) -> list[int]:
@@ -77,7 +77,7 @@ def test_sigterm_ends_a_long_solve_at_once(tmp_path, solver):
     """Every solver stops within a second or so; the forward search runs in
     a thread of its own, which must not keep the program alive."""
     import yaml
-    from test_gamefamily import pattern_data  # the benchmark family (bench/gamefamily.py)
+    from bench.gamefamily import pattern_data
 
     path = tmp_path / "family.yaml"
     path.write_text(yaml.safe_dump(pattern_data(5, 7, k=3)))  # about 30 s for every solver

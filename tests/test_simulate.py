@@ -47,7 +47,7 @@ from symsynth.scene import load_scene
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import ELSE, HAND
 
-from conftest import PLANNERS, ROADMAP, SCENES
+from support.paper import PLANNERS, ROADMAP, SCENES
 
 
 class Setup:

@@ -24,7 +24,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from gamegen import random_scene
+from support.gamegen import random_scene
 from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.game.abstraction import State, human_moves, robot_moves, quantize
@@ -34,9 +34,7 @@ from symsynth.game.symbolic import solve_symbolic
 from symsynth.logic import parse_ltlf
 from symsynth.game.strategy import certify, read_strategy
 from symsynth.scene import load_scene, scene_from_data
-from test_encoding import well_formed_states
-from test_game_solvers import worst_case_of
-from test_game_symbolic import queries
+from support.games import queries, well_formed_states, worst_case_of
 
 
 @pytest.fixture(params=sorted(SOLVERS))

@@ -14,8 +14,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from reference import reference_dfa
-from strategies import formulas
+from support.reference import reference_dfa
+from support.strategies import formulas
 from symsynth.automata import compile_ltlf
 from symsynth.cli import main
 from symsynth.logic import ast

@@ -113,3 +113,12 @@ def planar_scene(places: dict[str, tuple[float, float]], objects: dict[str, str]
                                               for o, at in objects.items()),
                  locations=tuple(places), else_samples=tuple(else_samples), grasps=grasps,
                  k=k, task=task, geometry=geometry)
+
+
+WALL = {"west": (0.225, 0.3, 0.225, 0.02), "east": (0.775, 0.3, 0.225, 0.02)}
+
+
+def gap_scene(**kw):
+    return planar_scene(places={"P": (0.5, 0.3), "l1": (0.5, 0.58), "l2": (0.8, 0.18), "l3": (0.35, 0.12)},
+                        objects={"a": "P", "b": "l2"}, obstacles=WALL,
+                        else_samples={"e1": (0.2, 0.18)}, task="F(at(b, l1))", **kw)
