@@ -10,7 +10,6 @@ on the forward solver too (it is registered in SOLVERS).
 
 from __future__ import annotations
 
-import math
 import sys
 
 import pytest
@@ -25,7 +24,7 @@ from symsynth.game.strategy import reachable_positions, worst_units
 from symsynth.logic import parse_ltlf
 
 from bench.gamefamily import pattern_scene
-from support.games import make_scene, worst_case_of
+from support.games import bound_holds_everywhere, make_scene, worst_case_of
 
 
 def test_registered():
@@ -203,30 +202,11 @@ def test_strategy_is_lazy_for_positions_off_the_proof():
 
 # -- the lower bound ---------------------------------------------------------------------
 
-def _bound_holds_everywhere(scene, k):
-    formula = parse_ltlf(scene.task)
-    game = GameGraph(scene, formula, 1.0)
-    bound = LowerBound(game, formula)
-    v0 = initial_state(scene)
-    q0 = game.read(game.dfa.initial, v0)
-    if game.accepts(q0):
-        return bound, 0
-    nodes, edges = game.explore(Node(v0, q0, k, False))
-    value, _ = _dijkstra(nodes, edges)
-    checked = 0
-    for i, node in enumerate(nodes):
-        if i == 0:
-            continue
-        b = bound(node.v, node.h, node.robot)
-        assert b <= value.get(i, math.inf), (scene.name, node, b, value.get(i))
-        checked += 1
-    return bound, checked
-
 
 @pytest.mark.parametrize("n,m,k", [(2, 3, 3), (3, 4, 2), (3, 5, 1)])
 def test_bound_is_admissible_on_the_family(n, m, k):
     """At every reachable position, human or robot turn, any h."""
-    bound, checked = _bound_holds_everywhere(pattern_scene(n, m, k=k), k)
+    bound, checked = bound_holds_everywhere(pattern_scene(n, m, k=k), k)
     assert bound.enabled and bound.strike > 0 and checked > 100
 
 
@@ -248,7 +228,7 @@ def test_bound_is_admissible_on_random_scenes():
     enabled = 0
     for seed in range(300, 400):
         scene = random_scene(seed)
-        bound, _ = _bound_holds_everywhere(scene, 2)
+        bound, _ = bound_holds_everywhere(scene, 2)
         enabled += bound.enabled
     assert enabled >= 10  # the pattern-like tasks of gamegen switch it on
 

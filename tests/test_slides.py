@@ -27,14 +27,16 @@ import yaml
 from support.gamegen import random_scene
 from symsynth.cli import main
 from symsynth.errors import InputError
-from symsynth.game.abstraction import State, human_moves, robot_moves, quantize
+from symsynth.game.abstraction import State, human_moves, initial_state, quantize, robot_moves
+from symsynth.game.bound import LowerBound
+from symsynth.game.explicit import GameGraph
 from symsynth.game.explicit import solve_explicit
 from symsynth.game.solvers import SOLVERS
 from symsynth.game.symbolic import solve_symbolic
 from symsynth.logic import parse_ltlf
 from symsynth.game.strategy import certify, read_strategy
 from symsynth.scene import load_scene, scene_from_data
-from support.games import queries, well_formed_states, worst_case_of
+from support.games import bound_holds_everywhere, queries, well_formed_states, worst_case_of
 
 
 @pytest.fixture(params=sorted(SOLVERS))
@@ -266,3 +268,29 @@ def test_a_stuck_robot_at_a_contact_is_told_why(capsys):
     assert "slide(box,push,...): the costmap has no slide rule for push from l3 to l1" in reasons  # not l2: it has one
     reasons = stuck_reasons(scene, State(("l2",), None, ("box", "push")))
     assert "slide(box,push,...): the costmap has no slide rule for push from l2 to l1, l3" in reasons
+
+
+# -- the forward solver's lower bound with slides ---------------------------------------------
+
+def test_the_lower_bound_with_slides_is_admissible_everywhere():
+    """At every reachable position of generated scenes with contacts (any
+    turn, any h), the bound is at most the explicit solver's value; it is
+    on (and not zero everywhere) for the pattern-like tasks."""
+    enabled = informative = 0
+    for seed in range(3000, 3060):
+        scene = random_scene(seed, contacts=True)
+        bound, checked = bound_holds_everywhere(scene, 2)
+        enabled += bound.enabled
+        informative += bound.enabled and bound(initial_state(scene), 0, False) > 0
+    assert enabled >= 10 and informative >= 5, (enabled, informative)
+
+
+def test_the_lower_bound_counts_the_cheaper_of_carrying_and_sliding():
+    """box_scene(0): the box cannot be grasped at l1 (no motion to l1/top),
+    so the only way to l2 is the slide (4) after a transit to its contact
+    (6 from anywhere): the bound at the start is the value, 10."""
+    scene = box_scene(0)
+    formula = parse_ltlf(scene.task)
+    bound = LowerBound(GameGraph(scene, formula, 1.0), formula)
+    assert bound.enabled and bound.strike == 0
+    assert bound(initial_state(scene), 0, False) == 10 == solve_explicit(scene).units

@@ -28,11 +28,22 @@ objects carrying all of l's tags.
   strike at the human's turn, and at the robot's unless v is itself a
   brink (then the robot wins before the human can strike: L0(v)).
 
-In scenes with contacts (semantics §4b) the bound is 0: a slide puts an
-object on its location with no grab, drop or transfer, and the robot may
-stand at a contact's anchor, which none of the above counts.  (A bound
-with slides would take, per location, the cheaper of the carry chain and
-the cheapest chain of slides; not built yet.)
+In scenes with contacts (semantics §4b) a slide puts an object on its
+location with no grab, drop or transfer, so L0 counts less there:
+for every location l whose atoms do not all hold, the cheapest c in C(l)
+of
+
+- `mixed(at[c] -> l)`: a shortest path over places whose hops are
+  transfers (the cheapest rule, as `carry`) and slides (the cheapest slide
+  rule over the contacts), in whichever order the robot uses them;
+- plus the first transit to c (to any grasp or contact of it, from any
+  start set, contacts' anchors included) unless the hand is aimed at c;
+- for a held c instead: a drop, then the carry from where it is held to
+  some place y, then `mixed(y -> l)`.
+
+Each term counts only actions that move or reach its own object, so the
+sum over locations stays a lower bound.  `strike` is 0 with contacts (the
+brink argument needs the robot to win with a drop; a slide can win too).
 """
 
 from __future__ import annotations
@@ -69,8 +80,6 @@ class LowerBound:
         self.enabled = False
         self.strike = 0
         self._cache: dict[State, float] = {}
-        if scene.contacts:
-            return  # module doc: slides reach a goal with no grab, drop or carry
         if not isinstance(formula, ast.Eventually):
             return
         parts = split_conjuncts(formula.arg)
@@ -110,14 +119,16 @@ class LowerBound:
         grasps = scene.grasps
         self.grab = quantize(scene.grab_cost, r)
         self.drop = quantize(scene.drop_cost, r)
-        # first transit to an object standing at x (any grasp), from any
-        # start set the robot can have with an empty hand
+        # first transit to an object standing at x (any grasp, or any contact
+        # when the scene has them), from any start set the robot can have
+        # with an empty hand
         self.transit = {}
+        aims = scene.preimages if scene.contacts else grasps
         for x in places:
             best = INF
-            for g in grasps:
+            for g in aims:
                 T = anchors_at(x, g)
-                starts = [scene.anchors] + [anchors_at(y, h) for y in places for h in grasps
+                starts = [scene.anchors] + [anchors_at(y, h) for y in places for h in scene.preimages
                                             if not (y == x and y != ELSE and h == g)]
                 best = min(best, min(motion(EMPTY, S, T) for S in starts))
             self.transit[x] = best
@@ -145,6 +156,10 @@ class LowerBound:
                         self.carry[i, (x, g), l] = dist.get((l, g), INF) if l != x else 0
                 for l in scene.locations:
                     self.carry[i, x, l] = min(self.carry[i, (x, g), l] for g in grasps)
+        self.slides = bool(scene.contacts)
+        if self.slides:
+            self._mixed(costmap, r)
+            return
         # from an empty hand aimed at (y, g), y a location: the least cost of
         # reaching an object at Else, over transits and detours that carry the
         # aimed object elsewhere (grab, transfers, drop) first: Dijkstra over
@@ -172,6 +187,29 @@ class LowerBound:
             to_else = _distances([node for node in into if node[0] == ELSE], into)
             self.to_else = {(y, g): to_else.get((y, g), INF) for y in scene.locations for g in grasps}
         self.strike = self._strike() if pattern else 0
+
+    def _mixed(self, costmap, r: float) -> None:
+        """`mixed[i, x, l]` (module doc): Dijkstra from every place over
+        transfer hops (`carry`'s single motions) and slide hops."""
+        scene, names = self.scene, self.names
+        places = tuple(scene.locations) + (ELSE,)
+        slide = {}
+        for (contact, start, goal), rules in costmap.slides.items():
+            if rules:
+                cheapest = quantize(min(rule.cost for rule in rules), r)
+                slide[start, goal] = min(slide.get((start, goal), INF), cheapest)
+        self.mixed = {}
+        for i in range(len(names)):
+            edges: dict = {}
+            for y in places:
+                for l in scene.locations:
+                    c = min(self.carry[i, y, l], slide.get((y, l), INF)) if l != y else INF
+                    if c < INF:
+                        edges.setdefault(y, []).append((l, c))
+            for x in places:
+                dist = _distances([x], edges)
+                for l in scene.locations:
+                    self.mixed[i, x, l] = dist.get(l, INF)
 
     def _strike(self) -> float:
         """What each human move can add at least (module doc): the least, over
@@ -236,7 +274,9 @@ class LowerBound:
             missing.append(l)
             best = INF
             for i in cands:
-                if at[i] == HAND:
+                if self.slides:
+                    cost = self._with_slides(v, i, l)
+                elif at[i] == HAND:
                     cost = self.drop + self.carry[i, (ee, grip), l]
                 else:
                     aimed = isinstance(ee, tuple) and ee[0] == self.names[i]
@@ -246,6 +286,8 @@ class LowerBound:
             total += best
             if total == INF:
                 return INF, False
+        if self.slides:
+            return total, False
         held = v.held()
         brink = (missing == [ee] and held is not None and held in self.candidates[ee])
         if missing and held is None and ee == ELSE:
@@ -255,6 +297,17 @@ class LowerBound:
             total += min((self.from_anywhere[a] - self.transit[a] for a in at
                           if self.transit[a] < INF), default=0)
         return total, brink
+
+
+    def _with_slides(self, v: State, i: int, l: str) -> float:
+        """The least cost of bringing object i to l when slides may do part
+        of it (module doc)."""
+        at, grip, ee = v.at, v.grip, v.ee
+        if at[i] == HAND:  # put down somewhere first (y = l included: carry 0 from there)
+            return self.drop + min(self.carry[i, (ee, grip), y] + (0 if y == l else self.mixed[i, y, l])
+                                   for y in self.scene.locations)
+        aimed = isinstance(ee, tuple) and ee[0] == self.names[i]
+        return self.mixed[i, at[i], l] + (0 if aimed else self.transit[at[i]])
 
 
 def _distances(sources, edges) -> dict:

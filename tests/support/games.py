@@ -7,10 +7,13 @@ from __future__ import annotations
 
 import functools
 import itertools
+import math
 
 from symsynth.automata import compile_ltlf
 from symsynth.game.abstraction import human_moves, initial_state, letter, quantize, robot_moves
 from symsynth.game.propositions import interpret_all
+from symsynth.game.bound import LowerBound
+from symsynth.game.explicit import GameGraph, Node, _dijkstra
 from symsynth.game.symbolic import _Queries
 from symsynth.logic import parse_ltlf
 from symsynth.scene import scene_from_data
@@ -166,3 +169,26 @@ def well_formed_states(scene):
 
 def queries(scene, k=1, resolution=1.0):
     return _Queries(Arena(scene, parse_ltlf(scene.task), k, resolution))
+
+
+def bound_holds_everywhere(scene, k):
+    """The forward solver's lower bound, at every position reachable with
+    k human moves, is at most the explicit solver's value there; returns
+    the bound and how many positions were checked."""
+    formula = parse_ltlf(scene.task)
+    game = GameGraph(scene, formula, 1.0)
+    bound = LowerBound(game, formula)
+    v0 = initial_state(scene)
+    q0 = game.read(game.dfa.initial, v0)
+    if game.accepts(q0):
+        return bound, 0
+    nodes, edges = game.explore(Node(v0, q0, k, False))
+    value, _ = _dijkstra(nodes, edges)
+    checked = 0
+    for i, node in enumerate(nodes):
+        if i == 0:
+            continue
+        b = bound(node.v, node.h, node.robot)
+        assert b <= value.get(i, math.inf), (scene.name, node, b, value.get(i))
+        checked += 1
+    return bound, checked
