@@ -80,7 +80,7 @@ def worker(solver: str, n: int, m: int, k: int, seed: int, out: str) -> int:
     try:
         sys.path.insert(0, str(HERE))
         from gamefamily import pattern_scene
-        from symsynth.game.solvers import SOLVERS
+        from symsynth.solvers import SOLVERS
 
         clock = time.perf_counter()
         scene = pattern_scene(n, m, k=k, seed=seed)
@@ -438,7 +438,7 @@ def main(argv=None):
     if not sizes or not solvers:  # nothing to run, and --out would be overwritten with it
         p.error("--sizes and --solvers must each name at least one")
 
-    from symsynth.game.solvers import SOLVERS
+    from symsynth.solvers import SOLVERS
     unknown = [s for s in solvers if s not in SOLVERS]
     if unknown:
         p.error(f"unknown solver(s) {', '.join(unknown)}; registered: {', '.join(SOLVERS)}")

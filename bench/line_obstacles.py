@@ -28,7 +28,7 @@ import time
 from pathlib import Path
 
 from symsynth.game.solution import task_formula
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.planning.build import compute_costmap
 from symsynth.scene import load_scene
 

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from symsynth.game.solution import task_formula
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.planning.build import compute_costmap
 from symsynth.planning.protocol import Mode
 from symsynth.planning.registry import planner_class, planner_names

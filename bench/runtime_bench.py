@@ -32,7 +32,7 @@ from symsynth.execution.human import ScriptedHuman
 from symsynth.execution.simulate import Policy, Simulator
 from symsynth.game.solution import task_formula
 from symsynth.game.strategy import strategy_table
-from symsynth.game.symbolic import solve_symbolic
+from symsynth.solvers.symbolic import solve_symbolic
 from symsynth.planning.build import compute_costmaps
 from symsynth.planning.costmaps import RoadmapSearch
 from symsynth.planning.prm import build_roadmap

@@ -24,7 +24,7 @@ import pytest
 
 from symsynth.game.abstraction import State, initial_state, letter, robot_moves
 from symsynth.game.propositions import interpret_all
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.logic import parse_ltlf
 from symsynth.logic.semantics import holds
 from symsynth.scene import Costmap, Rule, load_scene

@@ -15,7 +15,7 @@ import yaml
 
 from symsynth.cli import main
 from symsynth.cli import solve as solve_command
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.game.strategy import read_strategy
 from symsynth.logic import parse_ltlf
 from symsynth.scene import load_scene

@@ -12,7 +12,7 @@ import pytest
 
 from support.planar import PlanarPlanner, planar_scene
 from symsynth.errors import InputError, SymsynthWarning
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.game.solution import task_formula
 from symsynth.planning import cache
 from symsynth.planning.anchors import anchor_configs, motions

@@ -17,7 +17,7 @@ from support.paper import SCENES
 from support.reference import minimal_num_states
 from symsynth.automata import compile_ltlf
 from symsynth.cli import main
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.logic import ast, parse_ltlf
 from symsynth.logic.parser import MAX_DEPTH
 from symsynth.logic.semantics import holds

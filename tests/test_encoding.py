@@ -7,7 +7,7 @@ import pytest
 from symsynth.automata.bdd import new_manager
 from symsynth.game.propositions import Proposition
 from symsynth.scene import scene_from_data
-from symsynth.symbolic.encoding import StateEncoding
+from symsynth.solvers.bdd.encoding import StateEncoding
 from support.games import well_formed_states
 
 SCENES = [

@@ -30,7 +30,7 @@ from hypothesis import strategies as st
 
 from support.paper import SCENES
 from symsynth.cli import main
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.scene import load_scene
 
 FUZZ = int(os.environ.get("SYMSYNTH_FUZZ", "0"))

@@ -18,7 +18,7 @@ from support.gamegen import random_scene
 from symsynth.automata import compile_ltlf
 from symsynth.game.abstraction import (State, human_moves, initial_state, letter, quantize,
                                        robot_moves)
-from symsynth.game.explicit import solve_explicit
+from symsynth.solvers.explicit import solve_explicit
 from symsynth.game.propositions import interpret_all
 from symsynth.logic import parse_ltlf
 from support.games import game_graph, make_scene, pick

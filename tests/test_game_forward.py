@@ -1,4 +1,4 @@
-"""The forward solver (`symsynth.game.forward`): the same E_p as the explicit
+"""The forward solver (`symsynth.solvers.forward`): the same E_p as the explicit
 solver, a strategy that never pays more than E_p against any human, and a
 lower bound that never exceeds the value it guides the search to.
 
@@ -16,10 +16,11 @@ import pytest
 
 from support.gamegen import random_scene
 from symsynth.game.abstraction import initial_state
-from symsynth.game.explicit import GameGraph, Node, _dijkstra, solve_explicit
-from symsynth.game.bound import LowerBound
-from symsynth.game.forward import solve_forward
-from symsynth.game.solvers import SOLVERS
+from symsynth.game.graph import GameGraph, Node
+from symsynth.solvers.explicit import _dijkstra, solve_explicit
+from symsynth.solvers.bound import LowerBound
+from symsynth.solvers.forward import solve_forward
+from symsynth.solvers import SOLVERS
 from symsynth.game.strategy import reachable_positions, worst_units
 from symsynth.logic import parse_ltlf
 

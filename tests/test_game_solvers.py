@@ -15,7 +15,7 @@ from symsynth.errors import InputError
 from symsynth.game.abstraction import (State, human_moves, initial_state, letter, quantize,
                                        robot_moves)
 from symsynth.game.propositions import interpret_all
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.logic import parse_ltlf
 from symsynth.scene import scene_from_data
 from support.gamegen import random_scene

@@ -16,9 +16,9 @@ import pytest
 
 from support.gamegen import random_scene
 from symsynth.game.abstraction import State, human_moves, initial_state, quantize, robot_moves
-from symsynth.game.explicit import solve_explicit
+from symsynth.solvers.explicit import solve_explicit
 from symsynth.game.strategy import reachable_positions, worst_units
-from symsynth.game.symbolic import solve_symbolic
+from symsynth.solvers.symbolic import solve_symbolic
 from support.games import PICK, pick, queries, well_formed_states
 
 

@@ -14,7 +14,7 @@ import pytest
 
 from bench.gamefamily import pattern_data, pattern_scene
 from symsynth.game.abstraction import initial_state, robot_moves  # noqa: E402
-from symsynth.game.explicit import solve_explicit  # noqa: E402
+from symsynth.solvers.explicit import solve_explicit  # noqa: E402
 from symsynth.scene.costmap import Rule  # noqa: E402
 from symsynth.scene.model import ELSE  # noqa: E402
 

@@ -12,7 +12,7 @@ from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.game import horizon
 from symsynth.game.horizon import least_units, solve_game
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.logic import parse_ltlf
 from symsynth.scene import load_scene
 from support.games import make_scene, worst_case_of

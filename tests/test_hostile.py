@@ -6,7 +6,7 @@ import pytest
 
 from support.paper import SCENES
 from symsynth.cli import main
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.scene import load_scene
 
 

@@ -19,7 +19,7 @@ import pytest
 import yaml
 
 from symsynth.game.solution import task_formula
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.planning.anchors import anchor_configs
 from symsynth.planning.build import compute_costmaps
 from symsynth.planning.protocol import Mode

@@ -15,7 +15,7 @@ import pytest
 from support.paper import small
 
 from symsynth.game.solution import task_formula
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.planning.build import compute_costmaps
 from symsynth.planning.registry import planner_class
 from symsynth.planning.verify import verify_costmap

@@ -10,15 +10,15 @@ import pytest
 from symsynth import plugins
 from symsynth.errors import InputError
 from symsynth.execution.human import HUMANS, HumanContext
-from symsynth.game.explicit import solve_explicit
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers.explicit import solve_explicit
+from symsynth.solvers import SOLVERS
 from symsynth.planning.registry import planner_names
 
 
 def test_the_built_ins_are_registered_by_entry_point():
     assert {n: plugins.found("symsynth.solvers")[n].value for n in SOLVERS} == {
-        "explicit": "symsynth.game.explicit:solve_explicit", "forward": "symsynth.game.forward:solve_forward",
-        "symbolic": "symsynth.game.symbolic:solve_symbolic"}
+        "explicit": "symsynth.solvers.explicit:solve_explicit", "forward": "symsynth.solvers.forward:solve_forward",
+        "symbolic": "symsynth.solvers.symbolic:solve_symbolic"}
     assert SOLVERS["explicit"] is solve_explicit
     assert set(HUMANS) == {"none", "random", "adversarial"}
     assert set(planner_names()) == {"ompl-fcl", "pybullet"}

@@ -21,7 +21,7 @@ from support.gamegen import random_scene
 from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.game.abstraction import quantize
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.logic import parse_ltlf
 from symsynth.scene.costmap import Costmap
 from support.games import game_graph

@@ -36,8 +36,8 @@ from symsynth.game.abstraction import (human_moves, initial_state, legal_human_m
                                        letter, quantize, robot_moves)
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import task_formula
-from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
-from symsynth.game.symbolic import solve_symbolic
+from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
+from symsynth.solvers.symbolic import solve_symbolic
 from symsynth.game.strategy import strategy_table
 from symsynth.logic.semantics import holds
 from symsynth.planning.build import compute_costmaps

@@ -28,11 +28,11 @@ from support.gamegen import random_scene
 from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.game.abstraction import State, human_moves, initial_state, quantize, robot_moves
-from symsynth.game.bound import LowerBound
-from symsynth.game.explicit import GameGraph
-from symsynth.game.explicit import solve_explicit
-from symsynth.game.solvers import SOLVERS
-from symsynth.game.symbolic import solve_symbolic
+from symsynth.solvers.bound import LowerBound
+from symsynth.game.graph import GameGraph
+from symsynth.solvers.explicit import solve_explicit
+from symsynth.solvers import SOLVERS
+from symsynth.solvers.symbolic import solve_symbolic
 from symsynth.logic import parse_ltlf
 from symsynth.game.strategy import certify, read_strategy
 from symsynth.scene import load_scene, scene_from_data

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import hashlib
 import itertools
-import math
 import string
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -31,7 +30,7 @@ from typing import Any
 import jsonschema
 
 from symsynth.errors import InputError
-from symsynth.game.solvers import SOLVERS
+from symsynth.solvers import SOLVERS
 from symsynth.planning.costmaps import METHODS
 from symsynth.scene import Scene, load_scene
 from symsynth.scene.load import Report, non_finite, schema_message

@@ -95,7 +95,7 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
     from symsynth.automata import compile_ltlf
     from symsynth.game.horizon import solve_game
     from symsynth.game.solution import task_formula
-    from symsynth.game.solvers import SOLVERS
+    from symsynth.solvers import SOLVERS
     from symsynth.planning.build import obtain_costmap
     from symsynth.scene import load_scene
 

@@ -15,7 +15,7 @@ from symsynth.cli.solve import costmap_json, costmap_report
 from symsynth.errors import InputError
 from symsynth.game.horizon import solve_game
 from symsynth.game.solution import verdict
-from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
+from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.game.strategy import (StrategyFile, certify, check_header, format_state, read_strategy,
                                      strategy_table)
 from symsynth.logic import parse_ltlf

@@ -15,7 +15,7 @@ from symsynth.game.abstraction import Move, State, initial_state, motions, robot
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import Solution, Step, task_formula
 from symsynth.game.horizon import solve_game
-from symsynth.game.solvers import DEFAULT_SOLVER, SOLVERS
+from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.game.strategy import format_state, write_strategy
 from symsynth.logic import parse_ltlf
 from symsynth.planning.build import Obtained, obtain_costmap

@@ -55,7 +55,7 @@ from symsynth.execution.record import STRIDE, Recorder
 from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import (Move, State, action_name, anchors, legal_human_moves, legal_robot_moves,
                                        robot_action_names, state_json, slide_rule)
-from symsynth.game.explicit import GameGraph
+from symsynth.game.graph import GameGraph
 from symsynth.game.solution import Position
 from symsynth.game.strategy import format_position, format_state
 from symsynth.logic import ast

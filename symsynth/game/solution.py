@@ -1,6 +1,6 @@
 """What a solver returns (semantics §6, §8): the value, the verdict, a strategy and plays.
 
-Shared by every solver (`game.solvers`), so their answers compare
+Shared by every solver (`symsynth.solvers`), so their answers compare
 field by field.  Plays list robot actions and human moves; a human pass is
 not a step (between two robot steps the human passed).
 """

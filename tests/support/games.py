@@ -12,12 +12,13 @@ import math
 from symsynth.automata import compile_ltlf
 from symsynth.game.abstraction import human_moves, initial_state, letter, quantize, robot_moves
 from symsynth.game.propositions import interpret_all
-from symsynth.game.bound import LowerBound
-from symsynth.game.explicit import GameGraph, Node, _dijkstra
-from symsynth.game.symbolic import _Queries
+from symsynth.solvers.bound import LowerBound
+from symsynth.game.graph import GameGraph, Node
+from symsynth.solvers.explicit import _dijkstra
+from symsynth.solvers.symbolic import _Queries
 from symsynth.logic import parse_ltlf
 from symsynth.scene import scene_from_data
-from symsynth.symbolic.arena import Arena
+from symsynth.solvers.bdd.arena import Arena
 
 
 def make_scene(objects, locations, motions, *, else_samples=(), k=0, task="true",

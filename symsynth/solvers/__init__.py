@@ -1,5 +1,10 @@
-"""The game solvers by name, for the command line and for comparison runs:
-the entry-point group `symsynth.solvers` (`plugins`), where symsynth's own
+"""The solvers of the game that `symsynth.game` defines, above it: the
+explicit one (`explicit`: Dijkstra over the positions of `game.graph`),
+the forward search with its lower bound (`forward`, `bound`) and the
+symbolic one (`symbolic`, on the BDD encoding in `bdd/`).
+
+By name, for the command line and for comparison runs, through the
+entry-point group `symsynth.solvers` (`plugins`), where symsynth's own
 three register like any other.
 
 Every solver has the signature of `Solver` and returns a `Solution` whose

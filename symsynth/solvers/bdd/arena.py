@@ -36,7 +36,7 @@ state they lead to well-formed ones only, and conjoining the invariant (an
 all-different constraint) made the transit relation at 8 x 12 grow from
 0.2 to 3.8 million nodes.  The human relation
 H(v, v') is semantics §4's `move(o, t)`; it does not mention the counter `h`:
-the fixpoint (`symbolic.fixpoint`) solves one value of h at a time, and a
+the fixpoint (`solvers.bdd.fixpoint`) solves one value of h at a time, and a
 human move leads from layer h to the final layer h - 1.  The DFA reads ρ(v'): its transition function
 delta_b(q, x) becomes D_b(q, v') = delta_b(q, x := P_x(v')).
 """
@@ -52,8 +52,8 @@ from symsynth.game.abstraction import anchors, costmap_of, quantize
 from symsynth.game.propositions import interpret_all
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, Scene
-from symsynth.symbolic.bitvec import Domain, constant, less_equal, less_than, subtract
-from symsynth.symbolic.encoding import StateEncoding
+from symsynth.solvers.bdd.bitvec import Domain, constant, less_equal, less_than, subtract
+from symsynth.solvers.bdd.encoding import StateEncoding
 
 #: The robot's action families: v1's four, and `slide` in scenes with
 #: contacts (semantics §4b); `Arena.robot` holds those the scene has.

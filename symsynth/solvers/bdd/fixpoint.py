@@ -50,7 +50,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from symsynth.automata.bdd import Function, and_exists
-from symsynth.symbolic.arena import Arena
+from symsynth.solvers.bdd.arena import Arena
 
 
 @dataclass

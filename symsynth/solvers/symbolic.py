@@ -1,6 +1,6 @@
 """The symbolic solver: semantics §6's value by the cost-bounded attractor on BDDs.
 
-1. Encode the game (`symbolic.arena`): state bits, the task DFA in the same
+1. Encode the game (`solvers.bdd.arena`): state bits, the task DFA in the same
    manager, robot relations with cost bits, the human relation.
 2. Qualitative attractor (costs ignored), one layer of h at a time, until
    the initial position is won; its ranks bound the robot actions of some
@@ -31,12 +31,12 @@ from tqdm import tqdm
 
 from symsynth.automata.bdd import Function, peak_nodes
 from symsynth.game.abstraction import State, initial_state, letter
-from symsynth.game.explicit import PASS
+from symsynth.game.graph import PASS
 from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, HAND, Scene
-from symsynth.symbolic.arena import Arena
-from symsynth.symbolic.fixpoint import Attractor, attractor
+from symsynth.solvers.bdd.arena import Arena
+from symsynth.solvers.bdd.fixpoint import Attractor, attractor
 
 Q = tuple[bool, ...]
 

@@ -3,7 +3,7 @@
 Variables, in the order they are declared (the order matters for BDD size):
 `grip` over G + [none], `ee` over [Else] + L + O x (G + P), then for each object
 `o`: `at.o` over L + [Else, Hand] (each object's bits together, every bit
-next to its primed copy).  The game (`symbolic.arena`) declares the human's
+next to its primed copy).  The game (`solvers.bdd.arena`) declares the human's
 counter and the DFA above them and the cost and budget bits below.
 
 Every set built here is conjoined with the range invariants of the
@@ -18,7 +18,7 @@ from symsynth.automata.bdd import BDD, Function
 from symsynth.game.abstraction import State
 from symsynth.game.propositions import Proposition
 from symsynth.scene.model import ELSE, HAND, Scene
-from symsynth.symbolic.bitvec import Domain
+from symsynth.solvers.bdd.bitvec import Domain
 
 
 @dataclass

@@ -1,5 +1,5 @@
 """An admissible lower bound on the value of a position, which guides the
-forward solver (`game.forward`): never above semantics §6's value, and cheap to
+forward solver (`solvers.forward`): never above semantics §6's value, and cheap to
 evaluate at every position the search generates.
 
 The bound is 0 for any task, except F(p) with p a
@@ -54,7 +54,7 @@ import math
 
 from symsynth.automata.normal import split_conjuncts
 from symsynth.game.abstraction import State, anchors, costmap_of, motion_cost, quantize
-from symsynth.game.explicit import GameGraph
+from symsynth.game.graph import GameGraph
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND
 

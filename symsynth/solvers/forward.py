@@ -68,8 +68,8 @@ from collections.abc import Callable, Hashable, Iterator, Mapping
 from tqdm import tqdm
 
 from symsynth.game.abstraction import State, initial_state
-from symsynth.game.bound import LowerBound
-from symsynth.game.explicit import PASS, GameGraph, Node
+from symsynth.solvers.bound import LowerBound
+from symsynth.game.graph import PASS, GameGraph, Node
 from symsynth.game.solution import (Position, Solution, Step, check_parameters, task_formula, verdict,
                                    won_at_start)
 from symsynth.logic import ast

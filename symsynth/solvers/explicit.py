@@ -1,10 +1,7 @@
 """The explicit solver: the game of semantics §6 position by position.
 
-A position is `(v, q, h, robot)`: abstract state, DFA state after the trace
-so far, human moves left, and whose turn it is (the human's first).  Every
-move that makes the DFA accept leads to one target position WIN.
-
-The value is the least fixpoint of
+It searches the graph of positions (`game.graph`: `(v, q, h, robot)`,
+every accepting move leading to WIN).  The value is the least fixpoint of
 
     val(WIN) = 0
     val(robot position p) = min over actions p -a-> p' of cost(a) + val(p')
@@ -24,37 +21,14 @@ from __future__ import annotations
 
 import heapq
 import time
-from collections import deque
-from collections.abc import Hashable
-from typing import NamedTuple
 
-from tqdm import tqdm
 
-from symsynth.automata import SymbolicDFA, compile_ltlf
-from symsynth.game.abstraction import (State, costmap_of, human_moves, initial_state, letter,
-                                       quantize, robot_moves)
-from symsynth.game.propositions import interpret_all
+from symsynth.game.abstraction import initial_state
+from symsynth.game.graph import PASS, START, WIN, Edge, GameGraph, Node
 from symsynth.game.solution import (Solution, Step, check_parameters, task_formula, verdict,
                                    won_at_start)
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
-
-PASS = "pass"
-WIN, START = 0, 1  # indices of the target and of the initial position
-
-
-class Node(NamedTuple):
-    v: State
-    q: Hashable
-    h: int
-    robot: bool
-
-
-class Edge(NamedTuple):
-    action: str
-    target: int  # position index; WIN when the DFA accepts
-    units: int  # 0 for the human
-    state: State  # the abstract state after the move
 
 
 def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
@@ -89,82 +63,6 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
     return Solution(None if units is None else units * resolution, units, resolution, budget,
                     realizable, k, len(nodes) - 1, seconds, strategy, principal, counter,
                     scene.object_names)
-
-
-class GameGraph:
-    """The game graph's successor function, with the DFA and the moves cached
-    (moves depend on `v` only, DFA steps on (q, letter) only).  Also what the
-    strategy file walks (`game.strategy`)."""
-
-    def __init__(self, scene: Scene, formula: ast.Formula, resolution: float):
-        costmap_of(scene)  # fail early, not at the first motion
-        self.scene = scene
-        self.props = interpret_all(formula, scene)
-        self.dfa: SymbolicDFA = compile_ltlf(formula)
-        self.resolution = resolution
-        self._steps: dict[tuple[Hashable, frozenset[str]], Hashable] = {}
-        self._accepting: dict[Hashable, bool] = {}
-        self._letters: dict[State, frozenset[str]] = {}
-        self._robot: dict[State, list[tuple[str, State, int]]] = {}
-        self._human: dict[State, list[tuple[str, State]]] = {}
-
-    def read(self, q: Hashable, v: State) -> Hashable:
-        """The DFA state after reading ρ(v) from q."""
-        if v not in self._letters:
-            self._letters[v] = letter(self.scene, self.props, v)
-        key = (q, self._letters[v])
-        if key not in self._steps:
-            self._steps[key] = self.dfa.step(q, key[1])
-        return self._steps[key]
-
-    def moves(self, node: Node) -> list[tuple[str, Node | None, int, State]]:
-        """(action, successor or None for a win, units, state after)."""
-        v, q, h = node.v, node.q, node.h
-        if node.robot:
-            if v not in self._robot:
-                self._robot[v] = [(a, w, quantize(c, self.resolution))
-                                  for a, w, c in robot_moves(self.scene, v)]
-            return [(a, self._after(w, q, h, robot=False), units, w) for a, w, units in self._robot[v]]
-        out: list[tuple[str, Node | None, int, State]] = [(PASS, Node(v, q, h, True), 0, v)]
-        if h > 0:
-            if v not in self._human:
-                self._human[v] = human_moves(self.scene, v)
-            out += [(a, self._after(w, q, h - 1, robot=True), 0, w) for a, w in self._human[v]]
-        return out
-
-    def accepts(self, q: Hashable) -> bool:
-        if q not in self._accepting:
-            self._accepting[q] = self.dfa.is_accepting(q)
-        return self._accepting[q]
-
-    def _after(self, w: State, q: Hashable, h: int, robot: bool) -> Node | None:
-        q2 = self.read(q, w)
-        return None if self.accepts(q2) else Node(w, q2, h, robot)
-
-    def explore(self, start: Node) -> tuple[list[Node | None], list[list[Edge]]]:
-        """The positions reachable from `start` (index START; WIN has none) and their edges."""
-        nodes: list[Node | None] = [None, start]
-        index = {start: START}
-        edges: list[list[Edge]] = [[], []]
-        queue = deque([START])
-        bar = tqdm(desc="explicit: positions", unit=" pos", delay=1.0, leave=False, disable=None)
-        while queue:
-            i = queue.popleft()
-            if i & 0xFFF == 0:
-                bar.update(i - bar.n)
-            for action, succ, units, w in self.moves(nodes[i]):
-                if succ is None:
-                    j = WIN
-                elif succ in index:
-                    j = index[succ]
-                else:
-                    j = index[succ] = len(nodes)
-                    nodes.append(succ)
-                    edges.append([])
-                    queue.append(j)
-                edges[i].append(Edge(action, j, units, w))
-        bar.close()
-        return nodes, edges
 
 
 def _dijkstra(nodes: list[Node | None], edges: list[list[Edge]]) -> tuple[dict[int, int], dict[int, int]]:
