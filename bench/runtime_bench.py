@@ -34,7 +34,7 @@ from symsynth.game.solution import task_formula
 from symsynth.game.strategy import strategy_table
 from symsynth.solvers.symbolic import solve_symbolic
 from symsynth.planning.build import compute_costmaps
-from symsynth.planning.costmaps import RoadmapSearch
+from symsynth.planning.methods import RoadmapSearch
 from symsynth.planning.prm import build_roadmap
 from symsynth.planning.protocol import PlannerError
 from symsynth.planning.registry import planner_class

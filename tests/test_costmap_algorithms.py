@@ -17,8 +17,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from symsynth.planning import costmaps
-from symsynth.planning.costmaps import (METHODS, Query, costmap_for_mode, recursive, start_goal,
+from symsynth.planning import methods
+from symsynth.planning.methods import (METHODS, Query, costmap_for_mode, recursive, start_goal,
                                         undominated)
 from symsynth.planning.protocol import Mode, PlannerError, Roadmap
 from symsynth.scene.costmap import Costmap, Rule
@@ -100,7 +100,7 @@ def check_evidence(rule, rm, blocked, query, places):
 @given(problems())
 def test_recursive_bound_is_exact_for_every_occupied_set(problem):
     rm, blocked, places, query = problem
-    rules = recursive(costmaps.RoadmapSearch(rm, blocked, places), query, PER_RADIAN)
+    rules = recursive(methods.RoadmapSearch(rm, blocked, places), query, PER_RADIAN)
     s, t = rm.anchors["s"], rm.anchors["t"]
     for occupied in subsets(frozenset(places) - query.always - query.never):
         expected = brute_force(rm, blocked, occupied | query.always, s, t)
@@ -115,7 +115,7 @@ def test_recursive_bound_is_exact_for_every_occupied_set(problem):
 @given(problems())
 def test_start_goal_is_the_all_occupied_path_and_never_beats_recursive(problem):
     rm, blocked, places, query = problem
-    search = costmaps.RoadmapSearch(rm, blocked, places)
+    search = methods.RoadmapSearch(rm, blocked, places)
     sg, rec = start_goal(search, query, PER_RADIAN), recursive(search, query, PER_RADIAN)
     candidates = frozenset(places) - query.always - query.never
     expected = brute_force(rm, blocked, candidates | query.always, rm.anchors["s"], rm.anchors["t"])
@@ -135,7 +135,7 @@ ARCH_BLOCKED = [frozenset(), frozenset({"l3"})]
 
 def test_arch_needs_the_recursive_method():
     query = Query("home", "l2/top", always=frozenset({"l2"}))  # transit: the block stands at l2
-    search = costmaps.RoadmapSearch(ARCH, ARCH_BLOCKED, ["l1", "l2", "l3"])
+    search = methods.RoadmapSearch(ARCH, ARCH_BLOCKED, ["l1", "l2", "l3"])
     assert start_goal(search, query, PER_RADIAN) == ()
     rules = recursive(search, query, PER_RADIAN)
     assert rules == (rule(4.0, "l3"),)
@@ -151,7 +151,7 @@ DETOUR_BLOCKED = [frozenset(), frozenset({"l2"}), frozenset(), frozenset(), froz
 
 
 def test_detour_gives_two_rules():
-    search = costmaps.RoadmapSearch(DETOUR, DETOUR_BLOCKED, ["l1", "l2", "l3"])
+    search = methods.RoadmapSearch(DETOUR, DETOUR_BLOCKED, ["l1", "l2", "l3"])
     rules = recursive(search, Query("home", "l1/top"), 1.0)
     assert rules == (rule(3.0, "l2"), rule(7.0))
     assert [r.path for r in rules] == [(config(0), config(1), config(2)), (config(0), config(3), config(2))]
@@ -159,7 +159,7 @@ def test_detour_gives_two_rules():
 
 
 def test_never_places_are_ignored_and_always_places_avoided():
-    search = costmaps.RoadmapSearch(DETOUR, DETOUR_BLOCKED, ["l1", "l2", "l3"])
+    search = methods.RoadmapSearch(DETOUR, DETOUR_BLOCKED, ["l1", "l2", "l3"])
     # l2 is the target of a transfer: never occupied, the short path is free.
     rules = recursive(search, Query("home", "l1/top", never=frozenset({"l2"})), 1.0)
     assert rules == (rule(3.0),) and rules[0].path == (config(0), config(1), config(2))
@@ -169,7 +169,7 @@ def test_never_places_are_ignored_and_always_places_avoided():
 
 def test_roadmap_without_edges():
     rm = roadmap(2, [], [], {"home": 0, "l1/top": 1})
-    search = costmaps.RoadmapSearch(rm, [], ["l1"])
+    search = methods.RoadmapSearch(rm, [], ["l1"])
     for method in METHODS.values():
         assert method(search, Query("home", "l1/top"), 1.0) == ()
         assert method(search, Query("l1/top", "l1/top"), 1.0) == (rule(0.0),)
@@ -178,7 +178,7 @@ def test_roadmap_without_edges():
 def test_motion_to_the_same_anchor_costs_nothing():
     rm = roadmap(2, [(0, 1)], [1], {"home": 1, "l1/top": 0})
     for method in METHODS.values():
-        search = costmaps.RoadmapSearch(rm, [frozenset({"l1"})], ["l1"])
+        search = methods.RoadmapSearch(rm, [frozenset({"l1"})], ["l1"])
         rules = method(search, Query("home", "home", always=frozenset({"l1"})), PER_RADIAN)
         assert rules == (rule(0.0),) and rules[0].path == (config(1),)
 
@@ -195,13 +195,13 @@ def test_undominated_keeps_one_of_equal_rules_and_drops_supersets():
 
 def count_searches(monkeypatch):
     calls = []
-    real = costmaps.dijkstra
+    real = methods.dijkstra
 
     def counting(graph, **kwargs):
         calls.append(kwargs["indices"])
         return real(graph, **kwargs)
 
-    monkeypatch.setattr(costmaps, "dijkstra", counting)
+    monkeypatch.setattr(methods, "dijkstra", counting)
     return calls
 
 

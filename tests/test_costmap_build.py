@@ -15,9 +15,9 @@ from symsynth.errors import InputError, SymsynthWarning
 from symsynth.solvers import SOLVERS
 from symsynth.game.solution import task_formula
 from symsynth.planning import cache
-from symsynth.planning.anchors import anchor_configs, motions
+from symsynth.planning.anchors import anchor_configs, mode_queries
 from symsynth.planning.build import compute_costmap, obtain_costmap
-from symsynth.planning.costmaps import Query
+from symsynth.planning.methods import Query
 from symsynth.planning.protocol import Mode, PlannerError
 from symsynth.planning.verify import path_length, verify_costmap
 from symsynth.scene.costmap import Costmap, Provenance
@@ -141,11 +141,11 @@ def test_a_path_that_does_not_join_the_anchors_fails():
 
 def test_motions_follow_the_spec():
     scene = gap_scene()
-    empty = motions(scene, Mode())
+    empty = mode_queries(scene, Mode())
     anchors = ["P/top", "l1/top", "l2/top", "l3/top", "e1/top"]
     assert {(q.start, q.goal) for q in empty} == {(s, t) for s in ["home"] + anchors for t in anchors if s != t}
     assert all(q.always == {q.goal.split("/")[0]} and not q.never for q in empty)
-    held = {(q.start, q.goal): q for q in motions(scene, Mode("a", "top"))}
+    held = {(q.start, q.goal): q for q in mode_queries(scene, Mode("a", "top"))}
     # targets are locations of interest only; a start over a location is free, as is the target
     assert held[("l2/top", "l1/top")] == Query("l2/top", "l1/top", never=frozenset({"l1", "l2"}))
     assert held[("e1/top", "P/top")] == Query("e1/top", "P/top", never=frozenset({"P"}))

@@ -16,7 +16,7 @@ from scipy.sparse.csgraph import dijkstra
 
 from symsynth.execution.motion import (CHECK, RUNTIME_SIZE, LazyEdges, MotionFailed, _shortcut, _unchecked,
                                        lazy_shortest, runtime_motion, steps, world_checks)
-from symsynth.planning.costmaps import RoadmapSearch
+from symsynth.planning.methods import RoadmapSearch
 from symsynth.planning.prm import build_roadmap
 from symsynth.planning.protocol import Contacts, Mode, PlannerError
 

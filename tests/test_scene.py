@@ -7,7 +7,7 @@ import textwrap
 import pytest
 
 from symsynth.errors import InputError
-from symsynth.planning.costmaps import METHODS as planning_methods
+from symsynth.planning.methods import METHODS as planning_methods
 from symsynth.scene import Costmap, Provenance, Rule, load_costmap, load_scene, write_costmap
 from symsynth.scene.costmap import METHODS, CostmapError, costmap_from_data
 from symsynth.scene.load import SceneError

@@ -31,7 +31,7 @@ import jsonschema
 
 from symsynth.errors import InputError
 from symsynth.solvers import SOLVERS
-from symsynth.planning.costmaps import METHODS
+from symsynth.planning.methods import METHODS
 from symsynth.scene import Scene, load_scene
 from symsynth.scene.load import Report, non_finite, schema_message
 from symsynth.scene.yamlpos import read_yaml

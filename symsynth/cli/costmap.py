@@ -10,7 +10,7 @@ from symsynth.cli import options
 from symsynth.cli.options import check_writable, count
 from symsynth.errors import InputError
 from symsynth.planning.build import obtain_costmap
-from symsynth.planning.costmaps import METHODS
+from symsynth.planning.methods import METHODS
 from symsynth.planning.registry import DEFAULT, planner_class, planner_names, planner_version
 from symsynth.planning.verify import building_planner, verify_costmap
 from symsynth.scene import load_scene

@@ -20,7 +20,7 @@ from symsynth.game.strategy import (StrategyFile, certify, check_header, format_
                                      strategy_table)
 from symsynth.logic import parse_ltlf
 from symsynth.planning.build import obtain_costmap
-from symsynth.planning.costmaps import METHODS
+from symsynth.planning.methods import METHODS
 from symsynth.planning.verify import installed_planner
 from symsynth.scene import Scene, load_scene
 

@@ -19,7 +19,7 @@ from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.game.strategy import format_state, write_strategy
 from symsynth.logic import parse_ltlf
 from symsynth.planning.build import Obtained, obtain_costmap
-from symsynth.planning.costmaps import METHODS
+from symsynth.planning.methods import METHODS
 from symsynth.scene import Scene, load_scene
 from symsynth.scene.model import ELSE
 

@@ -55,7 +55,7 @@ import numpy as np
 
 from symsynth.errors import SymsynthError
 from symsynth.execution.world import SimWorld
-from symsynth.planning.costmaps import RoadmapSearch
+from symsynth.planning.methods import RoadmapSearch
 from symsynth.planning.prm import build_roadmap, outside_largest_component
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
 from symsynth.planning.segment import segment

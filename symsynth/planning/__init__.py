@@ -2,5 +2,5 @@
 
 Planners supply geometry only (`protocol.Planner`); the start-goal and
 recursive costmap algorithms are written once over a roadmap and its
-per-edge "blocked by" sets (`costmaps`).
+per-edge "blocked by" sets (`methods`).
 """

@@ -9,7 +9,7 @@ missing anchor would make the game unrealizable for reasons nobody sees.
 
 from __future__ import annotations
 
-from symsynth.planning.costmaps import Query
+from symsynth.planning.methods import Query
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError
 from symsynth.scene.geometry import point_text
 from symsynth.scene.model import HOME, Scene
@@ -50,7 +50,7 @@ def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
     return configs
 
 
-def motions(scene: Scene, mode: Mode) -> tuple[Query, ...]:
+def mode_queries(scene: Scene, mode: Mode) -> tuple[Query, ...]:
     """The anchor pairs a mode's actions can ask for (semantics §4, §5):
     transits go from any anchor to any `x/a` (a grasp or a contact); transfers holding `o` with `g`
     go from `x/g` (`x` in L or E) to `l/g` (`l` in L).

@@ -3,7 +3,7 @@
 The steps of the paper's Alg. 1 (lines 4-6): anchors by inverse kinematics;
 one roadmap per *geometric* mode against static obstacles; the location
 obstacles each roadmap edge touches, checked once; then every motion of
-every mode is a graph search (`costmaps`).  Modes that look the same to a
+every mode is a graph search (`methods`).  Modes that look the same to a
 planner (the same grasp on objects of the same shape, among the same other
 shapes) share one roadmap and its checks.
 """
@@ -21,8 +21,9 @@ from tqdm import tqdm
 
 from symsynth.errors import InputError
 from symsynth.parallel import Executor, LocalPool
-from symsynth.planning import cache, costmaps
-from symsynth.planning.anchors import anchor_configs, motions
+from symsynth.planning import cache
+from symsynth.planning.methods import METHODS, costmap_for_mode
+from symsynth.planning.anchors import anchor_configs, mode_queries
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
 from symsynth.planning.registry import planner_class, planner_version
 from symsynth.primitives import displacement, primitive
@@ -117,8 +118,8 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     if scene.geometry is None:
         raise PlannerError(f"scene {scene.name!r} is abstract (no robot): give it a costmap instead")
     for method in methods:
-        if method not in costmaps.METHODS:
-            raise PlannerError(f"unknown costmap method {method!r}; known: {', '.join(costmaps.METHODS)}")
+        if method not in METHODS:
+            raise PlannerError(f"unknown costmap method {method!r}; known: {', '.join(METHODS)}")
     settings = scene.geometry.planner
     name = planner_name or settings.name
     seed = settings.seed if seed is None else seed
@@ -161,7 +162,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
         for member in members:
             queries = physical_queries(scene, member, {n: touched for n, (_, touched) in anchors.items()})
             for method in methods:
-                rules = costmaps.costmap_for_mode(member, roadmap, blocked, queries, method, places,
+                rules = costmap_for_mode(member, roadmap, blocked, queries, method, places,
                                                   scene.geometry.per_radian)
                 result[method].update({key: value for key, value in rules.items() if value})
             stats.motions += len(queries)
@@ -275,7 +276,7 @@ def physical_queries(scene: Scene, mode: Mode, touched: dict[str, frozenset[str]
     `touched` maps the mode's anchors to the places their configurations
     touch (`mode_anchors`); motions to or from other anchors are left out."""
     queries = []
-    for query in motions(scene, mode):
+    for query in mode_queries(scene, mode):
         if query.start not in touched or query.goal not in touched:
             continue
         free_at_start = touched[query.start]

@@ -33,7 +33,7 @@ from tqdm import tqdm
 from symsynth.errors import InputError
 from symsynth.planning.anchors import anchor_configs
 from symsynth.planning.build import mode_anchors, physical_queries
-from symsynth.planning.costmaps import Query
+from symsynth.planning.methods import Query
 from symsynth.planning.protocol import Mode, Planner
 from symsynth.planning.registry import planner_names
 from symsynth.planning.slides import swept_places

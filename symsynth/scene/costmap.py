@@ -35,7 +35,7 @@ FORMAT = "symsynth.costmap/1"
 Key = tuple[str, str, str]  # (mode, from-anchor, to-anchor)
 SlideKey = tuple[str, str, str]  # (contact, from-location, to-location)
 
-#: The costmap methods a provenance may name (`planning.costmaps.METHODS`,
+#: The costmap methods a provenance may name (`planning.methods.METHODS`,
 #: which imports this module; a test keeps the two equal).
 METHODS = ("sg", "recursive")
 

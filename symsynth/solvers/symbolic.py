@@ -206,7 +206,7 @@ class _Queries:
                 w = arena.enc.decode(bits, primed=True)
                 # the relation is upward closed in c: the action's cost is its least c
                 cost = arena.c.least(bdd, bdd.let(arena.enc.assignment(w, primed=True), options))
-                moves.append((action_name(arena.scene, v, w), w, cost))
+                moves.append((action_between(arena.scene, v, w), w, cost))
         return sorted(moves, key=lambda m: m[0])
 
     def human_moves(self, v: State) -> list[tuple[str, State]]:
@@ -317,7 +317,7 @@ def _counter_play(game: _Queries, start: Position) -> tuple[Step, ...]:
 
 # -- names of moves --------------------------------------------------------------
 
-def action_name(scene: Scene, v: State, w: State) -> str:
+def action_between(scene: Scene, v: State, w: State) -> str:
     """The robot action that leads from v to w (semantics §4's names)."""
     if v.grip is None:
         if w.grip is None and w.at != v.at:  # the hand stays at the contact, the object moves
