@@ -14,7 +14,7 @@ import pytest
 import yaml
 
 from symsynth.cli import main
-from symsynth.cli import solve as solve_command
+from symsynth import problem as problem_module
 from symsynth.solvers import SOLVERS
 from symsynth.game.strategy import read_strategy
 from symsynth.logic import parse_ltlf
@@ -256,7 +256,7 @@ def test_unwritable_output_is_refused_before_solving(capsys, tmp_path, monkeypat
     def no_solve(*args, **kwargs):
         raise AssertionError("solved although the strategy file cannot be written")
 
-    monkeypatch.setattr(solve_command, "SOLVERS", dict(SOLVERS, symbolic=no_solve))
+    monkeypatch.setattr(problem_module, "SOLVERS", dict(SOLVERS, symbolic=no_solve))
     scene = write_scene(tmp_path)
     code, out, err = run(capsys, "solve", scene, "-o", tmp_path)
     assert code == 2 and "it is a directory" in err

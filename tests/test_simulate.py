@@ -36,6 +36,7 @@ from symsynth.game.abstraction import (human_moves, initial_state, legal_human_m
                                        letter, quantize, robot_moves)
 from symsynth.game.propositions import interpret_all
 from symsynth.game.solution import task_formula
+from symsynth import problem as problem_module
 from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.solvers.symbolic import solve_symbolic
 from symsynth.game.strategy import strategy_table
@@ -557,7 +558,7 @@ def test_only_the_adversary_has_every_reachable_position_explored(line_files, ca
 def test_an_unknown_planner_is_refused_before_the_solve(line_files, capsys, monkeypatch):
     """The scene names its costmap, so no planning happens before the
     solve; the planner is still checked first."""
-    monkeypatch.setattr(simulate_command, "SOLVERS", {DEFAULT_SOLVER: lambda *a, **k: pytest.fail("solved")})
+    monkeypatch.setattr(problem_module, "SOLVERS", {DEFAULT_SOLVER: lambda *a, **k: pytest.fail("solved")})
     assert main(["simulate", str(line_files), "--planner", "nosuch"]) == 2
     assert "nosuch" in capsys.readouterr().err
 
@@ -630,7 +631,7 @@ def test_a_strategy_for_another_scene_is_refused_before_any_planning(line_files,
     assert main(["simulate", str(line_files), "--strategy", str(strategy)]) == 2
     assert "not a strategy for scene 'line'" in capsys.readouterr().err
     # scenes/line.yaml names no costmap: the strategy is refused before one is computed
-    monkeypatch.setattr(simulate_command, "obtain_costmap", lambda *a, **k: pytest.fail("planned"))
+    monkeypatch.setattr(problem_module, "obtain_costmap", lambda *a, **k: pytest.fail("planned"))
     assert main(["simulate", str(SCENES / "line.yaml"), "--strategy", str(strategy)]) == 2
     assert "not a strategy for scene 'line'" in capsys.readouterr().err
 
@@ -696,11 +697,11 @@ def test_command_records_a_gif_of_the_first_run(line_files, tmp_path, capsys):
 
 def test_gui_without_a_display_is_one_message_before_any_planning(line_files, capsys, monkeypatch):
     monkeypatch.delenv("DISPLAY", raising=False)
-    monkeypatch.setattr(simulate_command, "SOLVERS", {DEFAULT_SOLVER: lambda *a, **k: pytest.fail("solved")})
+    monkeypatch.setattr(problem_module, "SOLVERS", {DEFAULT_SOLVER: lambda *a, **k: pytest.fail("solved")})
     assert main(["simulate", str(line_files), "--gui"]) == 2
     assert "needs a display" in capsys.readouterr().err
     # scenes/line.yaml names no costmap: none is computed either
-    monkeypatch.setattr(simulate_command, "obtain_costmap", lambda *a, **k: pytest.fail("planned"))
+    monkeypatch.setattr(problem_module, "obtain_costmap", lambda *a, **k: pytest.fail("planned"))
     assert main(["simulate", str(SCENES / "line.yaml"), "--gui"]) == 2
     assert "needs a display" in capsys.readouterr().err
 
@@ -750,7 +751,7 @@ def test_another_planner_than_the_costmap_records_is_refused_before_the_solve(ar
                                                                                monkeypatch):
     """The arch costmap was built by pybullet: simulated with ompl-fcl, the
     robot would jump onto each evidence path from ompl-fcl's anchors."""
-    monkeypatch.setattr(simulate_command, "SOLVERS", {DEFAULT_SOLVER: lambda *a, **k: pytest.fail("solved")})
+    monkeypatch.setattr(problem_module, "SOLVERS", {DEFAULT_SOLVER: lambda *a, **k: pytest.fail("solved")})
     assert main(["simulate", str(arch_sg_file), "--planner", "ompl-fcl"]) == 2
     out, err = capsys.readouterr()
     assert not out and "Traceback" not in err
@@ -770,7 +771,7 @@ def test_without_a_winning_strategy_the_adversary_is_refused(arch_sg_file, capsy
 def test_without_a_winning_strategy_the_explicit_solver_runs_once(arch_sg_file, capsys, monkeypatch):
     """Its strategy is the best-effort fallback: solving again gives the same."""
     explicit, calls = SOLVERS["explicit"], []
-    monkeypatch.setattr(simulate_command, "SOLVERS",
+    monkeypatch.setattr(problem_module, "SOLVERS",
                         dict(SOLVERS, explicit=lambda *a, **k: calls.append(a) or explicit(*a, **k)))
     assert main(["simulate", str(arch_sg_file), "--best-effort", "--solver", "explicit", "--json"]) == 0
     run = json.loads(capsys.readouterr().out)["runs"][0]

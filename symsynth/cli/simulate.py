@@ -13,15 +13,13 @@ from symsynth.cli import options
 from symsynth.cli.options import check_writable
 from symsynth.cli.solve import costmap_json, costmap_report
 from symsynth.errors import InputError
-from symsynth.game.horizon import solve_game
 from symsynth.game.solution import verdict
 from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 from symsynth.game.strategy import (StrategyFile, certify, check_header, format_state, read_strategy,
                                      strategy_table)
-from symsynth.logic import parse_ltlf
-from symsynth.planning.build import obtain_costmap
 from symsynth.planning.methods import METHODS
 from symsynth.planning.verify import installed_planner
+from symsynth.problem import CostmapRequest, solve, with_costmap, with_task
 from symsynth.scene import Scene, load_scene
 
 HUMANS_GROUP = "symsynth.humans"  # none, random, adversarial, and any installed
@@ -154,18 +152,17 @@ def run(args: argparse.Namespace) -> int:
                              f"found {args.human!r} (no such file)")
         script = read_script(args.human, scene)  # against the k of the strategy
     progress = not args.json
-    obtained = None
-    if scene.costmap is None:
-        obtained = obtain_costmap(scene, args.method, args.planner, args.costmap_seed,
-                                  use_cache=not args.no_cache, progress=progress)
-        scene = dataclasses.replace(scene, costmap=obtained.costmap)
+    request = CostmapRequest(args.method, args.planner, args.costmap_seed, not args.no_cache, progress)
+    problem = with_costmap(with_task(scene, None if table is None else table.task, f"{args.strategy} (task)",
+                                     args.scene), request)
+    scene, obtained = problem.scene, problem.obtained
     if table is not None:  # what it claims is checked once the costmap gives the costs
         try:
             certify(scene, table)
         except InputError as error:
             raise InputError(f"{args.strategy}: not a strategy for scene {scene.name!r}: {error}") from None
     else:
-        solution = solve_game(SOLVERS[args.solver], scene, scene.task, budget=args.budget)
+        solution = solve(problem, args.solver, budget=args.budget)
         if args.human == "adversarial":  # it weighs its moves by the budgets of every position reached
             table = strategy_table(scene, scene.task, solution)
     if table is not None:
@@ -178,7 +175,7 @@ def run(args: argparse.Namespace) -> int:
         # action: a strategy that lacks one ends that run with the reason.
         task, bound, units, resolution = scene.task.strip(), solution.cost_bound, solution.units, solution.resolution
         actions, budgets, positions = ({} if bound is None else solution.strategy), {}, None
-    formula = parse_ltlf(task, source=f"{args.strategy or args.scene} (task)")
+    formula = problem.formula
     guarantee = bound is not None and (args.budget is None or verdict(units, resolution, args.budget))
     if not guarantee and not args.best_effort:
         print(_no_guarantee(bound, args.budget) + "; add --best-effort to run anyway")
@@ -195,7 +192,7 @@ def run(args: argparse.Namespace) -> int:
         if args.strategy is None and args.solver == "explicit":
             fallback = solution.strategy  # solved just now, with the same task, k and resolution
         else:
-            fallback = solve_game(SOLVERS["explicit"], scene, formula).strategy
+            fallback = solve(problem, "explicit").strategy
     policy = Policy(actions, budgets, bound, fallback)
     planner = planner_type(scene)
     simulator = Simulator(scene, formula, policy, planner, resolution=resolution)

@@ -3,25 +3,21 @@
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import math
 from pathlib import Path
 
 from symsynth.cli import options
 from symsynth.cli.options import check_writable
-from symsynth.errors import InputError
 from symsynth.game.abstraction import Move, State, initial_state, motions, robot_moves, slides
-from symsynth.game.propositions import interpret_all
-from symsynth.game.solution import Solution, Step, task_formula
-from symsynth.game.horizon import solve_game
-from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
+from symsynth.game.solution import Solution, Step
 from symsynth.game.strategy import format_state, write_strategy
-from symsynth.logic import parse_ltlf
-from symsynth.planning.build import Obtained, obtain_costmap
+from symsynth.planning.build import Obtained
 from symsynth.planning.methods import METHODS
+from symsynth.problem import CostmapRequest, solve, with_costmap, with_task
 from symsynth.scene import Scene, load_scene
 from symsynth.scene.model import ELSE
+from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 
 HELP = "solve a scene's game: the cost the robot can guarantee against the human"
 DESCRIPTION = """\
@@ -83,26 +79,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.output is not None:  # before the solve, which may take minutes
         check_writable(args.output, "strategy file")
+    request = CostmapRequest(args.method, args.planner, args.seed, not args.no_cache, progress=not args.json)
     scene = load_scene(args.scene, costmap=args.costmap)
-    obtained = None
-    if scene.costmap is None and scene.geometry is not None:
-        obtained = obtain_costmap(scene, args.method, args.planner, args.seed,
-                                  use_cache=not args.no_cache, progress=not args.json)
-        scene = dataclasses.replace(scene, costmap=obtained.costmap)
-    if args.task is not None:  # the scene's own task was checked by the loader
-        task = args.task
-        formula = parse_ltlf(task, source="--task")
-        try:
-            interpret_all(formula, scene)
-        except InputError as error:
-            raise InputError(f"--task: {error}") from None
-    elif scene.task is not None:
-        task, formula = scene.task, task_formula(scene, None)
-    else:
-        raise InputError(f"scene {scene.name!r} has no task: give --task FORMULA "
-                         f"or a 'task:' entry in {args.scene}")
-    solution = solve_game(SOLVERS[args.solver], scene, formula, k=args.k, budget=args.budget,
-                          resolution=args.resolution)
+    problem = with_costmap(with_task(scene, args.task, "--task", args.scene), request)
+    scene, task, obtained = problem.scene, problem.task, problem.obtained
+    solution = solve(problem, args.solver, k=args.k, budget=args.budget, resolution=args.resolution)
     written = None if args.output is None else write_strategy(args.output, scene, task, solution)
     if args.json:
         out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver}
