@@ -17,7 +17,7 @@ from pathlib import Path
 
 from symsynth.errors import InputError
 from symsynth.game.horizon import solve_game
-from symsynth.game.propositions import interpret_all
+from symsynth.scene.propositions import interpret_all
 from symsynth.game.solution import Solution, task_formula
 from symsynth.logic import ast, parse_ltlf
 from symsynth.planning.build import Obtained, obtain_costmap

@@ -23,7 +23,7 @@ from pathlib import Path
 import pytest
 
 from symsynth.game.abstraction import State, initial_state, letter, robot_moves
-from symsynth.game.propositions import interpret_all
+from symsynth.scene.propositions import interpret_all
 from symsynth.solvers import SOLVERS
 from symsynth.logic import parse_ltlf
 from symsynth.logic.semantics import holds

@@ -5,7 +5,7 @@ enumeration of semantics §2's well-formed states and §3's propositions."""
 import pytest
 
 from symsynth.automata.bdd import new_manager
-from symsynth.game.propositions import Proposition
+from symsynth.scene.propositions import Proposition
 from symsynth.scene import scene_from_data
 from symsynth.solvers.bdd.encoding import StateEncoding
 from support.games import well_formed_states

@@ -19,7 +19,7 @@ from symsynth.automata import compile_ltlf
 from symsynth.game.abstraction import (State, human_moves, initial_state, letter, quantize,
                                        robot_moves)
 from symsynth.solvers.explicit import solve_explicit
-from symsynth.game.propositions import interpret_all
+from symsynth.scene.propositions import interpret_all
 from symsynth.logic import parse_ltlf
 from support.games import game_graph, make_scene, pick
 

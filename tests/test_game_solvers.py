@@ -14,7 +14,7 @@ from symsynth.automata import compile_ltlf
 from symsynth.errors import InputError
 from symsynth.game.abstraction import (State, human_moves, initial_state, letter, quantize,
                                        robot_moves)
-from symsynth.game.propositions import interpret_all
+from symsynth.scene.propositions import interpret_all
 from symsynth.solvers import SOLVERS
 from symsynth.logic import parse_ltlf
 from symsynth.scene import scene_from_data

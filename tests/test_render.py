@@ -10,7 +10,7 @@ import pytest
 from PIL import Image
 
 from symsynth.errors import SymsynthError
-from symsynth.render import Camera, render_scene
+from symsynth.execution.render import Camera, render_scene
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import ObjectSpec, Scene
 from support.planner_conformance import BLOCK, physical_scene

@@ -34,7 +34,7 @@ from symsynth.execution.simulate import Policy, Simulator
 from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import (human_moves, initial_state, legal_human_moves, legal_robot_moves,
                                        letter, quantize, robot_moves)
-from symsynth.game.propositions import interpret_all
+from symsynth.scene.propositions import interpret_all
 from symsynth.game.solution import task_formula
 from symsynth import problem as problem_module
 from symsynth.solvers import DEFAULT_SOLVER, SOLVERS

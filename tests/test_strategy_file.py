@@ -19,7 +19,7 @@ from support.gamegen import random_scene
 from symsynth.automata import compile_ltlf
 from symsynth.errors import InputError
 from symsynth.game.abstraction import State, initial_state, letter
-from symsynth.game.propositions import interpret_all
+from symsynth.scene.propositions import interpret_all
 from symsynth.solvers import SOLVERS
 from symsynth.game.strategy import (FORMAT, InconsistentStrategy, MissingPosition, read_strategy,
                                     reachable_positions, strategy_table, worst_units, write_strategy)

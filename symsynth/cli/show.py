@@ -31,7 +31,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from symsynth.render import render_scene
+    from symsynth.execution.render import render_scene
 
     scene = load_scene(args.scene)
     if scene.geometry is None:

@@ -15,7 +15,7 @@ from PIL import Image, ImageDraw, ImageFont
 
 from symsynth.files import atomic_output
 from symsynth.execution.world import SimWorld
-from symsynth.render import default_camera, label_places, snapshot
+from symsynth.execution.render import default_camera, label_places, snapshot
 
 CAMERA_DISTANCE = 1.3  # metres: closer than the scene picture's, the robot at work fills the frame
 STRIDE = 0.25  # radians between frames along a motion

@@ -35,7 +35,7 @@ from fractions import Fraction
 from typing import NamedTuple
 
 from symsynth.errors import InputError
-from symsynth.game.propositions import Proposition
+from symsynth.scene.propositions import Proposition
 from symsynth.scene.costmap import Costmap, Rule
 from symsynth.scene.model import ELSE, EMPTY, HAND, Scene
 

@@ -19,7 +19,7 @@ from tqdm import tqdm
 
 from symsynth.automata import SymbolicDFA, compile_ltlf
 from symsynth.game.abstraction import State, costmap_of, human_moves, letter, quantize, robot_moves
-from symsynth.game.propositions import interpret_all
+from symsynth.scene.propositions import interpret_all
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
 

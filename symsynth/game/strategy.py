@@ -50,7 +50,7 @@ from symsynth.files import write_atomic
 from symsynth.game.abstraction import State, initial_state, robot_moves, state_json
 from symsynth.automata import compile_ltlf
 from symsynth.game.graph import GameGraph, Node
-from symsynth.game.propositions import interpret_all
+from symsynth.scene.propositions import interpret_all
 from symsynth.game.solution import Position, Solution
 from symsynth.logic import ast, parse_ltlf
 from symsynth.scene.model import Scene

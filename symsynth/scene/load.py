@@ -19,10 +19,12 @@ from typing import Any
 import jsonschema
 
 from symsynth.errors import InputError, LTLfSyntaxError
+from symsynth.logic.parser import parse_ltlf
 from symsynth.primitives import PrimitiveError, displacement
 from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data, load_costmap
 from symsynth.scene import physical
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, ObjectSpec, Scene
+from symsynth.scene.propositions import interpret_all
 from symsynth.scene.yamlpos import KeyPath, line_of, read_yaml
 
 NAME = {"type": "string", "pattern": "^[A-Za-z0-9_]+$"}
@@ -229,9 +231,6 @@ def _yaml_float(value: float) -> str:
 
 
 def _check_task(scene: Scene, report: Report) -> None:
-    from symsynth.game.propositions import interpret_all
-    from symsynth.logic.parser import parse_ltlf
-
     try:
         formula = parse_ltlf(scene.task, source=f"{report.source} (task)")
         interpret_all(formula, scene)

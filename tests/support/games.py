@@ -11,7 +11,7 @@ import math
 
 from symsynth.automata import compile_ltlf
 from symsynth.game.abstraction import human_moves, initial_state, letter, quantize, robot_moves
-from symsynth.game.propositions import interpret_all
+from symsynth.scene.propositions import interpret_all
 from symsynth.solvers.bound import LowerBound
 from symsynth.game.graph import GameGraph, Node
 from symsynth.solvers.explicit import _dijkstra

@@ -6,7 +6,7 @@ import functools
 import pytest
 from symsynth.automata import compile_ltlf
 from symsynth.game.abstraction import human_moves, initial_state, letter, quantize, robot_moves
-from symsynth.game.propositions import interpret_all
+from symsynth.scene.propositions import interpret_all
 
 
 def costmap_json(motions):

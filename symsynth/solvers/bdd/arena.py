@@ -49,7 +49,7 @@ from collections.abc import Iterable
 from symsynth.automata import SymbolicDFA, compile_ltlf
 from symsynth.automata.bdd import Function, new_manager
 from symsynth.game.abstraction import anchors, costmap_of, quantize
-from symsynth.game.propositions import interpret_all
+from symsynth.scene.propositions import interpret_all
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, Scene
 from symsynth.solvers.bdd.bitvec import Domain, constant, less_equal, less_than, subtract

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 from symsynth.automata.bdd import BDD, Function
 from symsynth.game.abstraction import State
-from symsynth.game.propositions import Proposition
+from symsynth.scene.propositions import Proposition
 from symsynth.scene.model import ELSE, HAND, Scene
 from symsynth.solvers.bdd.bitvec import Domain
 
