@@ -218,3 +218,27 @@ def test_first_trials_then_the_rest(straight, tmp_path, capsys):
     assert "| toy symbolic k=1 | 1/1 |" in (out / "table.md").read_text()
     assert main(["bench", str(experiment), "-o", str(out), "--resume", "--jobs", "2"]) == 0
     assert stable(read_rows(out / "results.csv")) == stable(straight[1])
+
+
+def test_contacts_on_and_off_is_an_axis(tmp_path, capsys):
+    """scenes/push-abstract.yaml at k = 0 (hand-solved in its comments):
+    E_p 10 with its contact, no strategy without it (the box cannot be
+    grasped where it stands)."""
+    path = tmp_path / "contacts.yaml"
+    path.write_text(f"""\
+name: contacts
+scenes:
+  - {{file: "{SCENES / 'push-abstract.yaml'}", label: push}}
+solvers: [symbolic, explicit]
+k: [0]
+contacts: [on, off]
+limits: {{seconds: 60, memory_mb: 2048}}
+""")
+    assert main(["bench", str(path), "-o", str(tmp_path / "out")]) == 0
+    capsys.readouterr()
+    rows = read_rows(tmp_path / "out" / "results.csv")
+    found = {(row["solver"], row["contacts"]): row["E_p"] for row in rows}
+    assert found == {("symbolic", "on"): "10.0", ("explicit", "on"): "10.0",
+                     ("symbolic", "off"): "inf", ("explicit", "off"): "inf"}
+    assert {row["cell"] for row in rows if row["contacts"] == "off"} == {
+        "push symbolic k=0 contacts=off", "push explicit k=0 contacts=off"}

@@ -72,6 +72,8 @@ SCHEMA: dict[str, Any] = {
         "budgets": _axis({"type": ["number", "null"], "minimum": 0}),
         "resolutions": _axis({"type": "number", "exclusiveMinimum": 0}),
         "roadmap_sizes": _axis({"type": "integer", "minimum": 2}),
+        # on / off: YAML reads the bare words as booleans
+        "contacts": _axis({"enum": [True, False, "on", "off"]}),
         "trials": {"type": "integer", "minimum": 1, "maximum": 10_000},
         "seeds": _axis({"type": "integer", "minimum": 0}),
         "limits": {"type": "object", "additionalProperties": False,
@@ -114,6 +116,9 @@ class Run:
     cache: bool
     seconds: float
     memory_mb: int
+    #: False: the scene without its contacts (`Scene.without_contacts`),
+    #: the displacement primitives off.
+    contacts: bool = True
 
     @property
     def cell(self) -> str:
@@ -126,6 +131,8 @@ class Run:
             parts.append(f"budget={self.budget:g}")
         if self.resolution != 1:
             parts.append(f"resolution={self.resolution:g}")
+        if not self.contacts:
+            parts.append("contacts=off")
         return " ".join(parts)
 
     @property
@@ -187,18 +194,19 @@ def load_experiment(path: str | Path) -> Experiment:
     runs: dict[str, Run] = {}
     # Seed by seed, every cell within each: a change in the machine's load falls on every cell
     # alike, and an experiment stopped early has whole trials of every cell.
-    for seed, (file, label, params, scene), method, planner, solver, k, budget, resolution, size in \
+    for seed, (file, label, params, scene), method, planner, solver, k, budget, resolution, size, contacts in \
             itertools.product(seeds, scenes, data.get("methods", ["recursive"]), data.get("planners", [None]),
                               data.get("solvers", ["symbolic"]), data.get("k", [None]),
                               data.get("budgets", [None]), data.get("resolutions", [1.0]),
-                              data.get("roadmap_sizes", [None])):
+                              data.get("roadmap_sizes", [None]), data.get("contacts", [True])):
         physical = scene.geometry is not None
         run = Run(file, label, params, physical, method if physical else None,
                   (planner or scene.geometry.planner.name) if physical else None, solver,
                   scene.k if k is None else k, None if budget is None else float(budget), float(resolution),
                   (size or scene.geometry.planner.roadmap_size) if physical else None, seed,
                   bool(data.get("cache", False)),
-                  float(limits.get("seconds", DEFAULT_SECONDS)), int(limits.get("memory_mb", DEFAULT_MEMORY_MB)))
+                  float(limits.get("seconds", DEFAULT_SECONDS)), int(limits.get("memory_mb", DEFAULT_MEMORY_MB)),
+                  contacts in (True, "on"))
         same = runs.setdefault(run.id, run)  # an abstract scene's runs repeat over the costmap axes
         if same.scene_file != run.scene_file:
             report.add(("scenes",), f"{same.scene_file} and {run.scene_file} have the same label and "

@@ -25,7 +25,7 @@ from symsynth.errors import InputError
 COLUMNS = (
     # the run
     "run", "cell", "label", "params", "scene_file", "seed", "method", "planner", "solver", "k", "budget",
-    "resolution", "roadmap_size",
+    "resolution", "roadmap_size", "contacts",
     # how it ended
     "status", "error",
     # abstraction (physical scenes; empty when the costmap came from the cache or the scene)

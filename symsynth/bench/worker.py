@@ -102,6 +102,8 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
     row: dict[str, Any] = {"host": platform.node(), "cpus": os.cpu_count(), "load": os.getloadavg()[0],
                            "started": time.strftime("%Y-%m-%dT%H:%M:%S")}
     scene = load_scene(run["scene_file"])
+    if not run.get("contacts", True):
+        scene = scene.without_contacts()
     planner = None
     if scene.geometry is not None:
         settings = scene.geometry.planner
@@ -115,7 +117,7 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
         scene = dataclasses.replace(scene, costmap=got.costmap)
         planner = got.planner
         row |= {"planner": got.planner, "roadmap_size": settings.roadmap_size, "costmap_cached": got.cached,
-                "costmap_rules": sum(len(r) for r in got.costmap.motions.values())}
+                "costmap_rules": sum(1 for _ in got.costmap.all_rules())}
         if got.stats is not None:
             s = got.stats
             row |= {f"seconds_{phase.replace(' ', '_')}": value for phase, value in s.seconds.items()}

@@ -6,7 +6,7 @@ shapes) extends it with geometry that only the planners read.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from symsynth.scene.costmap import Costmap
@@ -62,6 +62,23 @@ class Scene:
         """G ∪ P: what the end-effector can be aimed at on an object (a
         grasp to close, a contact to slide from)."""
         return self.grasps + self.contacts
+
+    def without_contacts(self) -> Scene:
+        """The scene with no contacts (a v1 scene): no contact anchors, no
+        motions to or from them in its costmap, no slides; physical contacts
+        and their primitives' costs gone too.  For comparing a scene with
+        and without its displacement primitives."""
+        if not self.contacts:
+            return self
+        contacts = set(self.contacts)
+
+        def aimed(anchor: str) -> bool:
+            return anchor.rsplit("/", 1)[-1] in contacts
+
+        costmap = None if self.costmap is None else replace(self.costmap, slides={}, motions={
+            key: rules for key, rules in self.costmap.motions.items() if not (aimed(key[1]) or aimed(key[2]))})
+        geometry = None if self.geometry is None else replace(self.geometry, contacts={}, primitive_costs={})
+        return replace(self, contacts=(), costmap=costmap, geometry=geometry)
 
     @property
     def modes(self) -> tuple[str, ...]:
