@@ -443,18 +443,19 @@ def _worker(conn, tool):  # pragma: no cover - runs in the child
     devnull = os.open(os.devnull, os.O_WRONLY)
     os.dup2(devnull, 1)  # ltlf2dfa prints diagnostics on stdout
     try:
-        if tool == "sym":
+        if tool in ("sym", "sym-weak"):  # sym-weak: X is weak next (the synthesis datasets)
             from symsynth.automata import compile_ltlf
+            semantics = "weak" if tool == "sym-weak" else "strong"
 
             def run(text):
-                return compile_ltlf(text)
+                return compile_ltlf(text, next_semantics=semantics)
         else:
             from ltlf2dfa.parser.ltlf import LTLfParser
 
             def run(text):
                 return LTLfParser()(text).to_dfa()
-        result = run(WARMUP[tool])
-        if tool == "sym":
+        result = run(WARMUP["sym" if tool == "sym-weak" else tool])
+        if tool != "l2d":
             result.num_states
     except BaseException:
         conn.send(("fatal", traceback.format_exc()))
@@ -476,7 +477,7 @@ def _worker(conn, tool):  # pragma: no cover - runs in the child
                 conn.send(("tick", dt))
                 if sum(times) + dt > budget:
                     break
-            if tool == "sym":
+            if tool != "l2d":
                 conn.send(("states", result.num_states))
                 conn.send(("accepts", [bool(result.accepts(t)) for t in traces]))
                 conn.send(("explicit", result.to_explicit().num_states

@@ -1,0 +1,277 @@
+#!/usr/bin/env python3
+"""Benchmark: symsynth's LTLf -> DFA compiler on the families of the public
+LTLf synthesis datasets, against raw MONA and ltlf2dfa, in one run.
+
+    python bench/ltlf_families.py [--data DIR] [--timeout 60] [--out bench/results/ltlf-families.md]
+
+Data: github.com/whitemech/finite-synthesis-datasets (MIT), read from a git
+checkout or bare mirror (`--data`, default the mirror this project's tools
+fetch to).  Families and the instances taken (a deterministic sample where
+a family is large, so that the whole run takes about half an hour here):
+
+  Patterns/Uright     uright01..20 (`p1 U (p2 U (...))`)
+  Patterns/GFand      gfand01..20
+  Single-Counter      all 20, System-first
+  Double-Counter      all 20, System-first
+  Nim                 nim_01..nim_05, instances 01..04 of each
+  Random/Syft         syft_1..syft_5, instances 001..004 of each
+  Random/Lydia        case_03..case_10, instances 01..02 of each
+
+For each instance, each tool gets `--timeout` seconds (killed at the limit):
+
+  symsynth  `compile_ltlf(text, next_semantics="weak")` in a worker process
+            (the datasets' X is weak next, X[!] strong);
+  MONA      `mona -q -u -w` on the program ltlf2dfa 2.0 writes for the
+            formula ("raw MONA": the automaton built and printed);
+  ltlf2dfa  its whole `to_dfa()` (parser, MONA program, MONA, DOT).
+
+In a scaling family (Uright, GFand, the counters, Nim), a tool that timed out
+is not run on the family's larger instances ("TO*").
+
+Equivalence: where symsynth and MONA both finish, symsynth's DFA and MONA's
+automaton of the same program restricted to non-empty traces (`0 in $`) are
+compared by a breadth-first search of their product over every letter when
+the formula has at most `--exhaustive` atoms (the languages are equal or a
+shortest distinguishing trace is printed), else over `--traces` random
+traces (the table says which).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import platform
+import random
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections import deque
+from itertools import product
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ltlf_bench import MONA_FLAGS, Worker, parse_mona, read_mona  # noqa: E402
+
+MIRROR = Path("/work/.mirror/whitemech+finite-synthesis-datasets/repo")
+
+
+def instances(data: Path) -> dict[str, list[str]]:
+    """Family -> dataset paths, smallest first (module doc)."""
+    def nums(prefix, n, width=2, suffix=".ltlf"):
+        return [f"{prefix}{i:0{width}d}{suffix}" for i in range(1, n + 1)]
+
+    listed = _list(data)
+    counters = {name: sorted(p for p in listed if p.startswith(f"Two-player-Game/{name}/System-first/")
+                             and p.endswith(".ltlf")) for name in ("Single-Counter", "Double-Counter")}
+    return {
+        "Uright": nums("Patterns/Uright/uright", 20),
+        "GFand": nums("Patterns/GFand/gfand", 20),
+        "Single-Counter": counters["Single-Counter"],
+        "Double-Counter": counters["Double-Counter"],
+        "Nim": [f"Two-player-Game/Nim/nim_{h:02d}/System-first/nim_{h:02d}_{i:02d}.ltlf"
+                for h in range(1, 6) for i in range(1, 5)],
+        "Syft": [f"Random/Syft/syft_{k}/{i:03d}.ltlf" for k in range(1, 6) for i in range(1, 5)],
+        "Lydia": [f"Random/Lydia/case_{c:02d}_50/{i:02d}.ltlf" for c in range(3, 11) for i in range(1, 3)],
+    }
+
+
+SCALING = {"Uright", "GFand", "Single-Counter", "Double-Counter", "Nim"}
+
+
+def _list(data: Path) -> set[str]:
+    if (data / ".git").exists() or not (data / "HEAD").exists():
+        return {str(p.relative_to(data)) for p in data.rglob("*.ltlf")}
+    out = subprocess.run(["git", "-C", str(data), "ls-tree", "-r", "--name-only", "HEAD"],
+                         capture_output=True, text=True, check=True).stdout
+    return set(out.split())
+
+
+def read(data: Path, path: str) -> str:
+    if (data / path).exists():
+        return (data / path).read_text()
+    return subprocess.run(["git", "-C", str(data), "show", f"HEAD:{path}"], capture_output=True, text=True,
+                          check=True).stdout
+
+
+def equivalent(sym, mona, atoms: list[str], exhaustive: int, traces: int, rng: random.Random):
+    """(verdict, how): symsynth's DFA against MONA's automaton over non-empty
+    traces; verdict True, or a distinguishing trace."""
+    if len(atoms) <= exhaustive:
+        letters = [frozenset(a for a, bit in zip(atoms, bits) if bit) for bits in product((0, 1), repeat=len(atoms))]
+        start = (sym.initial, mona.start)
+        seen, queue = {start: ()}, deque([start])
+        while queue:
+            q, m = queue.popleft()
+            for letter in letters:
+                pair = (sym.step(q, letter), _mona_step(mona, m, letter))
+                word = seen[(q, m)] + (letter,)
+                if sym.is_accepting(pair[0]) != (pair[1] in mona.accepting):
+                    return word, "exhaustive"
+                if pair not in seen:
+                    seen[pair] = word
+                    queue.append(pair)
+        return True, "exhaustive"
+    for _ in range(traces):
+        word = tuple(frozenset(a for a in atoms if rng.random() < 0.5) for _ in range(rng.randint(1, 20)))
+        if sym.accepts(word) != mona.run(word):
+            return word, f"{traces} random traces"
+    return True, f"{traces} random traces"
+
+
+def _mona_step(auto, state, letter):
+    for pred, target in auto.rows.get(state, ()):
+        if pred(letter):
+            return target
+    raise ValueError(f"MONA's automaton has no transition from {state} on {sorted(letter)}")
+
+
+def mona_program(text: str) -> str:
+    from ltlf2dfa.base import MonaProgram
+    from ltlf2dfa.parser.ltlf import LTLfParser
+    return MonaProgram(LTLfParser()(text)).mona_program()
+
+
+def timed_mona(path: Path, timeout: float) -> dict:
+    clock = time.perf_counter()
+    try:
+        subprocess.run(["mona", *MONA_FLAGS, str(path)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                       timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"seconds": None, "status": "timeout"}
+    return {"seconds": time.perf_counter() - clock, "status": "ok"}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--data", type=Path, default=MIRROR)
+    parser.add_argument("--timeout", type=float, default=60.0)
+    parser.add_argument("--exhaustive", type=int, default=12, help="atoms up to which every letter is tried")
+    parser.add_argument("--traces", type=int, default=2000)
+    parser.add_argument("--families", default=",".join(["Uright", "GFand", "Single-Counter", "Double-Counter",
+                                                        "Nim", "Syft", "Lydia"]))
+    parser.add_argument("--out", type=Path, default=Path("bench/results/ltlf-families.md"))
+    args = parser.parse_args(argv)
+    from symsynth.automata import compile_ltlf
+    from symsynth.logic import ast, parse_ltlf
+    from symsynth.logic.printer import to_string
+
+    sym, l2d = Worker("sym-weak", args.timeout), Worker("l2d", args.timeout)
+    work = Path(tempfile.mkdtemp(prefix="ltlf_families_"))
+    rows = []
+    try:
+        for family, paths in instances(args.data).items():
+            if family not in args.families.split(","):
+                continue
+            dead: dict[str, str] = {}
+            for path in paths:
+                text = read(args.data, path)
+                name = Path(path).stem if family in SCALING else f"{Path(path).parent.name}/{Path(path).stem}"
+                row = {"family": family, "instance": name, "atoms": None}
+                formula = parse_ltlf(text, next_semantics="weak")
+                atoms = sorted({a.key for a in ast.atoms(formula)})
+                row["atoms"] = len(atoms)
+                peer = to_string(formula)  # ltlf2dfa's syntax: X strong, WX weak
+                for tool, worker, given in (("symsynth", sym, text), ("ltlf2dfa", l2d, peer)):
+                    if tool in dead:
+                        row[tool], row[f"{tool}_status"] = None, "TO*"
+                        continue
+                    got = worker.run(given, 1, args.timeout)
+                    status = "timeout" if got["timeout"] else ("error" if got.get("error") else "ok")
+                    row[tool] = got["times"][0] if status == "ok" and got["times"] else None
+                    row[f"{tool}_status"] = status if status != "error" else f"error: {got['error'].splitlines()[0][:80]}"
+                    if tool == "symsynth":
+                        row["states"] = got.get("states")
+                    if status == "timeout" and family in SCALING:
+                        dead[tool] = row["instance"]
+                program = work / "prog.mona"
+                if "mona" in dead:
+                    row["mona"], row["mona_status"] = None, "TO*"
+                else:
+                    try:
+                        program.write_text(mona_program(peer))
+                        got = timed_mona(program, args.timeout)
+                        row["mona"], row["mona_status"] = got["seconds"], got["status"]
+                    except Exception as error:  # ltlf2dfa cannot write a program for it
+                        row["mona"], row["mona_status"] = None, f"error: {type(error).__name__}"
+                    if row["mona_status"] == "timeout" and family in SCALING:
+                        dead["mona"] = row["instance"]
+                row["equivalence"] = ""
+                if row["symsynth_status"] == "ok" and row["mona_status"] == "ok":
+                    nonempty = work / "nonempty.mona"
+                    nonempty.write_text(program.read_text() + "0 in $;\n")
+                    output, complete = read_mona(nonempty, args.timeout)
+                    if output and complete:
+                        verdict, how = equivalent(compile_ltlf(text, next_semantics="weak"), parse_mona(output),
+                                                  atoms, args.exhaustive, args.traces,
+                                                  random.Random(f"{family}/{path}"))
+                        row["equivalence"] = f"equal ({how})" if verdict is True else \
+                            "DIFFERENT on " + " ".join("{" + ",".join(sorted(x)) + "}" for x in verdict)
+                    else:
+                        row["equivalence"] = "not checked (MONA's automaton too large to read back)"
+                rows.append(row)
+                write(rows, args)  # after every instance: an interrupted run keeps what it measured
+                print(family, row["instance"], {k: row[k] for k in ("symsynth", "mona", "ltlf2dfa", "equivalence")},
+                      flush=True)
+    finally:
+        sym.close()
+        l2d.close()
+    return 0
+
+
+def write(rows: list[dict], args) -> None:
+    csv_path = args.out.with_suffix(".csv")
+    columns = ["family", "instance", "atoms", "states", "symsynth", "symsynth_status", "mona", "mona_status",
+               "ltlf2dfa", "ltlf2dfa_status", "equivalence"]
+    with open(csv_path, "w", newline="") as out:
+        writer = csv.DictWriter(out, columns, extrasaction="ignore")
+        writer.writeheader()
+        writer.writerows(rows)
+    mona_version = subprocess.run(["mona", "-v"], capture_output=True, text=True).stdout.strip().splitlines()[:1]
+    lines = ["# LTLf to DFA on the public synthesis datasets: symsynth, raw MONA, ltlf2dfa", "",
+             f"Command: `python bench/ltlf_families.py --timeout {args.timeout:g}`; data: "
+             "github.com/whitemech/finite-synthesis-datasets (MIT); machine: "
+             f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}; "
+             f"MONA {' '.join(mona_version)}; ltlf2dfa 2.0.0. Seconds of one run each; "
+             f"TO: over {args.timeout:g} s; TO*: not run after a smaller instance timed out. Rows: "
+             f"[{csv_path.name}]({csv_path.name}).", ""]
+    lines += ["## Summary", "",
+              "| family | instances | median s (symsynth / MONA / ltlf2dfa) | worst s | largest within the limit (symsynth / MONA / ltlf2dfa) | equivalence |",
+              "|---|---:|---|---|---|---|"]
+    for family in dict.fromkeys(r["family"] for r in rows):
+        mine = [r for r in rows if r["family"] == family]
+        both = [r for r in mine if all(r[t] is not None for t in ("symsynth", "mona", "ltlf2dfa"))]
+        med = " / ".join(_fmt(statistics.median(r[t] for r in both)) if both else "-"
+                         for t in ("symsynth", "mona", "ltlf2dfa"))
+        worst = " / ".join(_fmt(max(r[t] for r in both)) if both else "-" for t in ("symsynth", "mona", "ltlf2dfa"))
+        largest = " / ".join(next((r["instance"] for r in reversed(mine) if r[t] is not None), "none")
+                             for t in ("symsynth", "mona", "ltlf2dfa"))
+        checked = [r["equivalence"] for r in mine if r["equivalence"].startswith(("equal", "DIFFERENT"))]
+        different = sum(c.startswith("DIFFERENT") for c in checked)
+        lines.append(f"| {family} | {len(mine)} | {med} | {worst} | {largest} | "
+                     f"{len(checked) - different} equal, {different} different |")
+    for family in dict.fromkeys(r["family"] for r in rows):
+        lines += ["", f"## {family}", "", "| instance | atoms | states | symsynth s | MONA s | ltlf2dfa s | equivalence |",
+                  "|---|---:|---:|---:|---:|---:|---|"]
+        for r in (r for r in rows if r["family"] == family):
+            lines.append(f"| {r['instance']} | {r['atoms']} | {r.get('states') or ''} | "
+                         f"{_cell(r, 'symsynth')} | {_cell(r, 'mona')} | {_cell(r, 'ltlf2dfa')} | {r['equivalence']} |")
+    args.out.write_text("\n".join(lines) + "\n")
+    print(f"wrote {args.out} and {csv_path}")
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.3f}" if x < 10 else f"{x:.1f}"
+
+
+def _cell(row: dict, tool: str) -> str:
+    if row[tool] is not None:
+        return _fmt(row[tool])
+    status = row[f"{tool}_status"]
+    return "TO" if status == "timeout" else ("TO*" if status == "TO*" else "err")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
