@@ -21,7 +21,7 @@ from symsynth.game.abstraction import (State, human_moves, initial_state, letter
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.scene.propositions import interpret_all
 from symsynth.logic import parse_ltlf
-from support.games import game_graph, make_scene, pick
+from support.games import game_graph, horizon_value, make_scene, pick
 
 
 # -- scenes shared with test_game_solvers ------------------------------------------
@@ -133,27 +133,6 @@ def brute_force(scene, formula, k, cap=CAP):
     v0 = initial_state(scene)
     q0 = read(dfa.initial, v0)
     return 0 if dfa.is_accepting(q0) else human(v0, q0, k, cap)
-
-
-def horizon_value(scene, formula, k):
-    """E_p by iterating the min-max equations down from infinity.
-
-    The n-th iterate is the value of the game in which the robot must win
-    within n rounds; it decreases with n.  A memoryless optimal strategy wins
-    within (number of positions) rounds, so the iterates reach E_p and stay
-    there: the first repeated iterate is E_p, zero-cost actions included.
-    (Iterating up from 0 instead would let zero-cost circles look like wins.)
-    """
-    start, graph = game_graph(scene, formula, k)
-    if start is None:
-        return 0
-    x = dict.fromkeys(graph, math.inf) | {"WIN": 0}
-    while True:
-        new = {pos: (min if pos[3] else max)((c + x[s] for c, s in succ), default=math.inf)
-               for pos, succ in graph.items()} | {"WIN": 0}
-        if new == x:
-            return x[start]
-        x = new
 
 
 BRUTE_SEEDS = range(80)

@@ -22,12 +22,15 @@ from symsynth.solvers.symbolic import solve_symbolic
 from support.games import PICK, pick, queries, well_formed_states
 
 
-@pytest.mark.parametrize("seed", range(12))
-def test_relations_give_the_abstractions_moves_and_costs(seed):
-    scene = random_scene(seed + 500)
+@pytest.mark.parametrize("seed, contacts", [(seed, False) for seed in range(12)]
+                         + [(seed + 200, True) for seed in range(8)])
+def test_relations_give_the_abstractions_moves_and_costs(seed, contacts):
+    """With contacts (semantics §4b) too: the slides come out of the BDD with
+    their costs."""
+    scene = random_scene(seed + 500, contacts=contacts)
     resolution = (1.0, 0.5, 2.0)[seed % 3]
     game = queries(scene, resolution=resolution)
-    count = 0
+    count = slides = 0
     for at, grip, ee in well_formed_states(scene):
         v = State(tuple(at[o] for o in scene.object_names), grip, ee)
         expected = sorted((a, w, quantize(c, resolution)) for a, w, c in robot_moves(scene, v))
@@ -35,7 +38,8 @@ def test_relations_give_the_abstractions_moves_and_costs(seed):
         # states, not names: moves of different objects within Else coincide
         assert {w for _, w in game.human_moves(v)} == {w for _, w in human_moves(scene, v)}, v
         count += 1
-    assert count > 0
+        slides += sum(a.startswith("slide(") for a, _, _ in expected)
+    assert count > 0 and (slides > 0) == contacts
 
 
 CROSS_SEEDS = range(240)

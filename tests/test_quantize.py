@@ -2,7 +2,7 @@
 cost up, so the bound stays sound").
 
 The reference value here is exact: the game's min-max equations iterated
-down from infinity (as `test_game_explicit.horizon_value`) over the costs as
+down from infinity (as `support.games.horizon_value`) over the costs as
 rationals, with no resolution at all.  Every solver's `units * resolution`
 must be at least that value at every resolution, and equal to it when the
 resolution divides every cost.
@@ -24,7 +24,7 @@ from symsynth.game.abstraction import quantize
 from symsynth.solvers import SOLVERS
 from symsynth.logic import parse_ltlf
 from symsynth.scene.costmap import Costmap
-from support.games import game_graph
+from support.games import horizon_value
 
 TOY = "scenes/toy.yaml"
 
@@ -44,16 +44,8 @@ def exact_value(scene, formula, k):
     """E_p with the costs as the rationals they are written as: the min-max
     equations iterated down from infinity on the game graph (whose own
     rounding, at resolution 1, is replaced by the exact costs)."""
-    start, graph = game_graph(scene, formula, k, units=lambda c: Fraction(repr(float(c))))
-    if start is None:
-        return Fraction(0)
-    x = dict.fromkeys(graph, math.inf) | {"WIN": 0}
-    while True:
-        new = {pos: (min if pos[3] else max)((c + x[s] for c, s in succ), default=math.inf)
-               for pos, succ in graph.items()} | {"WIN": 0}
-        if new == x:
-            return x[start]
-        x = new
+    value = horizon_value(scene, formula, k, units=lambda c: Fraction(repr(float(c))))
+    return Fraction(0) if value == 0 else value
 
 
 def fractional(scene, factor: str, nudge: float = 0.0):

@@ -10,7 +10,7 @@ contacts, the `slide(o,a,l')` action and its conditional slide rules.
   agrees on one k per scene, and every strategy pays no more than E_p
   against every human behaviour.
 - The symbolic relations, read back state by state, are the abstraction's
-  moves and costs, slides included.
+  moves and costs, slides included (tests/test_game_symbolic.py).
 - Scenes without contacts keep their v1 value: the rest of the suite's
   generated scenes are unchanged (gamegen draws contacts from a second
   generator), and so is every test of them.
@@ -27,7 +27,7 @@ import yaml
 from support.gamegen import random_scene
 from symsynth.cli import main
 from symsynth.errors import InputError
-from symsynth.game.abstraction import State, human_moves, initial_state, quantize, robot_moves
+from symsynth.game.abstraction import State, human_moves, initial_state, robot_moves
 from symsynth.solvers.bound import LowerBound
 from symsynth.game.graph import GameGraph
 from symsynth.solvers.explicit import solve_explicit
@@ -36,7 +36,7 @@ from symsynth.solvers.symbolic import solve_symbolic
 from symsynth.logic import parse_ltlf
 from symsynth.game.strategy import certify, read_strategy
 from symsynth.scene import load_scene, scene_from_data
-from support.games import bound_holds_everywhere, queries, well_formed_states, worst_case_of
+from support.games import bound_holds_everywhere, worst_case_of
 
 
 @pytest.fixture(params=sorted(SOLVERS))
@@ -170,21 +170,6 @@ def test_solvers_agree_on_scenes_with_contacts(chunk):
             if k == seed % 4:
                 assert worst_case_of(scene, explicit, parse_ltlf(scene.task)) == explicit.units
     assert kinds["finite"] >= 20 and kinds["infinite"] >= 20 and kinds["slides"] >= 2, kinds
-
-
-@pytest.mark.parametrize("seed", range(8))
-def test_relations_give_the_abstractions_slides_and_costs(seed):
-    scene = random_scene(seed + 700, contacts=True)
-    resolution = (1.0, 0.5, 2.0)[seed % 3]
-    game = queries(scene, resolution=resolution)
-    slides = 0
-    for at, grip, ee in well_formed_states(scene):
-        v = State(tuple(at[o] for o in scene.object_names), grip, ee)
-        expected = sorted((a, w, quantize(c, resolution)) for a, w, c in robot_moves(scene, v))
-        assert game.robot_moves(v) == expected, v
-        assert {w for _, w in game.human_moves(v)} == {w for _, w in human_moves(scene, v)}, v
-        slides += sum(a.startswith("slide(") for a, _, _ in expected)
-    assert slides > 0
 
 
 # -- scene and costmap errors -------------------------------------------------------------

@@ -193,3 +193,25 @@ def bound_holds_everywhere(scene, k):
         assert b <= value.get(i, math.inf), (scene.name, node, b, value.get(i))
         checked += 1
     return bound, checked
+
+
+def horizon_value(scene, formula, k, units=None):
+    """E_p by iterating the min-max equations down from infinity.
+
+    The n-th iterate is the value of the game in which the robot must win
+    within n rounds; it decreases with n.  A memoryless optimal strategy wins
+    within (number of positions) rounds, so the iterates reach E_p and stay
+    there: the first repeated iterate is E_p, zero-cost actions included.
+    (Iterating up from 0 instead would let zero-cost circles look like wins.)
+    `units`: what a cost counts as (default: whole units at resolution 1).
+    """
+    start, graph = game_graph(scene, formula, k, **({} if units is None else {"units": units}))
+    if start is None:
+        return 0
+    x = dict.fromkeys(graph, math.inf) | {"WIN": 0}
+    while True:
+        new = {pos: (min if pos[3] else max)((c + x[s] for c, s in succ), default=math.inf)
+               for pos, succ in graph.items()} | {"WIN": 0}
+        if new == x:
+            return x[start]
+        x = new
