@@ -96,7 +96,8 @@ def run(args: argparse.Namespace) -> int:
     summary = {
         "scene": scene.name, "method": got.method, "planner": got.planner, "seed": got.seed,
         "cached": got.cached, "file": None if written is None else str(written),
-        "motions": len(got.costmap.motions), "rules": sum(len(r) for r in got.costmap.motions.values()),
+        "motions": len(got.costmap.motions), "slides": len(got.costmap.slides),
+        "rules": sum(1 for _ in got.costmap.all_rules()),
     }
     if got.stats is not None:
         summary |= {"seconds": {k: round(v, 3) for k, v in got.stats.seconds.items()},
@@ -106,7 +107,8 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(summary, indent=2))
         return 0
     origin = "reused from the cache" if got.cached else "computed"
-    print(f"costmap    {scene.name}: {summary['motions']} motions, {summary['rules']} rules "
+    slides = f"{summary['slides']} slide{'s' * (summary['slides'] != 1)}, " if summary["slides"] else ""
+    print(f"costmap    {scene.name}: {summary['motions']} motions, {slides}{summary['rules']} rules "
           f"({got.method}, planner {got.planner}, seed {got.seed}; {origin})")
     if got.stats is not None:
         s = got.stats

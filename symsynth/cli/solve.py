@@ -115,7 +115,8 @@ def costmap_report(got: Obtained) -> None:
     origin = "reused from the cache" if got.cached else \
         f"computed in {sum(got.stats.seconds.values()):.1f} s"
     rules = sum(1 for _ in got.costmap.all_rules())
-    slides = f"{len(got.costmap.slides)} slides, " if got.costmap.slides else ""
+    count = len(got.costmap.slides)
+    slides = f"{count} slide{'s' * (count != 1)}, " if count else ""
     print(f"costmap    {got.method}, planner {got.planner}, seed {got.seed}: "
           f"{len(got.costmap.motions)} motions, {slides}{rules} rules, {origin}")
     if got.path is not None:
