@@ -1,5 +1,5 @@
 """From a physical scene to a costmap and a game, with a planner simple
-enough to solve by hand (tests/planar.py: a point robot in the unit square).
+enough to solve by hand (tests/support/planar.py: a point robot in the unit square).
 
 The expected values are worked out here from the geometry: grid distances,
 which place blocks which gap, what the game must conclude."""

@@ -1,7 +1,7 @@
-"""LTLf -> minimal DFA, checked against the reference semantics and tests/reference.py.
+"""LTLf -> minimal DFA, checked against the reference semantics and tests/support/reference.py.
 
 Expected values come from `holds` (the semantics), from the explicit
-progression DFA of tests/reference.py (no BDDs) and from hand derivations
+progression DFA of tests/support/reference.py (no BDDs) and from hand derivations
 of Myhill-Nerode classes written next to each case.
 """
 

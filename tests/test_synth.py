@@ -1,5 +1,5 @@
 """`symsynth synth`: LTLf realizability against a brute-force game on an
-independent explicit DFA (tests/reference.py), winning strategies played
+independent explicit DFA (tests/support/reference.py), winning strategies played
 against every environment, the datasets' sample with verdicts worked out
 from the families' definitions, and bad input."""
 
