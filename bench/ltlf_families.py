@@ -31,9 +31,9 @@ is not run on the family's larger instances ("TO*").
 Equivalence: where symsynth and MONA both finish, symsynth's DFA and MONA's
 automaton of the same program restricted to non-empty traces (`0 in $`) are
 compared by a breadth-first search of their product over every letter when
-the formula has at most `--exhaustive` atoms (the languages are equal or a
-shortest distinguishing trace is printed), else over `--traces` random
-traces (the table says which).
+the formula has at most `--exhaustive` atoms and 2^atoms x states is at most
+EXHAUSTIVE_WORK (the languages are equal or a shortest distinguishing trace
+is printed), else over `--traces` random traces (the table says which).
 """
 
 from __future__ import annotations
@@ -56,6 +56,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ltlf_bench import MONA_FLAGS, Worker, parse_mona, read_mona  # noqa: E402
 
 MIRROR = Path("/work/.mirror/whitemech+finite-synthesis-datasets/repo")
+#: letters x symsynth's states up to which the product search tries every letter
+EXHAUSTIVE_WORK = 200_000
 
 
 def instances(data: Path) -> dict[str, list[str]]:
@@ -99,7 +101,7 @@ def read(data: Path, path: str) -> str:
 def equivalent(sym, mona, atoms: list[str], exhaustive: int, traces: int, rng: random.Random):
     """(verdict, how): symsynth's DFA against MONA's automaton over non-empty
     traces; verdict True, or a distinguishing trace."""
-    if len(atoms) <= exhaustive:
+    if len(atoms) <= exhaustive and (2 ** len(atoms)) * sym.num_states <= EXHAUSTIVE_WORK:
         letters = [frozenset(a for a, bit in zip(atoms, bits) if bit) for bits in product((0, 1), repeat=len(atoms))]
         start = (sym.initial, mona.start)
         seen, queue = {start: ()}, deque([start])
