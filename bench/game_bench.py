@@ -40,6 +40,7 @@ all pass, 1 when a target fails, 2 on a mismatch.
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import platform
@@ -73,7 +74,7 @@ def log(msg):
 # The child: one solver on one scene
 # ---------------------------------------------------------------------------
 
-def worker(solver: str, n: int, m: int, k: int, seed: int, out: str) -> int:
+def worker(solver: str, n: int, m: int, k: int, seed: int, out: str, colours: int = 0) -> int:
     import resource
 
     result: dict = {"solver": solver}
@@ -83,9 +84,12 @@ def worker(solver: str, n: int, m: int, k: int, seed: int, out: str) -> int:
         from symsynth.solvers import SOLVERS
 
         clock = time.perf_counter()
-        scene = pattern_scene(n, m, k=k, seed=seed)
+        scene = pattern_scene(n, m, k=k, seed=seed, colours=colours or None)
         result["build_s"] = time.perf_counter() - clock
-        solve = SOLVERS[solver]
+        name, _, variant = solver.partition(":")
+        solve = SOLVERS[name]
+        if variant == "plain":  # the solver without the reduction by interchangeable objects
+            solve = functools.partial(solve, symmetric=False)
         result["base_kb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
         clock = time.perf_counter()
         solution = solve(scene)
@@ -139,13 +143,13 @@ class Cell:
         return self.status == "ok"
 
 
-def run_cell(solver, n, m, k, seed, timeout, mem_limit_mb) -> Cell:
+def run_cell(solver, n, m, k, seed, timeout, mem_limit_mb, colours=0) -> Cell:
     cell = Cell(solver, n, m, k)
     with tempfile.TemporaryDirectory(prefix="game_bench_") as tmp:
         out = Path(tmp) / "result.json"
         errfile = Path(tmp) / "stderr.txt"
         cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", solver,
-               str(n), str(m), str(k), str(seed), str(out)]
+               str(n), str(m), str(k), str(seed), str(out), str(colours)]
         with open(errfile, "wb") as err:
             start = time.perf_counter()
             proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
@@ -376,8 +380,13 @@ def environment(args):
         meta["versions"] = f"symsynth {version('symsynth')}, dd {version('dd')}"
     except Exception:
         pass
-    meta["family"] = (f"bench/gamefamily.py pattern_scene(n, m, k={args.k}, seed={args.seed}): "
-                      "n blocks, m locations, 2 Else samples, grasp top, F(pattern)")
+    if args.colours:
+        meta["family"] = (f"bench/gamefamily.py pattern_scene(n, m, k={args.k}, seed={args.seed}, "
+                          f"colours={args.colours}): the sorting variant, n blocks in {args.colours} "
+                          "colours, m locations, 2 Else samples, grasp top, F(pattern over colours)")
+    else:
+        meta["family"] = (f"bench/gamefamily.py pattern_scene(n, m, k={args.k}, seed={args.seed}): "
+                          "n blocks, m locations, 2 Else samples, grasp top, F(pattern)")
     meta["settings"] = (f"time limit {args.timeout:g} s, memory limit "
                         + (f"{args.mem_limit:g} GB" if args.mem_limit else "none")
                         + (", --quick" if args.quick else "") + (", --no-skip" if args.no_skip else ""))
@@ -401,8 +410,8 @@ def parse_sizes(text):
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
     if argv and argv[0] == "--worker":
-        solver, n, m, k, seed, out = argv[1:7]
-        return worker(solver, int(n), int(m), int(k), int(seed), out)
+        solver, n, m, k, seed, out, colours = argv[1:8]
+        return worker(solver, int(n), int(m), int(k), int(seed), out, int(colours))
 
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -415,6 +424,8 @@ def main(argv=None):
     p.add_argument("--mem-limit", type=float, default=8.0, help="GB of resident memory per run (0: none)")
     p.add_argument("--k", type=int, default=3, help="human moves (default 3)")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--colours", type=int, default=0, metavar="C",
+                   help="the sorting variant: n blocks in C colours (default 0: every block its own colour)")
     p.add_argument("--no-skip", action="store_true", help="run larger sizes even after a failure")
     p.add_argument("--limit", action="append", default=[], metavar="SOLVER=NxM",
                    help="run SOLVER only up to size NxM (in the order of --sizes); repeatable")
@@ -439,9 +450,10 @@ def main(argv=None):
         p.error("--sizes and --solvers must each name at least one")
 
     from symsynth.solvers import SOLVERS
-    unknown = [s for s in solvers if s not in SOLVERS]
+    unknown = [s for s in solvers if s.partition(":")[0] not in SOLVERS or s.partition(":")[2] not in ("", "plain")]
     if unknown:
-        p.error(f"unknown solver(s) {', '.join(unknown)}; registered: {', '.join(SOLVERS)}")
+        p.error(f"unknown solver(s) {', '.join(unknown)}; registered: {', '.join(SOLVERS)} "
+                "(NAME:plain: without the reduction by interchangeable objects)")
     runnable = solvers
     limits: dict[str, tuple[int, int]] = {}
     for item in args.limit:
@@ -482,7 +494,7 @@ def main(argv=None):
                     bar.update()
                     continue
                 bar.set_description(f"{s} {n}x{m}")
-                cell = run_cell(s, n, m, args.k, args.seed, args.timeout, args.mem_limit * 1024)
+                cell = run_cell(s, n, m, args.k, args.seed, args.timeout, args.mem_limit * 1024, args.colours)
                 cells[(s, n, m)] = cell
                 bar.update()
                 if cell.ok:

@@ -54,7 +54,8 @@ MAX_COLUMNS = 4
 
 
 def pattern_scene(n: int, m: int, k: int = 3, seed: int = 0, *, grasps=("top",),
-                  initial: dict[str, str] | None = None, target: dict[str, str] | None = None):
+                  initial: dict[str, str] | None = None, target: dict[str, str] | None = None,
+                  colours: int | None = None):
     """The family's scene for n objects and m locations, validated (see the module doc).
 
     `initial` / `target` (object name -> place) override the drawn initial
@@ -62,12 +63,13 @@ def pattern_scene(n: int, m: int, k: int = 3, seed: int = 0, *, grasps=("top",),
     """
     from symsynth.scene import scene_from_data
 
-    return scene_from_data(pattern_data(n, m, k, seed, grasps=grasps, initial=initial, target=target))
+    return scene_from_data(pattern_data(n, m, k, seed, grasps=grasps, initial=initial, target=target,
+                                        colours=colours))
 
 
 def pattern_data(n: int, m: int, k: int = 3, seed: int = 0, *, grasps=("top",),
                  initial: dict[str, str] | None = None,
-                 target: dict[str, str] | None = None) -> dict[str, Any]:
+                 target: dict[str, str] | None = None, colours: int | None = None) -> dict[str, Any]:
     if n < 1:
         raise ValueError(f"n must be >= 1, found {n}")
     if m < n + 1:
@@ -79,7 +81,12 @@ def pattern_data(n: int, m: int, k: int = 3, seed: int = 0, *, grasps=("top",),
     names = [f"o{i}" for i in range(1, n + 1)]
     locations = [f"l{i}" for i in range(1, m + 1)]
     samples = ["e1", "e2"]
-    labels = list(COLOURS[:n]) if n <= len(COLOURS) else names
+    if colours is not None:  # the sorting variant: object i has colour i mod c
+        if not 1 <= colours <= len(COLOURS):
+            raise ValueError(f"colours must be in 1..{len(COLOURS)}, found {colours}")
+        labels = [COLOURS[i % colours] for i in range(n)]
+    else:
+        labels = list(COLOURS[:n]) if n <= len(COLOURS) else names
 
     goal = dict(zip(names, rng.sample(locations, n)))
     if target:
@@ -95,7 +102,8 @@ def pattern_data(n: int, m: int, k: int = 3, seed: int = 0, *, grasps=("top",),
         objects[o] = spec
     task = "F(" + " & ".join(f"at({label}, {goal[o]})" for o, label in zip(names, labels)) + ")"
     return {
-        "name": f"pattern_n{n}_m{m}_k{k}_s{seed}",
+        "name": (f"pattern_n{n}_m{m}_k{k}_s{seed}" if colours is None
+                 else f"sort_n{n}_c{colours}_m{m}_k{k}_s{seed}"),
         "objects": objects,
         "locations": locations,
         "else_samples": samples,

@@ -12,6 +12,8 @@ from symsynth.cli.options import check_writable
 from symsynth.game.abstraction import Move, State, initial_state, motions, robot_moves, slides
 from symsynth.game.solution import Solution, Step
 from symsynth.game.strategy import format_state, write_strategy
+from symsynth.game.symmetry import Symmetry
+from symsynth.logic import ast
 from symsynth.planning.build import Obtained
 from symsynth.planning.methods import METHODS
 from symsynth.problem import CostmapRequest, solve, with_costmap, with_task
@@ -95,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     if obtained is not None:
         costmap_report(obtained)
-    _report(scene, task, args.solver, solution)
+    _report(scene, task, args.solver, solution, problem.formula)
     if written is not None:
         print(f"\nwrote {args.output} ({written} positions)")
     return 0
@@ -123,7 +125,7 @@ def costmap_report(got: Obtained) -> None:
         print(f"           {got.path}")
 
 
-def _report(scene: Scene, task: str, solver: str, solution: Solution) -> None:
+def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: ast.Formula) -> None:
     where = f" ({scene.source})" if scene.source else ""
     r = solution.resolution
     print(f"scene      {scene.name}{where}")
@@ -140,7 +142,15 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution) -> None:
     else:
         print(f"E_p        {_num(solution.cost_bound)} ({solution.units} units of resolution "
               f"{_num(r)}, each cost rounded up)")
-    print(f"positions  {solution.states} game positions")
+    if "interchangeable" in solution.stats:
+        print(f"positions  {solution.states} canonical game positions (interchangeable objects: "
+              f"{solution.stats['interchangeable']}; one position per renaming of them)")
+    else:
+        print(f"positions  {solution.states} game positions")
+        symmetry = Symmetry.of(scene, formula)
+        if symmetry is not None:
+            print(f"           interchangeable objects {symmetry.describe()}: this solver does not "
+                  "reduce by them (the explicit and forward ones do)")
     phases = ", ".join(f"{name} {s:.4f}" for name, s in solution.seconds.items())
     print(f"seconds    {sum(solution.seconds.values()):.4f} ({phases})")
     stats = solution.stats

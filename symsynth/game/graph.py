@@ -19,6 +19,7 @@ from tqdm import tqdm
 
 from symsynth.automata import SymbolicDFA, compile_ltlf
 from symsynth.game.abstraction import State, costmap_of, human_moves, letter, quantize, robot_moves
+from symsynth.game.symmetry import Symmetry
 from symsynth.scene.propositions import interpret_all
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
@@ -46,9 +47,13 @@ class GameGraph:
     (moves depend on `v` only, DFA steps on (q, letter) only).  Also what the
     strategy file walks (`game.strategy`)."""
 
-    def __init__(self, scene: Scene, formula: ast.Formula, resolution: float):
+    def __init__(self, scene: Scene, formula: ast.Formula, resolution: float, *,
+                 symmetric: bool = False):
         costmap_of(scene)  # fail early, not at the first motion
         self.scene = scene
+        #: with `symmetric`, every state a move leads to is canonical
+        #: (`game.symmetry`); None when all objects are distinct
+        self.symmetry = Symmetry.of(scene, formula) if symmetric else None
         self.props = interpret_all(formula, scene)
         self.dfa: SymbolicDFA = compile_ltlf(formula)
         self.resolution = resolution
@@ -57,6 +62,10 @@ class GameGraph:
         self._letters: dict[State, frozenset[str]] = {}
         self._robot: dict[State, list[tuple[str, State, int]]] = {}
         self._human: dict[State, list[tuple[str, State]]] = {}
+
+    def canon(self, v: State) -> State:
+        """`v`, or its canonical state when the graph is symmetric."""
+        return v if self.symmetry is None else self.symmetry.canon(v)
 
     def read(self, q: Hashable, v: State) -> Hashable:
         """The DFA state after reading ρ(v) from q."""
@@ -72,13 +81,13 @@ class GameGraph:
         v, q, h = node.v, node.q, node.h
         if node.robot:
             if v not in self._robot:
-                self._robot[v] = [(a, w, quantize(c, self.resolution))
+                self._robot[v] = [(a, self.canon(w), quantize(c, self.resolution))
                                   for a, w, c in robot_moves(self.scene, v)]
             return [(a, self._after(w, q, h, robot=False), units, w) for a, w, units in self._robot[v]]
         out: list[tuple[str, Node | None, int, State]] = [(PASS, Node(v, q, h, True), 0, v)]
         if h > 0:
             if v not in self._human:
-                self._human[v] = human_moves(self.scene, v)
+                self._human[v] = [(a, self.canon(w)) for a, w in human_moves(self.scene, v)]
             out += [(a, self._after(w, q, h - 1, robot=True), 0, w) for a, w in self._human[v]]
         return out
 

@@ -33,16 +33,17 @@ from symsynth.scene.model import Scene
 
 def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
                    k: int | None = None, budget: float | None = None,
-                   resolution: float = 1.0) -> Solution:
+                   resolution: float = 1.0, symmetric: bool = True) -> Solution:
     """E_p, a strategy and plays for `formula` (default: the scene's task)
-    against a human with `k` moves (default: the scene's k)."""
+    against a human with `k` moves (default: the scene's k); with
+    `symmetric`, on canonical positions (`game.symmetry`)."""
     k = check_parameters(scene, k, resolution)
     clock = time.perf_counter()
-    game = GameGraph(scene, task_formula(scene, formula), resolution)
+    game = GameGraph(scene, task_formula(scene, formula), resolution, symmetric=symmetric)
     seconds = {"dfa": time.perf_counter() - clock}
 
     clock = time.perf_counter()
-    v0 = initial_state(scene)
+    v0 = game.canon(initial_state(scene))
     q0 = game.read(game.dfa.initial, v0)
     if game.accepts(q0):  # ρ(v0) alone is accepted
         return won_at_start(scene, k, resolution, budget, seconds | {"explore": 0.0, "solve": 0.0})
@@ -60,9 +61,10 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
         principal = _principal_play(nodes, edges, value, choice, resolution)
         counter = principal if realizable is False else None
     seconds["solve"] = time.perf_counter() - clock
-    return Solution(None if units is None else units * resolution, units, resolution, budget,
-                    realizable, k, len(nodes) - 1, seconds, strategy, principal, counter,
-                    scene.object_names)
+    solution = Solution(None if units is None else units * resolution, units, resolution, budget,
+                        realizable, k, len(nodes) - 1, seconds, strategy, principal, counter,
+                        scene.object_names)
+    return solution if game.symmetry is None else game.symmetry.realize(solution)
 
 
 def _dijkstra(nodes: list[Node | None], edges: list[list[Edge]]) -> tuple[dict[int, int], dict[int, int]]:

@@ -80,15 +80,16 @@ INF = math.inf
 
 def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
                   k: int | None = None, budget: float | None = None,
-                  resolution: float = 1.0) -> Solution:
+                  resolution: float = 1.0, symmetric: bool = True) -> Solution:
     """E_p, a strategy and plays for `formula` (default: the scene's task)
-    against a human with `k` moves (default: the scene's k)."""
+    against a human with `k` moves (default: the scene's k); with
+    `symmetric`, on canonical positions (`game.symmetry`)."""
     k = check_parameters(scene, k, resolution)
     clock = time.perf_counter()
     formula = task_formula(scene, formula)
-    game = GameGraph(scene, formula, resolution)
+    game = GameGraph(scene, formula, resolution, symmetric=symmetric)
     seconds = {"dfa": time.perf_counter() - clock}
-    v0 = initial_state(scene)
+    v0 = game.canon(initial_state(scene))
     q0 = game.read(game.dfa.initial, v0)
     if game.accepts(q0):  # ρ(v0) alone is accepted
         return won_at_start(scene, k, resolution, budget,
@@ -119,9 +120,10 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
         principal = _deep(search.principal_play, start, units)
         counter = principal if realizable is False else None
     seconds["plays"] = time.perf_counter() - clock
-    return Solution(None if units is None else units * resolution, units, resolution, budget,
-                    realizable, k, search.positions(), seconds, strategy, principal, counter,
-                    scene.object_names, stats)
+    solution = Solution(None if units is None else units * resolution, units, resolution, budget,
+                        realizable, k, search.positions(), seconds, strategy, principal, counter,
+                        scene.object_names, stats)
+    return solution if game.symmetry is None else game.symmetry.realize(solution)
 
 
 # -- the search ----------------------------------------------------------------------

@@ -123,3 +123,44 @@ def _costmap(rng: random.Random, names: list[str], locations: list[str], samples
 
 def _some(rng: random.Random, places: list[str]) -> list[str]:
     return [x for x in places if rng.random() < 0.25]
+
+
+def alike_scene(seed: int, *, contacts: bool = False) -> Scene:
+    """A random scene whose objects come in kinds: 2-4 objects of 1-2 kinds
+    (tags `block` and `red` or `blue`), the costmap rows of mode `o/g` the
+    same for every object of a kind (drawn once per kind, with the same
+    missing pairs and conditions), the task over the kinds' tags -- now and
+    then over one object's own name, which sets it apart from its kind."""
+    rng = random.Random(f"alike {seed}")
+    locations = [f"l{i}" for i in range(1, rng.randint(2, 4) + 1)]
+    samples = [f"e{i}" for i in range(1, rng.choice([0, 1, 2, 2]) + 1)]
+    grasps = ["top", "side"][:rng.randint(1, 2)]
+    n = rng.randint(2, min(4, len(locations) + 1))
+    names = [f"o{i}" for i in range(1, n + 1)]
+    kinds = {o: rng.choice(["red", "blue"][:rng.randint(1, 2)]) for o in names}
+    spots = rng.sample(locations + ["Else"] * n, n)
+    objects = {o: {"tags": ["block", kinds[o]], "at": at} for o, at in zip(names, spots)}
+    costmap = _costmap(rng, sorted(set(kinds.values())), locations, samples, grasps, 0)
+    motions = []
+    for entry in costmap["motions"]:
+        kind, slash, g = entry["mode"].partition("/")
+        if not slash:
+            motions.append(entry)
+            continue
+        motions += [dict(entry, mode=f"{o}/{g}") for o in names if kinds[o] == kind]
+    costmap["motions"] = motions
+    tags = ["block", *sorted(set(kinds.values()))] + ([rng.choice(names)] if rng.random() < 0.2 else [])
+    data = {
+        "name": f"alike{seed}",
+        "objects": objects,
+        "locations": locations,
+        "else_samples": samples,
+        "grasps": grasps,
+        "primitives": {"grab": rng.randint(0, 5), "drop": rng.randint(0, 5)},
+        "human": {"k": rng.randint(0, 2)},
+        "task": _task(rng, {t: {"tags": []} for t in tags}, locations),
+        "costmap": costmap,
+    }
+    if contacts:
+        _add_contacts(random.Random(f"contacts alike {seed}"), data, 0)
+    return scene_from_data(data)

@@ -22,16 +22,17 @@ from symsynth.solvers.bdd.arena import Arena
 
 
 def make_scene(objects, locations, motions, *, else_samples=(), k=0, task="true",
-               grasps=("top",), grab=5, drop=5):
+               grasps=("top",), grab=5, drop=5, tags=None):
     """`objects`: name -> location; `motions`: (mode, from, to) -> cost, or a
-    list of (free, cost) rules."""
+    list of (free, cost) rules; `tags`: name -> tags (default `block`)."""
     entries = []
     for (mode, start, goal), rules in motions.items():
         rules = [([], rules)] if isinstance(rules, (int, float)) else rules
         entries.append({"mode": mode, "from": start, "to": goal,
                         "rules": [{"free": list(free), "cost": cost} for free, cost in rules]})
     return scene_from_data({
-        "name": "hand", "objects": {o: {"at": at, "tags": ["block"]} for o, at in objects.items()},
+        "name": "hand", "objects": {o: {"at": at, "tags": (tags or {}).get(o, ["block"])}
+                                       for o, at in objects.items()},
         "locations": list(locations), "else_samples": list(else_samples), "grasps": list(grasps),
         "primitives": {"grab": grab, "drop": drop}, "human": {"k": k}, "task": task,
         "costmap": {"format": "symsynth.costmap/1", "motions": entries}})
