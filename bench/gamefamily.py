@@ -13,6 +13,9 @@ The scene (everything drawn from `random.Random(seed)`, so deterministic):
   shuffle blocks through: the robot can only put an object down on a
   location of interest), Else samples `e1, e2`, grasps `top` (or the
   `grasps` given), grab = drop = 5, a human with `k` moves;
+- with `colours=c` (the sorting variant), object i has colour i mod c, so
+  blocks of one colour are interchangeable (game/symmetry.py) and the
+  pattern asks for some block of the right colour at each target;
 - the task is one pattern, `F(at(c1, l_p1) & ... & at(cn, l_pn))` with `ci`
   the colour of `oi` (its name when colours run out) and `p` a seeded
   injection of the objects into distinct locations;

@@ -12,6 +12,8 @@ the solvers a scene and a formula, the planners a physical scene.
 from __future__ import annotations
 
 import dataclasses
+import inspect
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -90,9 +92,23 @@ def with_costmap(problem: Problem, request: CostmapRequest) -> Problem:
 
 
 def solve(problem: Problem, solver: str = DEFAULT_SOLVER, *, budget: float | None = None,
-          resolution: float = 1.0, k: int | None = None) -> Solution:
+          resolution: float = 1.0, k: int | None = None, time_limit: float | None = None) -> Solution:
     """E_p, a strategy and plays for the problem's game with a registered
-    solver (`symsynth.solvers`), over the horizon its k can use."""
+    solver (`symsynth.solvers`), over the horizon its k can use.
+
+    With `time_limit` (seconds), a solver that accepts one answers anytime
+    (`Solution.exact` false: E_p bracketed); the whole k is then solved
+    at once, since the horizon's shortcuts read exact values."""
     if solver not in SOLVERS:
         raise InputError(f"unknown solver {solver!r}; installed solvers: {', '.join(SOLVERS)}")
-    return solve_game(SOLVERS[solver], problem.scene, problem.formula, k=k, budget=budget, resolution=resolution)
+    if time_limit is None:
+        return solve_game(SOLVERS[solver], problem.scene, problem.formula, k=k, budget=budget,
+                          resolution=resolution)
+    if not time_limit > 0 or math.isinf(time_limit):
+        raise InputError(f"time limit must be a positive number of seconds, found {time_limit}")
+    function = SOLVERS[solver]
+    if "time_limit" not in inspect.signature(function).parameters:
+        raise InputError(f"the {solver} solver does not stop at a time limit; "
+                         "use --solver forward or auto for an anytime answer")
+    return function(problem.scene, problem.formula, k=k, budget=budget, resolution=resolution,
+                    time_limit=time_limit)

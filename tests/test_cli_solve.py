@@ -84,7 +84,7 @@ def test_principal_play_with_costs_and_running_total(capsys, tmp_path, solver):
     assert "realizable within budget 21" in out and "not realizable" not in out
     assert value_line(out) == "21"
     assert re.search(r"^scene\s+pick\b", out, re.M) and re.search(r"^task\s+F\(at\(b, l2\)\)", out, re.M)
-    assert re.search(rf"^solver\s+{solver}$", out, re.M)
+    assert re.search(rf"^solver\s+{solver}$" if solver != "auto" else r"^solver\s+auto: forward, as ", out, re.M)
     assert re.search(r"^human\s+k = 0\b", out, re.M)
     assert play_lines(out) == [("robot", "transit(b,top)", 7, 7), ("robot", "grab(b)", 5, 12),
                                ("robot", "transfer(l2)", 4, 16), ("robot", "drop(b,l2)", 5, 21)]
@@ -244,6 +244,7 @@ def _foreign_costmap(tmp_path):
     (lambda d, s: [s, "--costmap", _foreign_costmap(d)], r"foreign\.json: costmap: motion empty home -> x9/top: unknown anchor 'x9/top'"),
     (lambda d, s: [s, "-o", d / "no" / "such" / "dir.json"], r"cannot write strategy file .*dir\.json"),
     (lambda d, s: [write_scene(d, task=None)], r"has no task: give --task"),
+    (lambda d, s: [s, "--solver", "explicit", "--time-limit", "5"], r"the explicit solver does not stop at a time limit"),
 ])
 def test_bad_input_is_one_message(capsys, tmp_path, argv, expected):
     code, out, err = run(capsys, "solve", *argv(tmp_path, write_scene(tmp_path)))
@@ -312,3 +313,9 @@ def test_objects_named_like_a_place_are_refused(tmp_path, capsys, name, reason):
 def test_a_formula_that_starts_with_a_dash_gets_a_hint(capsys, argv):
     assert main(argv) == 2
     assert f"the argument {argv[-1]!r} starts with '-' and is read as an option" in capsys.readouterr().err
+
+
+def test_time_limit_answers_with_the_exact_value_when_it_is_proven_in_time(capsys, tmp_path):
+    out = solve(capsys, "auto", write_scene(tmp_path), "--k", "1", "--time-limit", "60")
+    assert value_line(out) == "34"
+    assert re.search(r"^solver\s+auto: forward, as a time limit", out, re.M)

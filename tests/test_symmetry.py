@@ -158,3 +158,16 @@ def test_strategy_answers_at_every_real_position():
     swapped = State(("l2", "l1", "Else"), None, "Else")
     assert solution.strategy[(swapped, q, 0)] == first.replace("b", "a") if "b" in first else first
     assert math.isfinite(worst_case_of(scene, solution, formula))
+
+
+def test_sorting_family_classes_by_colour():
+    """The game benchmark's sorting variant: blocks of one colour form a
+    class, and the reduced solvers agree with the unreduced one."""
+    from bench.gamefamily import pattern_scene
+
+    scene = pattern_scene(4, 5, k=1, colours=2)
+    assert names(scene, interchangeable(scene, parse_ltlf(scene.task))) == [["o1", "o3"], ["o2", "o4"]]
+    plain = solve_explicit(scene, symmetric=False)
+    reduced = solve_explicit(scene)
+    assert reduced.units == plain.units == solve_forward(scene).units
+    assert reduced.states < plain.states

@@ -70,6 +70,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="physical scenes: compute the costmap even if a cached one exists")
     parser.add_argument("--solver", choices=tuple(SOLVERS), default=DEFAULT_SOLVER,
                         help=f"game solver (default: {DEFAULT_SOLVER})")
+    parser.add_argument("--time-limit", type=options.positive, metavar="S",
+                        help="seconds of search; if E_p is not proven by then, print a proven interval "
+                             "[lower, upper] and a strategy that guarantees the upper end (solvers "
+                             "forward and auto)")
     parser.add_argument("--resolution", type=options.positive, default=1.0, metavar="R",
                         help="round each action's cost up to a multiple of R (default: 1)")
     parser.add_argument("--json", action="store_true", help="print the solution as JSON")
@@ -85,7 +89,8 @@ def run(args: argparse.Namespace) -> int:
     scene = load_scene(args.scene, costmap=args.costmap)
     problem = with_costmap(with_task(scene, args.task, "--task", args.scene), request)
     scene, task, obtained = problem.scene, problem.task, problem.obtained
-    solution = solve(problem, args.solver, k=args.k, budget=args.budget, resolution=args.resolution)
+    solution = solve(problem, args.solver, k=args.k, budget=args.budget, resolution=args.resolution,
+                     time_limit=args.time_limit)
     written = None if args.output is None else write_strategy(args.output, scene, task, solution)
     if args.json:
         out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver}
@@ -133,9 +138,20 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
     print(f"human      k = {solution.k} move{'s' if solution.k != 1 else ''}, human first")
     if "solved_with_k" in solution.stats:
         print(f"           {_horizon(solution)}")
-    print(f"solver     {solver}")
+    if "auto" in solution.stats:
+        print(f"solver     auto: {solution.stats['auto']}, as {solution.stats['auto_reason']}")
+    else:
+        print(f"solver     {solver}")
     print(f"verdict    {_verdict(solution)}")
-    if solution.cost_bound is None:
+    if not solution.exact:
+        print(f"E_p        in [{_num(solution.lower_bound)}, "
+              f"{'unknown' if solution.cost_bound is None else _num(solution.cost_bound)}]: "
+              "not proven within the time limit")
+        print("           lower end proven by refuting every cheaper strategy; "
+              + ("no strategy found in time" if solution.cost_bound is None else
+                 f"upper end guaranteed by the strategy below, checked against every human reply "
+                 f"(gap {_num(solution.cost_bound - solution.lower_bound)})"))
+    elif solution.cost_bound is None:
         print("E_p        infinite")
     elif r == 1:
         print(f"E_p        {_num(solution.cost_bound)}")
@@ -160,7 +176,15 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
                   if key in stats]
         print(f"bdd        {stats['peak_nodes']} peak nodes; fixpoint rounds: {', '.join(rounds)}")
     print()
-    if solution.cost_bound is None:
+    if not solution.exact and solution.cost_bound is None:
+        print("No strategy was found within the time limit, and none was ruled out: "
+              "give more time for an upper bound.")
+    elif not solution.exact:
+        print("A play of the strategy found in time, against the human's replies of largest proven cost.")
+        _print_play(solution.principal_play, solution.objects)
+        print(f"total cost {_num(sum(s.cost for s in solution.principal_play))} "
+              f"<= {_num(solution.cost_bound)}, the upper end")
+    elif solution.cost_bound is None:
         _counter_report(scene, solution)
     elif not solution.principal_play:
         print("The task holds in the initial state: the robot has nothing to do.")
@@ -181,6 +205,15 @@ def _horizon(solution: Solution) -> str:
 
 
 def _verdict(solution: Solution) -> str:
+    if not solution.exact:
+        budget = None if solution.budget is None else _num(solution.budget)
+        if solution.realizable is True:
+            return f"realizable within budget {budget} (the strategy found in time guarantees it)"
+        if solution.realizable is False:
+            return f"not realizable within budget {budget} (E_p is proven above it)"
+        if budget is not None:
+            return f"undecided within the time limit: budget {budget} lies between the bounds"
+        return "undecided within the time limit (E_p bracketed below)"
     if solution.cost_bound is None:
         return "no winning strategy"
     if solution.realizable is None:

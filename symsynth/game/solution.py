@@ -61,6 +61,24 @@ class Solution:
     counter_play: tuple[Step, ...] | None = None
     objects: tuple[str, ...] = ()  # names for `at`, in order, to print states
     stats: Mapping[str, Any] = field(default_factory=dict)  # solver-specific counters
+    #: Set when a time limit stopped the solver before E_p was proven: then
+    #: `lower_units <= E_p / resolution <= units` (lower proven by refutation,
+    #: `units` by `strategy`, checked against every human reply; `units` None
+    #: when no strategy was found in time), the plays follow that strategy,
+    #: and `realizable` is None when the budget falls between the two.
+    lower_units: int | None = None
+
+    @property
+    def exact(self) -> bool:
+        """Whether `cost_bound` is E_p (and not an upper bound on it)."""
+        return self.lower_units is None
+
+    @property
+    def lower_bound(self) -> float | None:
+        """E_p's proven lower bound in costmap units: E_p itself when exact."""
+        if self.lower_units is None:
+            return self.cost_bound
+        return math.inf if self.lower_units == math.inf else self.lower_units * self.resolution
 
     def to_json(self) -> dict[str, Any]:
         """Spec §8's fields, the units and the plays."""
@@ -70,6 +88,9 @@ class Solution:
             "units": self.units, "resolution": self.resolution, "stats": dict(self.stats),
             "principal_play": [self._step(s) for s in self.principal_play],
         }
+        if not self.exact:  # a time limit stopped the solver: E_p in [lower_bound, cost_bound]
+            out["exact"] = False
+            out["lower_bound"] = None if self.lower_bound == math.inf else self.lower_bound
         out["counter_play"] = (None if self.counter_play is None
                                else [self._step(s) for s in self.counter_play])
         return out

@@ -142,6 +142,22 @@ def _follow(game: GameGraph, position: Position, strategy: Mapping[Position, str
     return Choice(action, units, () if after is None else _human_turn(game, after))
 
 
+def guaranteed_units(scene: Scene, formula: ast.Formula, solution: Solution) -> int | None:
+    """The most units `solution.strategy` can spend from the initial
+    position against any human, found by following it through every human
+    behaviour in the real game (not by trusting the solver); None when it
+    can go in circles.  0 when the task holds at the start."""
+    game = GameGraph(scene, formula, solution.resolution)
+    choices = _explore(game, solution.strategy, solution.k, scene.object_names)
+    if not choices:
+        return 0
+    worst = worst_units(choices)
+    v0 = initial_state(scene)
+    start = _human_turn(game, Node(v0, game.read(game.dfa.initial, v0), solution.k, robot=False))
+    values = [worst[p] for p in start]
+    return None if any(x is None for x in values) else max(values, default=0)
+
+
 def worst_units(choices: Mapping[Position, Choice]) -> dict[Position, int | None]:
     """For each position, the most units the strategy spends from there to the
     win against any human: its action's units plus the worst reply's.  None

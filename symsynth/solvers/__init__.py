@@ -34,4 +34,4 @@ class Solver(Protocol):
 
 #: name -> solver, loaded when asked for.
 SOLVERS = plugins.Registry(GROUP, "solver", InputError)
-DEFAULT_SOLVER = "symbolic"
+DEFAULT_SOLVER = "auto"

@@ -70,20 +70,27 @@ from tqdm import tqdm
 from symsynth.game.abstraction import State, initial_state
 from symsynth.solvers.bound import LowerBound
 from symsynth.game.graph import PASS, GameGraph, Node
+from symsynth.game.strategy import guaranteed_units
 from symsynth.game.solution import (Position, Solution, Step, check_parameters, task_formula, verdict,
                                    won_at_start)
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
 
 INF = math.inf
+deadline_clock = time.perf_counter  # what deadlines are measured by (tests count questions instead)
 
 
 def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
                   k: int | None = None, budget: float | None = None,
-                  resolution: float = 1.0, symmetric: bool = True) -> Solution:
+                  resolution: float = 1.0, symmetric: bool = True,
+                  time_limit: float | None = None) -> Solution:
     """E_p, a strategy and plays for `formula` (default: the scene's task)
     against a human with `k` moves (default: the scene's k); with
-    `symmetric`, on canonical positions (`game.symmetry`)."""
+    `symmetric`, on canonical positions (`game.symmetry`).
+
+    With `time_limit` (seconds of search), an anytime answer when E_p is not
+    proven in time (`_anytime`): `Solution.lower_units` and a strategy that
+    guarantees `units`."""
     k = check_parameters(scene, k, resolution)
     clock = time.perf_counter()
     formula = task_formula(scene, formula)
@@ -103,12 +110,18 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
     search = Search(game, bound)
     # a bar of the rounds at the start (each asks "E_p <= b?" with b one more),
     # shown on a terminal once the search takes over a second
+    lower = None
     with tqdm(desc="forward search", unit=" rounds", delay=1.0, leave=False, disable=None) as bar:
         search.on_round = lambda b: (bar.update(), bar.set_postfix_str(f"E_p >= {b}", refresh=False))
-        units = _deep(search.value_human, start)
+        if time_limit is None:
+            units = _deep(search.value_human, start)
+        else:
+            lower, units = _anytime(search, start, deadline_clock() + time_limit)
         search.on_round = None
     seconds["search"] = time.perf_counter() - clock
     stats = search.stats()
+    if lower is not None:
+        return _bracketed(game, formula, search, start, lower, units, k, budget, seconds, stats)
 
     clock = time.perf_counter()
     realizable = verdict(units, resolution, budget)
@@ -126,6 +139,106 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
     return solution if game.symmetry is None else game.symmetry.realize(solution)
 
 
+# -- anytime answers --------------------------------------------------------------------
+
+class OutOfTime(Exception):
+    """The search's deadline passed (raised from inside the search)."""
+
+
+def _anytime(search: Search, start: Key, deadline: float) -> tuple[int | None, int | None]:
+    """(lower, upper) units for the start, None for lower when E_p is exact
+    (then upper is E_p, None when infinite).
+
+    Half of the time goes to the exact search from below (`_value`); if it
+    is not done, the rest asks "val <= b?" for b = 5%, 10%, 20%, ... above
+    lo (a generous b lets the depth-first search wander far): a yes
+    builds a strategy of at most b (its proven hi is the upper bound), a no
+    proves val > b and raises lo.  An interrupted question leaves the memo
+    sound: lo is raised and hi set only by questions that finished."""
+    now = deadline_clock()
+    search.deadline = now + (deadline - now) / 2
+    i = search.id(start)
+    try:
+        return None, _deep(search.value_human, start)
+    except OutOfTime:
+        pass
+    finally:
+        search.deadline = None
+    search.deadline = deadline
+    if search.lo_h[i] == INF:
+        return None, None
+    slack = 0.05
+    try:
+        while i not in search.hi_h and search.lo_h[i] != INF:
+            b = math.ceil(search.lo_h[i] * (1 + slack))
+            slack *= 2
+            if not _deep(search.human, i, b) and search.lo_h[i] <= b:
+                search.lo_h[i] = b + 1  # the search was a proof: val > b
+    except OutOfTime:
+        pass
+    finally:
+        search.deadline = None
+    lo, hi = search.lo_h[i], search.hi_h.get(i)
+    if lo == INF:
+        return None, None
+    if hi is not None and hi <= lo:
+        return None, hi
+    return int(lo), hi
+
+
+def _bracketed(game: GameGraph, formula: ast.Formula, search: Search, start: Key, lower: int,
+               upper: int | None, k: int, budget: float | None, seconds: dict[str, float],
+               stats: dict[str, object]) -> Solution:
+    """The anytime solution: `lower <= E_p <= upper`, the strategy of the
+    proven entries, checked against every human reply before it is returned."""
+    scene, r = game.scene, game.resolution
+    strategy: Mapping = ProvenStrategy(search) if upper is not None else {}
+    if budget is None:
+        realizable = None
+    elif upper is not None and verdict(upper, r, budget):
+        realizable = True
+    elif not verdict(lower, r, budget):
+        realizable = False
+    else:
+        realizable = None  # the budget lies between the bounds
+    principal = () if upper is None else search.proven_play(start)
+    solution = Solution(None if upper is None else upper * r, upper, r, budget, realizable, k,
+                        search.positions(), seconds, strategy, principal, None,
+                        scene.object_names, stats | {"lower_units": lower}, lower_units=lower)
+    if game.symmetry is not None:
+        solution = game.symmetry.realize(solution)
+    if upper is not None:
+        clock = time.perf_counter()
+        checked = guaranteed_units(scene, formula, solution)
+        if checked is None or checked > upper:
+            raise RuntimeError(f"internal error: the anytime strategy spends {checked} units "
+                               f"against some human, more than its proven {upper}")
+        seconds["check"] = time.perf_counter() - clock
+    return solution
+
+
+class ProvenStrategy(Mapping):
+    """The actions of the proven entries (hi): a strategy whose every play
+    from a position with an entry costs at most that entry's hi, followed
+    without further search.  Not optimal where hi > val."""
+
+    def __init__(self, search: Search):
+        self._search = search
+
+    def __getitem__(self, position: Position) -> str:
+        i = self._search.ids.get(position)
+        if i is None or i not in self._search.hi_r:
+            raise KeyError(position)
+        return self._search.hi_r[i][1]
+
+    def __iter__(self) -> Iterator[Position]:
+        keys = self._search.keys
+        return iter([keys[i] for i in self._search.hi_r])
+
+    def __len__(self) -> int:
+        return len(self._search.hi_r)
+
+
 # -- the search ----------------------------------------------------------------------
 
 Key = tuple[State, Hashable, int]  # (v, q, h)
@@ -138,6 +251,8 @@ class Search:
     human-turn position with the same (v, q, h) share the id, with separate
     bounds.  Moves are generated once per id and kept as ids.
     """
+
+    check_mask = 0x3FF  # the deadline is looked at every 1024 questions
 
     def __init__(self, game: GameGraph, bound: Callable[[State, int, bool], float]):
         self.game = game
@@ -157,6 +272,7 @@ class Search:
         self.rounds = 0
         self.on_round: Callable[[int], None] | None = None  # told of each round's budget (solve_forward)
         self.explored = 0  # qualitative explorations run
+        self.deadline: float | None = None  # perf_counter time: past it, a question raises OutOfTime
 
     def id(self, key: Key) -> int:
         i = self.ids.get(key)
@@ -206,6 +322,8 @@ class Search:
     # -- "val <= b?" ----------------------------------------------------------------------
     def robot(self, i: int, b: int) -> bool:
         self.calls += 1
+        if self.deadline is not None and self.calls & self.check_mask == 0 and deadline_clock() > self.deadline:
+            raise OutOfTime
         hi = self.hi_r.get(i)
         if hi is not None and hi[0] <= b:
             return True
@@ -228,6 +346,8 @@ class Search:
 
     def human(self, i: int, b: int) -> bool:
         self.calls += 1
+        if self.deadline is not None and self.calls & self.check_mask == 0 and deadline_clock() > self.deadline:
+            raise OutOfTime
         hi = self.hi_h.get(i)
         if hi is not None and hi <= b:
             return True
@@ -480,6 +600,26 @@ class Search:
             if i < 0:
                 return tuple(play)
             left -= units_a
+
+    def proven_play(self, start: Key) -> tuple[Step, ...]:
+        """The proven entries' strategy against the replies of largest proven
+        hi (the pass first on ties), without further search: the play of an
+        anytime answer."""
+        r = self.game.resolution
+        play: list[Step] = []
+        i = self.id(start)
+        while True:
+            steps = self.steps(i, robot=False)
+            action, _, state, j = max(steps, key=lambda x: -1 if x[3] < 0 else self.hi_r[x[3]][0])
+            if action != PASS:
+                play.append(Step("human", action, 0.0, state))
+            if j < 0:
+                return tuple(play)
+            _, chosen = self.hi_r[j]
+            (units, state, i), = [(u, w, nxt) for a, u, w, nxt in self.steps(j, robot=True) if a == chosen]
+            play.append(Step("robot", chosen, units * r, state))
+            if i < 0:
+                return tuple(play)
 
     def counter_play(self, start: Key) -> tuple[Step, ...]:
         """The explicit solver's counter play (`explicit._counter_play`),

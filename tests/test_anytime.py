@@ -1,0 +1,82 @@
+"""`solve --time-limit`: when the forward search is stopped before E_p is
+proven, the answer is an interval [lower, upper] and a strategy that
+guarantees upper.  Checked against the exact value (the explicit solver)
+on generated scenes small enough to solve, with the deadline counted in
+questions instead of seconds, so each limit stops the search at the same
+place on every machine."""
+
+from __future__ import annotations
+
+import itertools
+
+import pytest
+
+from symsynth.logic import parse_ltlf
+from symsynth.solvers import forward
+from symsynth.solvers.auto import choose
+from symsynth.solvers.explicit import solve_explicit
+from support.gamegen import alike_scene, random_scene
+from support.games import worst_case_of
+
+
+@pytest.fixture
+def counted(monkeypatch):
+    """The deadline clock advances one "second" per question asked."""
+    ticks = itertools.count()
+    monkeypatch.setattr(forward, "deadline_clock", lambda: next(ticks))
+    monkeypatch.setattr(forward.Search, "check_mask", 0)
+
+
+def test_intervals_contain_the_value(counted):
+    kinds = {"exact": 0, "interval": 0, "lower only": 0}
+    for seed in range(40):
+        scene = random_scene(seed + 500) if seed % 2 else alike_scene(seed)
+        formula = parse_ltlf(scene.task)
+        exact = solve_explicit(scene, symmetric=False).units
+        for limit in sorted({int(1.25 ** e) for e in range(3, 40)}):
+            got = forward.solve_forward(scene, time_limit=limit)
+            if got.exact:
+                kinds["exact"] += 1
+                assert got.units == exact, (seed, limit)
+                continue
+            assert exact is None or got.lower_units <= exact, (seed, limit)
+            if got.units is None:
+                kinds["lower only"] += 1
+                continue
+            kinds["interval"] += 1
+            assert exact is not None and exact <= got.units, (seed, limit)
+            assert got.lower_units < got.units
+            assert worst_case_of(scene, got, formula) <= got.units
+            assert sum(s.cost for s in got.principal_play) <= got.cost_bound
+    # every kind of answer was exercised
+    assert min(kinds.values()) >= 3, kinds
+
+
+def test_verdicts_within_a_time_limit(counted):
+    """A budget at or above the upper end is realizable, one below the lower
+    end is not, one between is undecided (None), never a guess."""
+    checked = 0
+    for seed in range(40):
+        scene = random_scene(seed + 500) if seed % 2 else alike_scene(seed)
+        exact = solve_explicit(scene, symmetric=False).units
+        for limit in sorted({int(1.25 ** e) for e in range(3, 40)}):
+            got = forward.solve_forward(scene, time_limit=limit)
+            if not got.exact and got.units is not None:
+                break
+        else:
+            continue
+        checked += 1
+        for budget in range(0, got.units + 3):
+            verdict = forward.solve_forward(scene, time_limit=limit, budget=budget).realizable
+            if verdict is not None:
+                assert verdict == (exact is not None and exact <= budget)
+            else:
+                assert got.lower_units <= budget < got.units
+    assert checked >= 3
+
+
+def test_auto_picks_the_forward_search_for_a_time_limit_and_a_pattern():
+    scene = random_scene(3)
+    assert choose(scene, parse_ltlf("F(at(block, l1))"), time_limit=1.0)[0] == "forward"
+    assert choose(scene, parse_ltlf("F(at(block, l1))"))[0] == "forward"
+    assert choose(scene, parse_ltlf("F(at(block, l1) & F(at(block, l2)))"))[0] == "symbolic"
