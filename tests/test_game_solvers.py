@@ -29,7 +29,7 @@ def solve(request):
 
 def test_every_solver_is_covered():
     """The tests run once per registered solver: losing one must not go unseen."""
-    assert set(SOLVERS) == {"auto", "explicit", "forward", "symbolic"}
+    assert set(SOLVERS) == {"auto", "compiled", "explicit", "forward", "symbolic"}
 
 
 def test_counter_play_takes_the_cheapest_action(solve):

@@ -18,7 +18,8 @@ from symsynth.planning.registry import planner_names
 def test_the_built_ins_are_registered_by_entry_point():
     assert {n: plugins.found("symsynth.solvers")[n].value for n in SOLVERS} == {
         "explicit": "symsynth.solvers.explicit:solve_explicit", "forward": "symsynth.solvers.forward:solve_forward",
-        "symbolic": "symsynth.solvers.symbolic:solve_symbolic", "auto": "symsynth.solvers.auto:solve_auto"}
+        "symbolic": "symsynth.solvers.symbolic:solve_symbolic", "auto": "symsynth.solvers.auto:solve_auto",
+        "compiled": "symsynth.solvers.compiled:solve_compiled"}
     assert SOLVERS["explicit"] is solve_explicit
     assert set(HUMANS) == {"none", "random", "adversarial"}
     assert set(planner_names()) == {"ompl-fcl", "pybullet"}
@@ -26,10 +27,10 @@ def test_the_built_ins_are_registered_by_entry_point():
 
 
 def test_a_registry_is_a_mapping_and_names_what_is_installed():
-    assert "symbolic" in SOLVERS and "simplex" not in SOLVERS and len(SOLVERS) == 4
+    assert "symbolic" in SOLVERS and "simplex" not in SOLVERS and len(SOLVERS) == 5
     with pytest.raises(KeyError):
         SOLVERS["simplex"]
-    with pytest.raises(InputError, match="unknown solver 'simplex'; installed solvers: auto, explicit, forward, symbolic"):
+    with pytest.raises(InputError, match="unknown solver 'simplex'; installed solvers: auto, compiled, explicit, forward, symbolic"):
         SOLVERS.get_or_fail("simplex")
 
 

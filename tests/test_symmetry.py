@@ -21,6 +21,7 @@ from symsynth.game.graph import GameGraph
 from symsynth.game.symmetry import Symmetry, interchangeable
 from symsynth.logic import parse_ltlf
 from symsynth.scene.propositions import interpret_all
+from symsynth.solvers.compiled import solve_compiled
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers.forward import solve_forward
 from symsynth.solvers.symbolic import solve_symbolic
@@ -123,7 +124,7 @@ def test_canonical_solving_keeps_the_value(seed):
     scene = alike_scene(seed, contacts=seed % 3 == 0)
     formula = parse_ltlf(scene.task)
     plain = solve_explicit(scene, symmetric=False)
-    for solve in (solve_explicit, solve_forward):
+    for solve in (solve_explicit, solve_forward, solve_compiled):
         reduced = solve(scene)
         assert reduced.units == plain.units, solve.__name__
         if reduced.units is not None:
