@@ -22,8 +22,8 @@ how a position and its moves are represented:
   name), so the Python side maps a canonical answer back to real objects
   exactly as it does for the explicit solver.
 
-Positions, edges and values live in numpy arrays; the exploration (a
-hash map from packed position to index) and Dijkstra's algorithm (a binary
+Positions, edges and values live in numpy arrays; the exploration (an
+open-addressing hash table from packed position to index) and Dijkstra's algorithm (a binary
 heap on arrays) are `numba.njit` functions, compiled on first use and cached
 on disk.  The moves are generated in the kernel from docs/game-semantics.md
 §4-§5 as `game/abstraction.py` writes them; the tests hold the two to the
@@ -42,8 +42,7 @@ import time
 from collections.abc import Hashable, Iterator, Mapping
 
 import numpy as np
-from numba import njit, types
-from numba.typed import Dict
+from numba import njit
 
 from symsynth.errors import InputError
 from symsynth.game.abstraction import (State, action_name, costmap_of, initial_state, legal_human_moves,
@@ -84,6 +83,8 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
     seconds["explore"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
+    if len(targets) >= 1 << 31 or len(keys) >= 1 << 31:
+        raise InputError(f"the compiled solver holds fewer than 2^31 moves; this game has {len(targets)}")
     value, choice = _dijkstra(keys, offsets, targets, units)
     graph = Graph(tables, keys, offsets, targets, units, codes, value, choice)
     top = int(value[1])
@@ -520,6 +521,36 @@ def _code(kind, obj, frame, loc, n, F, m):
 
 
 @njit(cache=True)
+def _slot(key, bits):
+    return np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> np.uint64(64 - bits))
+
+
+@njit(cache=True)
+def _find(table, bits, key):
+    """The index stored with `key` in the hash table, -1 if absent (the key
+    sits next to its index: one cache line per probe)."""
+    mask = (1 << bits) - 1
+    a = _slot(key, bits)
+    while True:
+        k = table[a, 0]
+        if k == key:
+            return table[a, 1]
+        if k < 0:
+            return -1
+        a = (a + 1) & mask
+
+
+@njit(cache=True)
+def _insert(table, bits, key, index):
+    mask = (1 << bits) - 1
+    a = _slot(key, bits)
+    while table[a, 0] >= 0:
+        a = (a + 1) & mask
+    table[a, 0] = key
+    table[a, 1] = index
+
+
+@njit(cache=True)
 def _grow(a, size):
     b = np.empty(size, a.dtype)
     b[:len(a)] = a
@@ -540,13 +571,14 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
     qmask = (1 << qbits) - 1
     keys = np.empty(1 << 16, np.int64)
     offsets = np.zeros((1 << 16) + 1, np.int64)
-    targets = np.empty(1 << 18, np.int64)
-    units = np.empty(1 << 18, np.int64)
-    codes = np.empty(1 << 18, np.int64)
-    index = Dict.empty(key_type=types.int64, value_type=types.int64)
+    targets = np.empty(1 << 18, np.int32)
+    units = np.empty(1 << 18, np.int32)
+    codes = np.empty(1 << 18, np.int32)
+    bits = 17
+    table = np.full((1 << bits, 2), -1, np.int64)  # open addressing: (key, index), -1 empty
     keys[0] = -1
     keys[1] = start
-    index[start] = 1
+    _insert(table, bits, start, 1)
     count = 2
     ne = 0
     at = np.empty(n, np.int64)
@@ -699,15 +731,21 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
             if succ < 0:
                 j = 0
             else:
-                j = index.get(succ, -1)
+                j = _find(table, bits, succ)
                 if j < 0:
                     j = count
                     if count == len(keys):
                         keys = _grow(keys, 2 * count)
                         offsets = _grow(offsets, 2 * count + 1)
                     keys[count] = succ
-                    index[succ] = count
                     count += 1
+                    if 2 * count > len(table):
+                        bits += 1
+                        table = np.full((1 << bits, 2), -1, np.int64)
+                        for r in range(1, count):
+                            _insert(table, bits, keys[r], r)
+                    else:
+                        _insert(table, bits, succ, j)
             targets[ne] = j
             units[ne] = mv_units[e]
             codes[ne] = mv_code[e]
@@ -720,7 +758,11 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
 
 @njit(cache=True)
 def _dijkstra(keys, offsets, targets, units):
-    """Values (INF: never settled) and, at robot positions, the chosen edge."""
+    """Values (INF: never settled) and, at robot positions, the chosen edge.
+
+    Dijkstra's algorithm for min-cost reachability games (solvers/explicit.py)
+    with a bucket queue (Dial's): edge costs are small integers, so the
+    positions waiting to settle are kept in a ring of max-cost + 1 buckets."""
     N = len(keys)
     E = len(targets)
     indeg = np.zeros(N + 1, np.int64)
@@ -728,87 +770,80 @@ def _dijkstra(keys, offsets, targets, units):
         indeg[targets[e] + 1] += 1
     for j in range(N):
         indeg[j + 1] += indeg[j]
-    pred_src = np.empty(E, np.int64)
-    pred_edge = np.empty(E, np.int64)
+    pred_edge = np.empty(E, np.int64)  # edges into each position, grouped by target
     fill = indeg[:N].copy()
+    for e in range(E):
+        t = targets[e]
+        pred_edge[fill[t]] = e
+        fill[t] += 1
+    source = np.empty(E, np.int32)
     for i in range(N):
         for e in range(offsets[i], offsets[i + 1]):
-            t = targets[e]
-            pred_src[fill[t]] = i
-            pred_edge[fill[t]] = e
-            fill[t] += 1
+            source[e] = i
     waiting = np.empty(N, np.int64)
     for i in range(N):
         waiting[i] = offsets[i + 1] - offsets[i]
     best = np.full(N, INF, np.int64)
     best_edge = np.full(N, -1, np.int64)
     value = np.full(N, INF, np.int64)
-    done = np.zeros(N, np.bool_)
     choice = np.full(N, -1, np.int64)
-    heap_d = np.empty(E + N + 1, np.int64)
-    heap_n = np.empty(E + N + 1, np.int64)
-    size = 0
-    # push (0, WIN)
-    heap_d[0] = 0
-    heap_n[0] = 0
-    size = 1
-    while size > 0:
-        d = heap_d[0]
-        j = heap_n[0]
-        size -= 1
-        if size > 0:  # sift the last element down from the root
-            ld, ln = heap_d[size], heap_n[size]
-            a = 0
-            while True:
-                c = 2 * a + 1
-                if c >= size:
-                    break
-                if c + 1 < size and (heap_d[c + 1] < heap_d[c] or (heap_d[c + 1] == heap_d[c] and heap_n[c + 1] < heap_n[c])):
-                    c += 1
-                if heap_d[c] < ld or (heap_d[c] == ld and heap_n[c] < ln):
-                    heap_d[a] = heap_d[c]
-                    heap_n[a] = heap_n[c]
-                    a = c
-                else:
-                    break
-            heap_d[a] = ld
-            heap_n[a] = ln
-        if done[j]:
+    C = 1
+    for e in range(E):
+        if units[e] + 1 > C:
+            C = units[e] + 1
+    head = np.full(C, -1, np.int64)
+    entry_node = np.empty(N + 1024, np.int64)
+    entry_dist = np.empty(N + 1024, np.int64)
+    entry_next = np.empty(N + 1024, np.int64)
+    used = 0
+    pending = 0
+    # (0, WIN)
+    entry_node[0] = 0
+    entry_dist[0] = 0
+    entry_next[0] = -1
+    head[0] = 0
+    used = 1
+    pending = 1
+    d = 0
+    while pending > 0:
+        b = d % C
+        x = head[b]
+        if x < 0:
+            d += 1
             continue
-        done[j] = True
+        head[b] = entry_next[x]
+        pending -= 1
+        j = entry_node[x]
+        if value[j] < INF or entry_dist[x] != d:
+            continue  # settled already, or a stale entry
         value[j] = d
         if j != 0 and keys[j] & 1:
             choice[j] = best_edge[j]
         for p in range(indeg[j], indeg[j + 1]):
-            i = pred_src[p]
-            if done[i]:
+            e = pred_edge[p]
+            i = source[e]
+            if value[i] < INF:
                 continue
-            push = False
-            nd = d
+            nd = -1
             if keys[i] & 1:
-                e = pred_edge[p]
                 cand = d + units[e]
-                if cand < best[i] or (cand == best[i] and e < best_edge[i]):
-                    if cand < best[i]:
-                        push = True
+                if cand < best[i]:
                     best[i] = cand
                     best_edge[i] = e
                     nd = cand
             else:
                 waiting[i] -= 1
                 if waiting[i] == 0:
-                    push = True
-            if push:
-                a = size
-                size += 1
-                while a > 0:
-                    par = (a - 1) // 2
-                    if heap_d[par] > nd or (heap_d[par] == nd and heap_n[par] > i):
-                        heap_d[a] = heap_d[par]
-                        heap_n[a] = heap_n[par]
-                        a = par
-                    else:
-                        break
-                heap_d[a] = nd
-                heap_n[a] = i
+                    nd = d
+            if nd >= 0:
+                if used == len(entry_node):
+                    entry_node = _grow(entry_node, 2 * used)
+                    entry_dist = _grow(entry_dist, 2 * used)
+                    entry_next = _grow(entry_next, 2 * used)
+                entry_node[used] = i
+                entry_dist[used] = nd
+                entry_next[used] = head[nd % C]
+                head[nd % C] = used
+                used += 1
+                pending += 1
     return value, choice
