@@ -75,8 +75,25 @@ def test_verdicts_within_a_time_limit(counted):
     assert checked >= 3
 
 
-def test_auto_picks_the_forward_search_for_a_time_limit_and_a_pattern():
+def test_auto_picks_by_time_limit_size_and_task():
     scene = random_scene(3)
     assert choose(scene, parse_ltlf("F(at(block, l1))"), time_limit=1.0)[0] == "forward"
-    assert choose(scene, parse_ltlf("F(at(block, l1))"))[0] == "forward"
-    assert choose(scene, parse_ltlf("F(at(block, l1) & F(at(block, l2)))"))[0] == "symbolic"
+    assert choose(scene, parse_ltlf("F(at(block, l1))"))[0] == "compiled"
+    assert choose(scene, parse_ltlf("F(at(block, l1))"), compiled=False)[0] == "forward"
+    assert choose(scene, parse_ltlf("F(at(block, l1) & F(at(block, l2)))"), compiled=False)[0] == "symbolic"
+
+
+def test_auto_falls_back_when_the_compiled_solver_cannot_hold_the_game():
+    """17 atoms: more than the compiled solver's table takes; auto says so
+    and solves with the next rule (forward: the task is a conjunction)."""
+    from symsynth.solvers.auto import solve_auto
+    from support.games import make_scene
+
+    names = [f"o{i}" for i in range(17)]
+    motions = {("empty", "home", "l1/top"): 1}
+    scene = make_scene({o: "Else" for o in names}, ["l1", "l2"], motions,
+                       task="F(" + " & ".join(f"!at({o}, l2)" for o in names) + " & occupied(l1))")
+    solution = solve_auto(scene)
+    assert solution.stats["auto"] in ("forward", "symbolic")
+    assert "at most 16 atoms" in solution.stats["auto_reason"]
+    assert solution.units == solve_explicit(scene, symmetric=False).units

@@ -84,7 +84,7 @@ def test_principal_play_with_costs_and_running_total(capsys, tmp_path, solver):
     assert "realizable within budget 21" in out and "not realizable" not in out
     assert value_line(out) == "21"
     assert re.search(r"^scene\s+pick\b", out, re.M) and re.search(r"^task\s+F\(at\(b, l2\)\)", out, re.M)
-    assert re.search(rf"^solver\s+{solver}$" if solver != "auto" else r"^solver\s+auto: forward, as ", out, re.M)
+    assert re.search(rf"^solver\s+{solver}$" if solver != "auto" else r"^solver\s+auto: compiled, as ", out, re.M)
     assert re.search(r"^human\s+k = 0\b", out, re.M)
     assert play_lines(out) == [("robot", "transit(b,top)", 7, 7), ("robot", "grab(b)", 5, 12),
                                ("robot", "transfer(l2)", 4, 16), ("robot", "drop(b,l2)", 5, 21)]

@@ -1,21 +1,21 @@
-"""`--solver auto`: one of the built-in solvers, chosen by the task's shape,
-the scene and the time limit, with the reason printed.
+"""`--solver auto` (the default): one of the built-in solvers, chosen by the
+time limit, the game's size and the task's shape, with the reason printed.
 
 The rule follows side-by-side measurements on this project's game families
 (docs/solving.md, bench/results/game.md and game-sort.md), not a guess:
 
 1. a time limit: the forward search, the only solver that answers anytime
    (a proven interval and a strategy for its upper end);
-2. a task of the form F(conjunction of atoms), which the forward solver's
-   lower bound guides: the forward search.  On the pattern family it was
-   the fastest at every size (1.7x the explicit solver at 5 x 7, the only
-   one to finish 6 x 8), and on the sorting family it ties with the
-   explicit solver, both on canonical positions, 8x faster than the
-   symbolic one at 6 x 8;
-3. any other task (the bound is 0 there, and the forward search is then
-   slower than the explicit one, e.g. on the bundled arch): the symbolic
-   solver, whose BDDs represent sets of positions at once (0.35 s on the
-   arch against 0.48 s for the explicit one on canonical positions).
+2. a game the compiled solver can hold (at most 16 task atoms, a position
+   in 62 bits): the compiled solver, the fastest wherever it fits (pattern
+   family 5 x 7: 1.4 s against 28.7 s for the forward search and 44 s for
+   the symbolic one; sorting family 6 x 8: 2 s against 18 s and 149 s; the
+   arch: 0.02 s of search);
+3. otherwise a task of the form F(conjunction of atoms), which the forward
+   solver's lower bound guides: the forward search;
+4. any other task (the bound is 0 there, and the forward search slows
+   down): the symbolic solver, whose BDDs represent sets of positions at
+   once.
 """
 
 from __future__ import annotations
@@ -27,17 +27,26 @@ from symsynth.game.solution import Solution, check_parameters, task_formula
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.bound import LowerBound
+from symsynth.solvers.compiled import TooLarge
+
+COMPILED = ("the game fits the compiled solver (at most 16 task atoms, a position in 62 bits), "
+            "the fastest measured wherever it fits")
 
 
-def choose(scene: Scene, formula: ast.Formula, time_limit: float | None = None) -> tuple[str, str]:
-    """(solver name, the reason in a sentence)."""
+def choose(scene: Scene, formula: ast.Formula, time_limit: float | None = None,
+           compiled: bool = True) -> tuple[str, str]:
+    """(solver name, the reason in a sentence); `compiled`: whether the game
+    may go to the compiled solver (rule 2; it says itself when it does not fit)."""
     if time_limit is not None:
         return "forward", "a time limit: the forward search is the solver that answers anytime"
+    if compiled:
+        return "compiled", COMPILED
     if LowerBound(GameGraph(scene, formula, 1.0), formula).enabled:
         return "forward", ("the task is F(conjunction of atoms), which the forward search's lower "
-                           "bound guides (fastest on the pattern and sorting families)")
-    return "symbolic", ("the forward search's lower bound does not guide this task; the symbolic "
-                        "solver's BDDs handle sets of positions at once")
+                           "bound guides, and the game is too large for the compiled solver")
+    return "symbolic", ("the forward search's lower bound does not guide this task and the game is "
+                        "too large for the compiled solver; the symbolic solver's BDDs handle sets "
+                        "of positions at once")
 
 
 def solve_auto(scene: Scene, formula: str | ast.Formula | None = None, *, k: int | None = None,
@@ -51,5 +60,10 @@ def solve_auto(scene: Scene, formula: str | ast.Formula | None = None, *, k: int
     formula = task_formula(scene, formula)
     name, reason = choose(scene, formula, time_limit)
     options = {} if time_limit is None else {"time_limit": time_limit}
-    solution = SOLVERS[name](scene, formula, k=k, budget=budget, resolution=resolution, **options)
+    try:
+        solution = SOLVERS[name](scene, formula, k=k, budget=budget, resolution=resolution, **options)
+    except TooLarge as error:
+        name, reason = choose(scene, formula, time_limit, compiled=False)
+        reason = f"{reason} ({error})"
+        solution = SOLVERS[name](scene, formula, k=k, budget=budget, resolution=resolution)
     return dataclasses.replace(solution, stats=dict(solution.stats) | {"auto": name, "auto_reason": reason})

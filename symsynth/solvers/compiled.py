@@ -31,7 +31,7 @@ same value on every generated scene, and the strategy is followed through
 every human behaviour in the real game.
 
 Scenes the packing cannot hold (more than 62 bits per position, more than
-16 task atoms) raise `InputError` naming the limit; `--solver explicit`
+16 task atoms) raise `TooLarge` (an `InputError`) naming the limit; `--solver explicit`
 solves them.
 """
 
@@ -58,6 +58,12 @@ from symsynth.scene.propositions import interpret_all
 
 INF = np.int64(1 << 60)
 MAX_ATOMS = 16
+
+
+class TooLarge(InputError):
+    """The game does not fit the compiled solver's packing or tables."""
+
+
 KIND_TRANSIT, KIND_GRAB, KIND_TRANSFER, KIND_DROP, KIND_SLIDE, KIND_PASS, KIND_MOVE = range(7)
 
 
@@ -84,7 +90,7 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
 
     clock = time.perf_counter()
     if len(targets) >= 1 << 31 or len(keys) >= 1 << 31:
-        raise InputError(f"the compiled solver holds fewer than 2^31 moves; this game has {len(targets)}")
+        raise TooLarge(f"the compiled solver holds fewer than 2^31 moves; this game has {len(targets)}")
     value, choice = _dijkstra(keys, offsets, targets, units)
     graph = Graph(tables, keys, offsets, targets, units, codes, value, choice)
     top = int(value[1])
@@ -185,7 +191,7 @@ class Tables:
         props = interpret_all(formula, scene)
         self.atom_keys = list(props)
         if len(self.atom_keys) > MAX_ATOMS:
-            raise InputError(f"the compiled solver takes tasks of at most {MAX_ATOMS} atoms, "
+            raise TooLarge(f"the compiled solver takes tasks of at most {MAX_ATOMS} atoms, "
                              f"this one has {len(self.atom_keys)}; use --solver explicit")
         kinds = {"at": 0, "holding": 1, "occupied": 2, "free": 3}
         self.atom_kind = np.array([kinds[p.kind] for p in props.values()] or [0], np.int64)
@@ -300,7 +306,7 @@ class Tables:
 def _check_width(tables: Tables, k: int) -> None:
     bits = tables.vbits + tables.qbits + (k + 1).bit_length() + 1
     if bits > 62:
-        raise InputError(f"the compiled solver packs a position into 62 bits; this game needs {bits} "
+        raise TooLarge(f"the compiled solver packs a position into 62 bits; this game needs {bits} "
                          "(objects, places, DFA states, k); use --solver explicit")
 
 
