@@ -1,28 +1,44 @@
-"""LTLf -> minimal symbolic DFA, compositionally.
+"""LTLf -> minimal symbolic DFA, compositionally over the Boolean structure.
 
-1. The formula is put in negation normal form and split into conjuncts
-   (with `G` pushed through `&`).
-2. Each conjunct becomes an explicit DFA by formula progression and is
-   minimized (Moore) while it is small.
-3. The minimal components are encoded in state bits and composed as a
-   synchronous product in one BDD manager; the product is minimized
+1. The formula's Boolean skeleton (`&`, `|`, `->`, `<->`, `!`) is taken
+   apart down to its *leaves*: subformulas without temporal operators, and
+   subformulas whose top operator is temporal.  Boolean structure hidden
+   under a temporal operator is pulled out where the logic allows it
+   (`normal.expose`): `G(f & g) = G f & G g`, `F(f | g) = F f | F g`,
+   `X` and `WX` through `&` / `|` / `->`, and `X !f = !WX f`.
+2. Each leaf becomes a minimal explicit DFA by formula progression
+   (progression.py): leaves are small temporal patterns.
+3. The skeleton is evaluated bottom-up.  `!` complements a DFA; `&` and `|`
+   (flattened to n-ary nodes), `->` and `<->` take products.  Products stay
+   explicit (and are minimized, so the next product starts small) while
+   they are small: as in Lisa (Bansal, Li, Tabajara, Vardi, AAAI 2020), the
+   two smallest operands of an n-ary node are combined first, explicitly
+   while each has fewer than `EXPLICIT_SINGLE` states and their product
+   fewer than `EXPLICIT_PRODUCT`; past that the remaining operands become
+   components of one *symbolic* product, whose acceptance is the Boolean
+   combination of theirs.
+4. The symbolic product is built in one BDD manager and minimized
    symbolically (coarsest bisimulation), since a product of minimal DFAs
    need not be minimal.
 
-Conjunctions of many small patterns, the common case in robot tasks, thus
-never build an explicit product: only the BDDs of the parts.
+Traces are non-empty: every explicit DFA here has a non-accepting initial
+state, and a combination that would accept at the start (the complement, an
+implication, an equivalence) gets a fresh initial state (explicitly) or a
+"started" component (symbolically).  Every pass is iterative or bounded by
+the parser's nesting limit.
 """
 
 from __future__ import annotations
 
-from symsynth.automata.bdd import BDD, new_manager
-from symsynth.errors import InputError
-from symsynth.automata.normal import nnf, split_conjuncts
-from symsynth.automata.progression import Progression, minimize
+from dataclasses import dataclass, field
+
+from symsynth.automata.bdd import BDD, Function, new_manager
+from symsynth.automata.normal import expose, nnf, split_conjuncts
+from symsynth.automata.progression import GuardedDFA, Progression, TooLarge, minimize
 from symsynth.automata.symbolic import SymbolicDFA, product
+from symsynth.errors import InputError
 from symsynth.logic import ast
 from symsynth.logic.parser import NextSemantics, parse_ltlf
-
 
 #: Limits past which a formula is refused with a message (each part's state
 #: bits and each atom is a BDD variable; the product's state count is
@@ -30,10 +46,33 @@ from symsynth.logic.parser import NextSemantics, parse_ltlf
 MAX_ATOMS = 1000
 MAX_STATE_BITS = 1000
 
+#: Explicit products while both operands have fewer states than this and
+#: the product of their state counts is under EXPLICIT_PRODUCT (Lisa's
+#: defaults: 800, 2500; ours are larger, since our symbolic minimization
+#: costs more than Lisa's), and while the product has at most EXPLICIT_EDGES
+#: edges (an explicit state lists one guard per successor: past that, the
+#: attempt is dropped and the operands go symbolic).
+EXPLICIT_SINGLE = 800
+EXPLICIT_PRODUCT = 5000
+EXPLICIT_EDGES = 20_000
+
+#: A conjunction of bounded-lookahead invariants is progressed as one leaf
+#: while its DFA has at most this many edges; past that, part by part.
+MERGED_EDGES = 2000
+
+#: Boolean operators of the skeleton, as functions of the operands' acceptance.
+_OPS = {
+    "and": lambda xs: all(xs),
+    "or": lambda xs: any(xs),
+    "implies": lambda xs: (not xs[0]) or xs[1],
+    "equiv": lambda xs: xs[0] == xs[1],
+    "not": lambda xs: not xs[0],
+}
+
 
 def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = "strong",
                  source: str = "<formula>", bdd: BDD | None = None,
-                 prefix: str = "#q") -> SymbolicDFA:
+                 prefix: str = "#q", compositional: bool = True) -> SymbolicDFA:
     """The minimal complete DFA of an LTLf formula over non-empty traces.
 
     `formula` is text (parsed with `next_semantics`, errors naming `source`)
@@ -41,6 +80,9 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
     when omitted): one per atom, named by `Atom.key`, and state bits
     `{prefix}{c}_{j}` with primed copies.  The prefix must not be an atom
     name; the default `#q` cannot be one (`#` is not in the grammar).
+
+    `compositional=False` is the earlier construction (top-level conjuncts
+    by progression, one symbolic product), kept as a reference.
     """
     if isinstance(formula, str):
         formula = parse_ltlf(formula, source=source, next_semantics=next_semantics)
@@ -48,19 +90,384 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
     if len(atom_keys) > MAX_ATOMS:
         raise InputError(f"{source}: the formula has {len(atom_keys)} atoms; symsynth compiles formulas "
                          f"of at most {MAX_ATOMS}")
-    parts = _merge_duplicates(split_conjuncts(nnf(formula)))
     progression = Progression(atom_keys)
-    components = [minimize(progression.dfa(part)) for part in parts]
+    if compositional:
+        result = Composer(progression).compose(formula)
+        if isinstance(result, GuardedDFA):
+            components, acceptance = [result], None
+        else:
+            components, acceptance = result.components, result.acceptance
+    else:
+        parts = list(dict.fromkeys(split_conjuncts(nnf(formula)))) or [ast.TRUE]
+        components = [minimize(progression.dfa(part)) for part in parts]
+        acceptance = ("and", [("c", c) for c in components]) if len(components) > 1 else None
+    if acceptance is not None and _holds_initially(acceptance):
+        components = components + [_started(progression.bdd)]  # the start state must reject
+        acceptance = ("and", [acceptance, ("c", components[-1])])
     bits = sum(max(1, (c.num_states - 1).bit_length()) for c in components)
     if bits > MAX_STATE_BITS:
         raise InputError(f"{source}: the DFA's {len(components)} parts need {bits} state bits together; "
                          f"symsynth composes at most {MAX_STATE_BITS} (2^{MAX_STATE_BITS} states)")
-    if bdd is None:
-        bdd = new_manager(reordering=False)
-    dfa = product(bdd, atom_keys, components, prefix=prefix)
-    return dfa.minimize() if len(components) > 1 else dfa
+    own = bdd is None
+    if own:  # dynamic reordering while the product is built and minimized
+        bdd = new_manager(reordering=len(components) > 1)
+    index = {id(c): i for i, c in enumerate(components)}
+    combine = None if acceptance is None else (lambda accs: _evaluate(acceptance, accs, index, bdd))
+    dfa = product(bdd, atom_keys, components, prefix=prefix, combine=combine)
+    if len(components) > 1:
+        dfa = dfa.minimize()
+    if own:
+        bdd.configure(reordering=False)  # a stable order for whoever uses the DFA
+    return dfa
 
 
-def _merge_duplicates(parts: list[ast.Formula]) -> list[ast.Formula]:
-    unique = list(dict.fromkeys(parts))
-    return unique or [ast.TRUE]
+# --------------------------------------------------------------- composition
+
+
+@dataclass
+class Symbolic:
+    """Components to be composed symbolically and the Boolean combination of
+    their acceptance: `("c", dfa)`, `("not", e)`, `(op, [e, ...])`."""
+
+    components: list[GuardedDFA] = field(default_factory=list)
+    acceptance: tuple = ()
+
+
+Result = GuardedDFA | Symbolic
+
+
+class Composer:
+    """Evaluates the Boolean skeleton of formulas bottom-up (no recursion)."""
+
+    def __init__(self, progression: Progression, *, single: int = EXPLICIT_SINGLE,
+                 product_limit: int = EXPLICIT_PRODUCT, edge_limit: int = EXPLICIT_EDGES,
+                 merged_edges: int = MERGED_EDGES):
+        self.progression = progression
+        self.single = single
+        self.product_limit = product_limit
+        self.edge_limit = edge_limit
+        self.merged_edges = merged_edges
+        self.independent = False
+        self._leaves: dict[ast.Formula, GuardedDFA] = {}
+        self._support: dict[int, set[str]] = {}
+        self._alive: list[GuardedDFA] = []  # keys of _support stay unique
+
+    def compose(self, formula: ast.Formula) -> Result:
+        propositional, bounded = _plain_nodes(formula)
+        self._propositional, self._bounded = propositional, bounded
+        self._merged: dict[int, tuple[ast.Formula, list[ast.Formula]]] = {}
+        # post-order over the skeleton: (op or None, children, results so far)
+        stack: list[tuple[str | None, list, list, ast.Formula]] = []
+        result: Result | None = None
+        node = formula
+        while True:
+            shape = self.shape(node)
+            if shape is None and id(node) in self._merged:
+                try:  # a merged invariant, as one leaf while that stays small
+                    result = self.leaf(node, max_edges=self.merged_edges)
+                except TooLarge:
+                    shape = "and", self._merged[id(node)][1]
+            elif shape is None:
+                result = self.leaf(node)
+            if shape is not None:
+                op, children = shape
+                stack.append((op, children, [], node))
+                node = children[0]
+                continue
+            while stack:
+                op, children, done, _ = stack[-1]
+                done.append(result)
+                if len(done) < len(children):
+                    node = children[len(done)]
+                    break
+                stack.pop()
+                result = self.combine(op, done)
+            else:
+                return result
+
+    def shape(self, node: ast.Formula) -> tuple[str, list[ast.Formula]] | None:
+        """The skeleton operator at `node` and its operands (None: a leaf).
+
+        `&` and `|` are flattened through the operators `expose` pulls up.
+        Invariants `G f` of an `&` whose `f` looks at most a bounded number
+        of steps ahead (no `U`, `R`, `W`, `F`, `G` inside) are progressed as
+        one leaf `G(f1 & f2 & ...)`: their conjunction's states are what the
+        next letters must satisfy, which progression keeps canonical, where
+        a product of the parts would track each part's copy of it."""
+        keep = lambda f: id(f) in self._propositional  # noqa: E731
+        if keep(node) or id(node) in self._merged:
+            return None
+        shape = expose(node, keep)
+        if shape is None or shape[0] not in ("and", "or"):
+            return shape
+        op = shape[0]
+        operands: dict[ast.Formula, None] = {}
+        todo = list(reversed(shape[1]))
+        while todo:
+            f = todo.pop()
+            inner = None if keep(f) else expose(f, keep)
+            if inner is not None and inner[0] == op:
+                todo.extend(reversed(inner[1]))
+            else:
+                operands.setdefault(f, None)
+        operands = list(operands)
+        if op == "and":
+            invariants = [f.arg for f in operands if isinstance(f, ast.Always) and id(f.arg) in self._bounded]
+            if len(invariants) > 1:
+                operands = [f for f in operands if not (isinstance(f, ast.Always) and id(f.arg) in self._bounded)]
+                for group in _connected(invariants):
+                    if len(group) == 1:
+                        operands.append(ast.Always(group[0]))
+                        continue
+                    merged = ast.Always(_balanced(ast.And, group))
+                    operands.append(merged)
+                    # a leaf (kept alive: ids stay unique), or its parts if too large
+                    self._merged[id(merged)] = (merged, [ast.Always(f) for f in group])
+        if len(operands) == 1:
+            return self.shape(operands[0]) if id(operands[0]) not in self._propositional else None
+        return op, operands
+
+    def leaf(self, formula: ast.Formula, max_edges: int | None = None) -> GuardedDFA:
+        dfa = self._leaves.get(formula)
+        if dfa is None:
+            dfa = minimize(self.progression.dfa(nnf(formula), max_edges))
+            self._leaves[formula] = dfa
+        return dfa
+
+    def combine(self, op: str, operands: list[Result]) -> Result:
+        if op == "not":
+            (arg,) = operands
+            if isinstance(arg, GuardedDFA):
+                return complement(arg)
+            return Symbolic(arg.components, ("not", [arg.acceptance]))
+        explicit = [x for x in operands if isinstance(x, GuardedDFA)]
+        if op in ("and", "or"):
+            explicit = self.merge(list({id(d): d for d in explicit}.values()), op)
+            symbolic = [x for x in operands if isinstance(x, Symbolic)]
+            if not symbolic and len(explicit) == 1:
+                return explicit[0]
+        else:  # implies, equiv: two operands, in order
+            left, right = operands
+            if isinstance(left, GuardedDFA) and isinstance(right, GuardedDFA) and self._small(left, right):
+                try:
+                    return explicit_product(left, right, op, self.edge_limit)
+                except TooLarge:
+                    pass
+            explicit, symbolic = [], []
+        components: list[GuardedDFA] = []
+        parts = []
+        if op in ("and", "or"):
+            for d in explicit:
+                components.append(d)
+                parts.append(("c", d))
+            for s in symbolic:
+                components += s.components
+                parts.append(s.acceptance)
+        else:
+            for x in operands:
+                if isinstance(x, GuardedDFA):
+                    components.append(x)
+                    parts.append(("c", x))
+                else:
+                    components += x.components
+                    parts.append(x.acceptance)
+        return Symbolic(list({id(c): c for c in components}.values()), (op, parts))
+
+    def merge(self, dfas: list[GuardedDFA], op: str) -> list[GuardedDFA]:
+        """Explicit products of the operands of an n-ary `&` / `|`, the pair
+        with the fewest product states first (Lisa's order), among pairs
+        that read a common atom: operands over disjoint atoms gain nothing
+        from an explicit product (their symbolic product keeps each part's
+        bits apart, where an explicit one numbers the pairs densely)."""
+        failed: set[tuple[int, int]] = set()
+        while len(dfas) > 1:
+            best = None
+            for i, a in enumerate(dfas):
+                for j in range(i + 1, len(dfas)):
+                    b = dfas[j]
+                    key = (id(a), id(b))
+                    if key in failed or not self._small(a, b) or not (self.independent or self._reads(a) & self._reads(b)):
+                        continue
+                    if best is None or a.num_states * b.num_states < best[0]:
+                        best = (a.num_states * b.num_states, i, j)
+            if best is None:
+                break
+            _, i, j = best
+            try:
+                merged = explicit_product(dfas[i], dfas[j], op, self.edge_limit)
+            except TooLarge:
+                failed.add((id(dfas[i]), id(dfas[j])))
+                continue
+            dfas = [d for k, d in enumerate(dfas) if k not in (i, j)] + [merged]
+        return dfas
+
+    def _reads(self, dfa: GuardedDFA) -> set[str]:
+        found = self._support.get(id(dfa))
+        if found is None:
+            found = set()
+            for out in dfa.edges:
+                for guard in out.values():
+                    found |= dfa.bdd.support(guard)
+            self._support[id(dfa)] = found
+            self._alive.append(dfa)
+        return found
+
+    def _small(self, a: GuardedDFA, b: GuardedDFA) -> bool:
+        return (a.num_states < self.single and b.num_states < self.single
+                and a.num_states * b.num_states < self.product_limit)
+
+
+def _plain_nodes(formula: ast.Formula) -> tuple[set[int], set[int]]:
+    """ids of the subformulas (of this tree) without temporal operators, and
+    of those whose only temporal operators are `X`, `WX` and `last` (they
+    look a bounded number of steps ahead)."""
+    unbounded = (ast.Eventually, ast.Always, ast.Until, ast.Release, ast.WeakUntil)
+    temporal = (ast.Next, ast.WeakNext, ast.Last)
+    propositional: set[int] = set()
+    bounded: set[int] = set()
+    stack = [(formula, False)]
+    while stack:
+        node, visited = stack.pop()
+        children = ((node.arg,) if isinstance(node, ast.UNARY)
+                    else (node.left, node.right) if isinstance(node, ast.BINARY) else ())
+        if not visited and children:
+            stack.append((node, True))
+            stack.extend((c, False) for c in children)
+            continue
+        if isinstance(node, unbounded) or not all(id(c) in bounded for c in children):
+            continue
+        bounded.add(id(node))
+        if not isinstance(node, temporal) and all(id(c) in propositional for c in children):
+            propositional.add(id(node))
+    return propositional, bounded
+
+
+def _connected(formulas: list[ast.Formula]) -> list[list[ast.Formula]]:
+    """`formulas` grouped by the atoms they share (connected components)."""
+    parent = list(range(len(formulas)))
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    owner: dict[ast.Atom, int] = {}
+    for i, f in enumerate(formulas):
+        for atom in ast.atoms(f):
+            j = owner.setdefault(atom, i)
+            parent[find(i)] = find(j)
+    groups: dict[int, list[ast.Formula]] = {}
+    for i, f in enumerate(formulas):
+        groups.setdefault(find(i), []).append(f)
+    return list(groups.values())
+
+
+def _balanced(op, items: list[ast.Formula]) -> ast.Formula:
+    """`items` joined by the binary `op` in a balanced tree (no recursion)."""
+    while len(items) > 1:
+        items = [op(items[i], items[i + 1]) if i + 1 < len(items) else items[i]
+                 for i in range(0, len(items), 2)]
+    return items[0]
+
+
+# ------------------------------------------------------------ explicit steps
+
+
+def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | None = None) -> GuardedDFA:
+    """The minimal DFA of the product of `a` and `b` accepting by `op`;
+    `TooLarge` once it has more than `max_edges` edges (when given)."""
+    bdd, accept = a.bdd, _OPS[op]
+    start = (a.initial, b.initial)
+    index = {start: 0}
+    order = [start]
+    accepting: list[bool] = []
+    edges: list[dict[int, Function]] = []
+    count = 0
+    for s, t in order:
+        accepting.append(accept([a.accepting[s], b.accepting[t]]))
+        out: dict[int, Function] = {}
+        for s2, g1 in a.edges[s].items():
+            for t2, g2 in b.edges[t].items():
+                guard = g1 & g2
+                if guard == bdd.false:
+                    continue
+                pair = (s2, t2)
+                if pair not in index:
+                    index[pair] = len(order)
+                    order.append(pair)
+                out[index[pair]] = guard
+        edges.append(out)
+        count += len(out)
+        if max_edges is not None and count > max_edges:
+            raise TooLarge(f"more than {max_edges} edges")
+    return minimize(_reject_at_start(GuardedDFA(bdd, 0, accepting, edges)))
+
+
+def complement(a: GuardedDFA) -> GuardedDFA:
+    """The minimal DFA of the non-empty traces `a` rejects."""
+    flipped = GuardedDFA(a.bdd, a.initial, [not x for x in a.accepting], a.edges)
+    return minimize(_reject_at_start(flipped))
+
+
+def _reject_at_start(dfa: GuardedDFA) -> GuardedDFA:
+    """The same language without the empty trace: an accepting initial state
+    becomes rejecting, or, when a non-empty trace comes back to it, a fresh
+    rejecting initial state takes its outgoing edges."""
+    start = dfa.initial
+    if not dfa.accepting[start]:
+        return dfa
+    if not any(start in out for out in dfa.edges):
+        accepting = list(dfa.accepting)
+        accepting[start] = False
+        return GuardedDFA(dfa.bdd, start, accepting, dfa.edges)
+    return GuardedDFA(dfa.bdd, len(dfa.accepting), dfa.accepting + [False],
+                      dfa.edges + [dict(dfa.edges[start])])
+
+
+def _started(bdd: BDD) -> GuardedDFA:
+    """Two states: the start, and 'at least one letter read' (accepting)."""
+    return GuardedDFA(bdd, 0, [False, True], [{1: bdd.true}, {1: bdd.true}])
+
+
+# ----------------------------------------------------------- symbolic steps
+
+
+def _holds_initially(acceptance: tuple) -> bool:
+    """Whether the combination accepts when every component is at its
+    (rejecting) initial state."""
+    return _fold(acceptance, lambda d: False, lambda op, xs: _OPS[op](xs))
+
+
+def _evaluate(acceptance: tuple, accs: list[Function], index: dict[int, int], bdd: BDD) -> Function:
+    def apply(op, xs):
+        if op == "not":
+            return ~xs[0]
+        if op == "implies":
+            return ~xs[0] | xs[1]
+        if op == "equiv":
+            return bdd.apply("<=>", xs[0], xs[1])
+        result = bdd.true if op == "and" else bdd.false
+        for x in xs:
+            result = (result & x) if op == "and" else (result | x)
+        return result
+    return _fold(acceptance, lambda d: accs[index[id(d)]], apply)
+
+
+def _fold(expr: tuple, leaf, apply):
+    """Post-order evaluation of an acceptance expression, without recursion."""
+    stack = [(expr, False)]
+    values: list = []
+    while stack:
+        node, visited = stack.pop()
+        if node[0] == "c":
+            values.append(leaf(node[1]))
+        elif not visited:
+            stack.append((node, True))
+            stack.extend((child, False) for child in reversed(node[1]))
+        else:
+            n = len(node[1])
+            args = values[len(values) - n:]
+            del values[len(values) - n:]
+            values.append(apply(node[0], args))
+    return values[0]

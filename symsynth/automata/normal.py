@@ -120,3 +120,56 @@ def split_conjuncts(formula: ast.Formula) -> list[ast.Formula]:
     if isinstance(formula, ast.Always) and isinstance(formula.arg, ast.And):
         return [ast.Always(part) for part in split_conjuncts(formula.arg)]
     return [formula]
+
+
+def expose(formula: ast.Formula, is_leaf=lambda f: False) -> tuple[str, list[ast.Formula]] | None:
+    """The Boolean operator at the top of `formula`, with its operands, or
+    None for a leaf of the Boolean skeleton.
+
+    `!`, `&`, `|`, `->`, `<->` are on top as written; under `X`, `WX`, `G`
+    and `F` a Boolean operator is pulled up where finite-trace semantics
+    allows it:
+
+        X(f & g) = X f & X g       WX(f & g) = WX f & WX g     G(f & g) = G f & G g
+        X(f | g) = X f | X g       WX(f | g) = WX f | WX g     F(f | g) = F f | F g
+        X !f = !WX f               WX !f = !X f                F(f -> g) = !G f | F g
+        X(f -> g) = !WX f | X g    WX(f -> g) = !X f | WX g
+
+    The operand of `X` / `WX` / `G` / `F` is exposed first (so `X G(f & g)`
+    gives `X G f & X G g`); this recursion follows one chain of unary
+    operators, as deep as the parser's nesting limit.  An operand for which
+    `is_leaf` holds is not taken apart.
+    """
+    if isinstance(formula, ast.And):
+        return "and", [formula.left, formula.right]
+    if isinstance(formula, ast.Or):
+        return "or", [formula.left, formula.right]
+    if isinstance(formula, ast.Implies):
+        return "implies", [formula.left, formula.right]
+    if isinstance(formula, ast.Equiv):
+        return "equiv", [formula.left, formula.right]
+    if isinstance(formula, ast.Not):
+        return "not", [formula.arg]
+    if not isinstance(formula, (ast.Next, ast.WeakNext, ast.Always, ast.Eventually)):
+        return None
+    inner = None if is_leaf(formula.arg) else expose(formula.arg, is_leaf)
+    if inner is None:
+        return None
+    op, args = inner
+    if isinstance(formula, (ast.Next, ast.WeakNext)):
+        same = type(formula)
+        dual = ast.WeakNext if same is ast.Next else ast.Next
+        if op in ("and", "or"):
+            return op, [same(a) for a in args]
+        if op == "not":
+            return "not", [dual(args[0])]
+        if op == "implies":
+            return "or", [ast.Not(dual(args[0])), same(args[1])]
+        return None
+    if isinstance(formula, ast.Always):
+        return ("and", [ast.Always(a) for a in args]) if op == "and" else None
+    if op == "or":
+        return "or", [ast.Eventually(a) for a in args]
+    if op == "implies":
+        return "or", [ast.Not(ast.Always(args[0])), ast.Eventually(args[1])]
+    return None

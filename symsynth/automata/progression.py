@@ -47,6 +47,10 @@ class GuardedDFA:
         return len(self.accepting)
 
 
+class TooLarge(Exception):
+    """A construction went past the size it was given."""
+
+
 class Progression:
     """Builds `GuardedDFA`s for formulas over a fixed list of atoms."""
 
@@ -152,19 +156,31 @@ class Progression:
         step = {name: self.unfold(self._obligation[name][1]) for name in self.bdd.support(state)}
         after = self.bdd.let(step, state) if step else state
         after = self._canonical(after)  # so that successors that say the same are one BDD
+        # Bottom-up over the BDD's nodes at atom levels (each node once, not
+        # each path: a path per letter class is exponential in the atoms):
+        # below[u] maps each successor reachable from node u to its guard.
         num_atoms = len(self.atom_keys)
-        found: dict[Function, Function] = {}
-        stack = [(after, self.bdd.true)]
+        bdd = self.bdd
+        below: dict[Function, dict[Function, Function]] = {}
+        stack = [(after, False)]
         while stack:
-            node, guard = stack.pop()
-            if node in (self.bdd.true, self.bdd.false) or node.level >= num_atoms:
-                found[node] = found.get(node, self.bdd.false) | guard
+            node, ready = stack.pop()
+            if node in below:
                 continue
-            x = self.bdd.var(node.var)
-            low, high = branches(self.bdd, node)
-            stack.append((high, guard & x))
-            stack.append((low, guard & ~x))
-        return found
+            if node == bdd.true or node == bdd.false or node.level >= num_atoms:
+                below[node] = {node: bdd.true}
+                continue
+            low, high = branches(bdd, node)
+            if not ready:
+                stack.append((node, True))
+                stack.extend(child for child in ((low, False), (high, False)) if child[0] not in below)
+                continue
+            x = bdd.var(node.var)
+            found = {succ: ~x & guard for succ, guard in below[low].items()}
+            for succ, guard in below[high].items():
+                found[succ] = found[succ] | (x & guard) if succ in found else x & guard
+            below[node] = found
+        return below[after]
 
     # -- states that say the same -------------------------------------------
     def _learn_implications(self, formula: ast.Formula) -> None:
@@ -220,17 +236,25 @@ class Progression:
             self._constraints[names] = constraint
         return state & constraint if constraint != self.bdd.true else state
 
-    def dfa(self, formula: ast.Formula) -> GuardedDFA:
-        """The complete DFA of an NNF formula; states are numbered in BFS order."""
+    def dfa(self, formula: ast.Formula, max_edges: int | None = None) -> GuardedDFA:
+        """The complete DFA of an NNF formula; states are numbered in BFS order.
+
+        With `max_edges`, `TooLarge` is raised once the DFA has more edges
+        (pairs of a state and a successor) than that."""
         self._learn_implications(formula)
         start = self._canonical(self.obligation(True, formula))
         index = {start: 0}
         order = [start]
         accepting: list[bool] = []
         edges: list[dict[int, Function]] = []
+        count = 0
         for state in order:  # `order` grows while we walk it: BFS
             accepting.append(self._accepts(state))
             out: dict[int, Function] = {}
+            if max_edges is not None:
+                count += len(edges[-1]) if edges else 0
+                if count > max_edges:
+                    raise TooLarge(f"more than {max_edges} edges")
             for succ, guard in self._successors(state).items():
                 if succ not in index:
                     index[succ] = len(order)

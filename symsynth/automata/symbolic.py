@@ -18,9 +18,9 @@ the result is the minimal DFA of the language.
 
 from __future__ import annotations
 
-from collections.abc import Collection, Iterable, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 
-from symsynth.automata.bdd import BDD, Function, format_cubes, isop, lexmin
+from symsynth.automata.bdd import BDD, Function, and_exists, format_cubes, isop, lexmin
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.progression import GuardedDFA
 
@@ -110,7 +110,7 @@ class SymbolicDFA:
         while reached != old:
             old = reached
             # \E q, x: Reached(q) /\ T(q, x, q'), renamed q' -> q
-            image = bdd.let(unprime, bdd.exist(qvars, reached & rel))
+            image = bdd.let(unprime, and_exists(bdd, reached, rel, qvars))
             reached = reached | image
         return reached
 
@@ -229,8 +229,11 @@ def _dag_size(bdd: BDD, roots: Sequence[Function]) -> int:
 
 
 def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
-            prefix: str = "#q") -> SymbolicDFA:
-    """The synchronous product of complete DFAs, accepting when all accept.
+            prefix: str = "#q",
+            combine: Callable[[list[Function]], Function] | None = None) -> SymbolicDFA:
+    """The synchronous product of complete DFAs, accepting when all accept,
+    or as `combine` says: it maps the components' acceptance BDDs (in order)
+    to the product's.
 
     Component `c` gets bits `{prefix}{c}_0, ...` (lowest first), each with its
     primed copy next to it; the atoms a component reads (and no earlier one
@@ -242,7 +245,7 @@ def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
     delta: dict[str, Function] = {}
     initial: dict[str, bool] = {}
     bits: list[str] = []
-    accepting = bdd.true
+    accepts: list[Function] = []
     for c, comp in enumerate(components):
         width = (comp.num_states - 1).bit_length()
         names = [f"{prefix}{c}_{j}" for j in range(width)]
@@ -267,10 +270,16 @@ def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
         for s, acc in enumerate(comp.accepting):
             if acc:
                 comp_acc |= codes[s]
-        accepting &= comp_acc
+        accepts.append(comp_acc)
     for atom in atoms:  # atoms no component reads still get a variable
         if atom not in bdd.vars:
             bdd.declare(atom)
+    if combine is not None:
+        accepting = combine(accepts)
+    else:
+        accepting = bdd.true
+        for comp_acc in accepts:
+            accepting &= comp_acc
     return SymbolicDFA(bdd, atoms, bits, delta, initial, accepting)
 
 
