@@ -72,7 +72,8 @@ _OPS = {
 
 def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = "strong",
                  source: str = "<formula>", bdd: BDD | None = None,
-                 prefix: str = "#q", compositional: bool = True) -> SymbolicDFA:
+                 prefix: str = "#q", compositional: bool = True,
+                 limits: dict[str, int] | None = None) -> SymbolicDFA:
     """The minimal complete DFA of an LTLf formula over non-empty traces.
 
     `formula` is text (parsed with `next_semantics`, errors naming `source`)
@@ -82,7 +83,8 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
     name; the default `#q` cannot be one (`#` is not in the grammar).
 
     `compositional=False` is the earlier construction (top-level conjuncts
-    by progression, one symbolic product), kept as a reference.
+    by progression, one symbolic product), kept as a reference; `limits`
+    overrides `Composer`'s size limits (tests use it to force each path).
     """
     if isinstance(formula, str):
         formula = parse_ltlf(formula, source=source, next_semantics=next_semantics)
@@ -92,7 +94,7 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
                          f"of at most {MAX_ATOMS}")
     progression = Progression(atom_keys)
     if compositional:
-        result = Composer(progression).compose(formula)
+        result = Composer(progression, **(limits or {})).compose(formula)
         if isinstance(result, GuardedDFA):
             components, acceptance = [result], None
         else:
