@@ -155,7 +155,15 @@ def main(argv=None) -> int:
     parser.add_argument("--families", default=",".join(["Uright", "GFand", "Single-Counter", "Double-Counter",
                                                         "Nim", "Syft", "Lydia"]))
     parser.add_argument("--out", type=Path, default=Path("bench/results/ltlf-families.md"))
+    parser.add_argument("--from-csv", type=Path, nargs="+", metavar="CSV",
+                        help="write the tables from the rows of earlier runs (in order) instead of running")
     args = parser.parse_args(argv)
+    args.load = [os.getloadavg()[0]]
+    if args.from_csv:
+        rows = [_typed(r) for path in args.from_csv for r in csv.DictReader(open(path))]
+        args.load = sorted({float(r["load"]) for r in rows if r.get("load")}) or args.load
+        write(rows, args)
+        return 0
     from symsynth.automata import compile_ltlf
     from symsynth.logic import ast, parse_ltlf
     from symsynth.logic.printer import to_string
@@ -213,6 +221,8 @@ def main(argv=None) -> int:
                             "DIFFERENT on " + " ".join("{" + ",".join(sorted(x)) + "}" for x in verdict)
                     else:
                         row["equivalence"] = "not checked (MONA's automaton too large to read back)"
+                row["load"] = round(os.getloadavg()[0], 2)
+                args.load.append(row["load"])
                 rows.append(row)
                 write(rows, args)  # after every instance: an interrupted run keeps what it measured
                 print(family, row["instance"], {k: row[k] for k in ("symsynth", "mona", "ltlf2dfa", "equivalence")},
@@ -226,7 +236,7 @@ def main(argv=None) -> int:
 def write(rows: list[dict], args) -> None:
     csv_path = args.out.with_suffix(".csv")
     columns = ["family", "instance", "atoms", "states", "symsynth", "symsynth_status", "mona", "mona_status",
-               "ltlf2dfa", "ltlf2dfa_status", "equivalence"]
+               "ltlf2dfa", "ltlf2dfa_status", "equivalence", "load"]
     with open(csv_path, "w", newline="") as out:
         writer = csv.DictWriter(out, columns, extrasaction="ignore")
         writer.writeheader()
@@ -238,30 +248,56 @@ def write(rows: list[dict], args) -> None:
              f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}; "
              f"MONA {' '.join(mona_version)}; ltlf2dfa 2.0.0. Seconds of one run each; "
              f"TO: over {args.timeout:g} s; TO*: not run after a smaller instance timed out. Rows: "
-             f"[{csv_path.name}]({csv_path.name}).", ""]
+             f"[{csv_path.name}]({csv_path.name}). Load average (1 min) during the run: "
+             f"{min(args.load):.1f} to {max(args.load):.1f} on {os.cpu_count()} cores (shared machine; "
+             "the tools of one instance run one after the other, so load weighs on each).", ""]
+    tools = ("symsynth", "mona", "ltlf2dfa")
     lines += ["## Summary", "",
-              "| family | instances | median s (symsynth / MONA / ltlf2dfa) | worst s | largest within the limit (symsynth / MONA / ltlf2dfa) | equivalence |",
-              "|---|---:|---|---|---|---|"]
+              "Median and worst over the instances where both symsynth and MONA finished (n); "
+              "ltlf2dfa's over those it finished. Ratio: MONA's time over symsynth's (above 1: "
+              "symsynth faster).", "",
+              "| family | instances | finished (symsynth / MONA / ltlf2dfa) | n | median s (symsynth / MONA) "
+              "| worst s (symsynth / MONA) | median ratio | ltlf2dfa median / worst s "
+              "| largest within the limit (symsynth / MONA / ltlf2dfa) | equivalence |",
+              "|---|---:|---|---:|---|---|---:|---|---|---|"]
     for family in dict.fromkeys(r["family"] for r in rows):
         mine = [r for r in rows if r["family"] == family]
-        both = [r for r in mine if all(r[t] is not None for t in ("symsynth", "mona", "ltlf2dfa"))]
-        med = " / ".join(_fmt(statistics.median(r[t] for r in both)) if both else "-"
-                         for t in ("symsynth", "mona", "ltlf2dfa"))
-        worst = " / ".join(_fmt(max(r[t] for r in both)) if both else "-" for t in ("symsynth", "mona", "ltlf2dfa"))
+        both = [r for r in mine if r["symsynth"] is not None and r["mona"] is not None]
+        finished = " / ".join(str(sum(r[t] is not None for r in mine)) for t in tools)
+        med = " / ".join(_fmt(statistics.median(r[t] for r in both)) if both else "-" for t in tools[:2])
+        worst = " / ".join(_fmt(max(r[t] for r in both)) if both else "-" for t in tools[:2])
+        ratio = (f"{statistics.median(r['mona'] / max(r['symsynth'], 1e-4) for r in both):.2f}"
+                 if both else "-")
+        l2d = [r["ltlf2dfa"] for r in mine if r["ltlf2dfa"] is not None]
+        l2d_cell = f"{_fmt(statistics.median(l2d))} / {_fmt(max(l2d))}" if l2d else "-"
         largest = " / ".join(next((r["instance"] for r in reversed(mine) if r[t] is not None), "none")
-                             for t in ("symsynth", "mona", "ltlf2dfa"))
+                             for t in tools)
         checked = [r["equivalence"] for r in mine if r["equivalence"].startswith(("equal", "DIFFERENT"))]
         different = sum(c.startswith("DIFFERENT") for c in checked)
-        lines.append(f"| {family} | {len(mine)} | {med} | {worst} | {largest} | "
-                     f"{len(checked) - different} equal, {different} different |")
+        lines.append(f"| {family} | {len(mine)} | {finished} | {len(both)} | {med} | {worst} | {ratio} | "
+                     f"{l2d_cell} | {largest} | {len(checked) - different} equal, {different} different |")
     for family in dict.fromkeys(r["family"] for r in rows):
         lines += ["", f"## {family}", "", "| instance | atoms | states | symsynth s | MONA s | ltlf2dfa s | equivalence |",
                   "|---|---:|---:|---:|---:|---:|---|"]
         for r in (r for r in rows if r["family"] == family):
             lines.append(f"| {r['instance']} | {r['atoms']} | {r.get('states') or ''} | "
                          f"{_cell(r, 'symsynth')} | {_cell(r, 'mona')} | {_cell(r, 'ltlf2dfa')} | {r['equivalence']} |")
+    notes = args.out.with_suffix(".notes.md")
+    if notes.exists():  # the analysis written by hand next to the generated tables
+        lines += ["", notes.read_text().rstrip()]
     args.out.write_text("\n".join(lines) + "\n")
     print(f"wrote {args.out} and {csv_path}")
+
+
+def _typed(row: dict) -> dict:
+    """A CSV row with its numbers back as numbers (empty cells None)."""
+    out = dict(row)
+    for key in ("symsynth", "mona", "ltlf2dfa"):
+        out[key] = float(row[key]) if row.get(key) else None
+    for key in ("atoms", "states"):
+        out[key] = int(float(row[key])) if row.get(key) else None
+    out["equivalence"] = row.get("equivalence") or ""
+    return out
 
 
 def _fmt(x: float) -> str:
