@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
+import sys
 import time
 from pathlib import Path
 
@@ -12,7 +14,8 @@ from symsynth.errors import InputError, read_text
 from symsynth.files import write_atomic
 from symsynth.logic import ast, parse_ltlf
 from symsynth.synthesis import read_partition, solve_realizability
-from symsynth.synthesis.machine import strategy_machine, write_json
+from symsynth.synthesis import symbolic_strategy as symbolic
+from symsynth.synthesis.machine import MAX_INPUTS, MAX_STATES, TooLarge, strategy_machine, write_json
 
 HELP = "LTLf synthesis: is a formula realizable by an agent against an environment?"
 DESCRIPTION = """\
@@ -26,12 +29,24 @@ Plain X is weak next by default, as in Lydia and the LTLf synthesis datasets
 (X[!] is strong next); --next strong reads X as strong.
 
 Output as in SYNTCOMP: the first line is REALIZABLE or UNREALIZABLE, exit
-status 10 or 20 (2 for bad input).  -o FILE writes a winning strategy, a
-machine listing its states, as JSON (FILE.json) or Graphviz (FILE.dot).
+status 10 or 20 (2 for bad input).  -o FILE writes a winning strategy: a
+machine listing its states, as JSON (FILE.json) or Graphviz (FILE.dot), or,
+for specs too large to list, its BDDs (symsynth.strategy-bdd/1, FILE.json);
+--strategy chooses (default auto: the machine when it fits, else the BDDs).
 
 A variable of the formula that the partition does not name is an error."""
 
 REALIZABLE, UNREALIZABLE = 10, 20
+
+
+def _position(text: str, name: str) -> str:
+    """':line:column' of the first occurrence of the variable `name` in the
+    formula's text outside comments ('' when it cannot be found)."""
+    for number, line in enumerate(text.splitlines(), 1):
+        found = re.search(rf"(?<![A-Za-z0-9_]){re.escape(name)}(?![A-Za-z0-9_])", line.split("#", 1)[0])
+        if found:
+            return f":{number}:{found.start() + 1}"
+    return ""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -49,6 +64,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="meaning of plain X (default: weak, as the datasets mean it)")
     parser.add_argument("-o", "--output", type=Path, metavar="FILE",
                         help="write a winning strategy to FILE (.json or .dot)")
+    parser.add_argument("--strategy", choices=("auto", "machine", "bdd"), default="auto",
+                        help="what -o writes: the listed machine, the BDDs, or (auto) the machine when it has at "
+                             f"most {MAX_INPUTS} inputs and {MAX_STATES} states, the BDDs otherwise")
     parser.add_argument("--json", action="store_true", help="after the verdict line, a JSON summary")
     parser.set_defaults(run=run)
 
@@ -56,15 +74,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.output is not None and args.output.suffix not in (".json", ".dot"):
         raise InputError(f"-o {args.output}: expected a file name ending in .json or .dot")
+    if args.output is not None and args.output.suffix == ".dot" and args.strategy == "bdd":
+        raise InputError(f"-o {args.output} --strategy bdd: the BDDs are written as JSON; expected FILE.json")
     partition = read_partition(args.part)
     text = read_text(args.spec, "formula file")
     formula = parse_ltlf(text, source=str(args.spec), next_semantics=args.next)
     named = set(partition.inputs) | set(partition.outputs)
     unknown = [a.key for a in ast.atoms(formula) if a.key not in named]
     if unknown:
-        raise InputError(f"{args.spec}: {', '.join(unknown)} {'is' if len(unknown) == 1 else 'are'} in the "
-                         f"formula but in neither list of {args.part}; name each variable as an input or an "
-                         "output")
+        raise InputError(f"{args.spec}{_position(text, unknown[0])}: {', '.join(unknown)} "
+                         f"{'is' if len(unknown) == 1 else 'are'} in the formula but in neither list of "
+                         f"{args.part}; name each variable as an input or an output")
     clock = time.perf_counter()
     dfa = compile_ltlf(formula)
     compiled = time.perf_counter() - clock
@@ -78,7 +98,20 @@ def run(args: argparse.Namespace) -> int:
     if args.output is not None:
         if not game.realizable:
             raise InputError(f"-o {args.output}: unrealizable, there is no winning strategy to write")
-        machine = strategy_machine(game)
-        text = machine.to_dot() if args.output.suffix == ".dot" else write_json(machine)
-        write_atomic(args.output, text, "strategy")
+        write_atomic(args.output, _strategy_text(game, args), "strategy")
     return REALIZABLE if game.realizable else UNREALIZABLE
+
+
+def _strategy_text(game, args: argparse.Namespace) -> str:
+    """The file -o writes (--strategy: module description)."""
+    if args.strategy != "bdd":
+        try:
+            machine = strategy_machine(game)
+        except TooLarge as error:
+            if args.strategy == "machine" or args.output.suffix == ".dot":
+                raise InputError(f"-o {args.output}: {error}; write its BDDs with --strategy bdd to FILE.json") \
+                    from None
+            print(f"{error}: writing its BDDs ({symbolic.FORMAT}) to {args.output}", file=sys.stderr)
+        else:
+            return machine.to_dot() if args.output.suffix == ".dot" else write_json(machine)
+    return symbolic.write_json(symbolic.symbolic_strategy(game))

@@ -26,6 +26,10 @@ MAX_STATES = 10_000
 Assignment = dict[str, bool]
 
 
+class TooLarge(InputError):
+    """The strategy has too many inputs or states to list."""
+
+
 @dataclass(frozen=True)
 class Move:
     input: Assignment
@@ -70,8 +74,8 @@ def strategy_machine(game: Realizability) -> Machine:
     if not game.realizable:
         raise ValueError("no winning strategy to list")
     if len(game.inputs) > MAX_INPUTS:
-        raise InputError(f"the strategy reads {len(game.inputs)} inputs; an explicit machine is listed for at "
-                         f"most {MAX_INPUTS} (2^{MAX_INPUTS} letters per state)")
+        raise TooLarge(f"the strategy reads {len(game.inputs)} inputs; an explicit machine is listed for at "
+                       f"most {MAX_INPUTS} (2^{MAX_INPUTS} letters per state)")
     dfa, bdd = game.dfa, game.dfa.bdd
     letters = [dict(zip(game.inputs, values)) for values in itertools.product((False, True), repeat=len(game.inputs))]
     index = {dfa.initial: 0}
@@ -79,7 +83,7 @@ def strategy_machine(game: Realizability) -> Machine:
     machine_moves = []
     for state in order:  # grows while walked: breadth first
         if len(order) > MAX_STATES:
-            raise InputError(f"the strategy has more than {MAX_STATES} states; too many to list")
+            raise TooLarge(f"the strategy has more than {MAX_STATES} states; too many to list")
         cube = dfa.state_cube(state)
         rank = game.rank(cube)
         choices = bdd.let(dict(zip(dfa.bits, state)), game.choices(rank)) if dfa.bits else game.choices(rank)
