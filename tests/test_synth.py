@@ -5,6 +5,7 @@ from the families' definitions, and bad input."""
 
 from __future__ import annotations
 
+import csv
 import itertools
 import json
 import re
@@ -147,16 +148,23 @@ def bad(capsys, argv, message):
 
 
 @pytest.mark.parametrize("part, message", [
-    (".inputs: a\n.outputs: a b\n", "a in both .inputs and .outputs"),
+    (".inputs: a\n.outputs: a b\n", "s.part:2: a in both .inputs and .outputs (.outputs here, .inputs at line 1)"),
+    (".outputs: b a\n\n.inputs: a\n", "s.part:3: a in both .inputs and .outputs (.inputs here, .outputs at line 1)"),
     (".inputs a b\n", "expected '.inputs: NAMES' or '.outputs: NAMES'"),
     (".inputs: a\n.inputs: b\n", ".inputs is given twice (first at line 1)"),
     ("", "empty: expected '.inputs:' and '.outputs:' lines"),
-    (".inputs: a\n.outputs: c\n", "b is in the formula but in neither list"),
+    (".inputs: a\n.outputs: c\n", "s.ltlf:1:7: b is in the formula but in neither list of"),
+    ("# nothing\n\n", "empty: expected '.inputs:' and '.outputs:' lines"),
+    (".inputs: a\n.outputs b\n", "s.part:2: expected '.inputs: NAMES' or '.outputs: NAMES', found '.outputs b'"),
+    (b"\xff\xfe.inputs: a", "s.part is not UTF-8 text"),
     (".inputs: a 1x\n", "'1x' is not a variable name"),
 ])
 def test_bad_partitions(tmp_path, capsys, part, message):
     (tmp_path / "s.ltlf").write_text("F(a & b)")
-    (tmp_path / "s.part").write_text(part)
+    if isinstance(part, bytes):
+        (tmp_path / "s.part").write_bytes(part)
+    else:
+        (tmp_path / "s.part").write_text(part)
     bad(capsys, ["synth", str(tmp_path / "s.ltlf"), "--part", str(tmp_path / "s.part")], message)
 
 
@@ -165,6 +173,27 @@ def test_bad_formulas_and_files(tmp_path, capsys):
     (tmp_path / "empty.ltlf").write_text("")
     bad(capsys, ["synth", str(tmp_path / "empty.ltlf"), "--part", str(tmp_path / "s.part")], "empty formula")
     bad(capsys, ["synth", str(tmp_path / "none.ltlf"), "--part", str(tmp_path / "s.part")], "cannot read")
+    (tmp_path / "comment.ltlf").write_text("# a goal to come\n\n")
+    bad(capsys, ["synth", str(tmp_path / "comment.ltlf"), "--part", str(tmp_path / "s.part")], "empty formula")
     (tmp_path / "s.ltlf").write_text("F(b)")
+    bad(capsys, ["synth", str(tmp_path / "s.ltlf"), "--part", str(tmp_path / "none.part")],
+        "cannot read partition file")
     bad(capsys, ["synth", str(tmp_path / "s.ltlf"), "--part", str(tmp_path / "s.part"), "-o", "x.txt"],
         "expected a file name ending in .json or .dot")
+    bad(capsys, ["synth", str(tmp_path / "s.ltlf"), "--part", str(tmp_path / "s.part"), "-o", "x.dot",
+                 "--strategy", "bdd"], "the BDDs are written as JSON")
+    (tmp_path / "never.ltlf").write_text("F(a)")
+    bad(capsys, ["synth", str(tmp_path / "never.ltlf"), "--part", str(tmp_path / "s.part"), "-o",
+                 str(tmp_path / "x.json")], "unrealizable, there is no winning strategy to write")
+    assert not (tmp_path / "x.json").exists()
+
+
+def test_the_sample_agrees_with_the_published_verdicts():
+    """Two independent sources: the verdicts worked out from the families'
+    definitions (README) and those of Nike's and LydiaSyft's integration tests
+    (tests/data/synth-verdicts)."""
+    published = {}
+    with open(DATA.parent / "synth-verdicts" / "verdicts.csv") as file:
+        for row in csv.DictReader(file):
+            published[row["instance"].split("/")[-1]] = row["expected"]
+    assert [published[p.name] for p in SAMPLE] == ["realizable" if expected(p) else "unrealizable" for p in SAMPLE]

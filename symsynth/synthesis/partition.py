@@ -51,5 +51,7 @@ def read_partition(path: str | Path) -> Partition:
     outputs = found.get(".outputs", (0, []))[1]
     both = sorted(set(inputs) & set(outputs))
     if both:
-        raise InputError(f"{path}: {', '.join(both)} in both .inputs and .outputs; a variable belongs to one player")
+        (first, key), (second, other) = sorted((found[k][0], k) for k in (".inputs", ".outputs"))
+        raise InputError(f"{path}:{second}: {', '.join(both)} in both .inputs and .outputs ({other} here, {key} "
+                         f"at line {first}); a variable belongs to one player")
     return Partition(tuple(inputs), tuple(outputs))
