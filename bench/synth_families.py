@@ -18,18 +18,24 @@ fetch to):
 
 Each instance runs `symsynth synth SPEC.ltlf --part SPEC.part --json` (the
 command line's own `main`, agent first, X weak) in a child process forked
-for it, with `--timeout` seconds of wall time (then SIGKILL: "timeout") and
-`--memory` GB of address space (beyond: "memory").  Within a scaling set
-(the patterns, the counters, each nim_HH) an instance after a timeout or a
-memory-out is not run ("skipped": its larger siblings).
+for it, with `--timeout` seconds of CPU time (RLIMIT_CPU, then killed:
+"timeout"), `--wall` seconds of wall time (default 3 x the timeout: also
+"timeout") and `--memory` GB of address space (beyond: "memory").  CPU time,
+not wall time, because this machine is shared: under a load of 9 on 2
+cores a niced child gets a fraction of a core, and a wall limit would
+measure the neighbours.  `--jobs N` children run at once.  Within a scaling
+set (the patterns, the counters, each nim_HH) instances run one at a time,
+smallest first, and after a timeout or a memory-out the larger ones are not
+run ("skipped").
 
 Expected verdicts: `tests/data/synth-verdicts/verdicts.csv`, from the
 integration tests of LydiaSyft (which inherited them from Nike); its
 `nike_ci` column marks the instances those tests run, the ones their
-authors call tractable for Nike.  They are run first, so that an interrupted
-run (`--resume` carries on from the CSV) has the comparison with Nike; the
-other instances follow set by set interleaved (instance 1 of every set,
-then 2, ...).
+authors call tractable for Nike.  The scaling families run first (they
+stop at their first timeout), then Nike's CI instances of the random
+families, then the other random instances set by set interleaved (instance
+1 of every set, then 2, ...), so that an interrupted run (`--stop-after`;
+`--resume` carries on from the CSV) has the comparison with Nike.
 
 Output: `--out` (markdown: per family and per set: instances, run, solved
 within the limit, verdicts, agreement with the published verdicts, Nike's
@@ -45,10 +51,13 @@ import contextlib
 import csv
 import io
 import json
+import math
 import multiprocessing as mp
+import multiprocessing.connection
 import os
 import platform
 import resource
+import signal
 import subprocess
 import sys
 import tempfile
@@ -64,7 +73,7 @@ VERDICTS = ROOT / "tests" / "data" / "synth-verdicts" / "verdicts.csv"
 FAMILIES = ("Uright", "GFand", "Single-Counter", "Double-Counter", "Nim", "Syft", "Lydia")
 #: families whose instances grow along a set: after a timeout, the rest of the set is skipped
 SCALING = {"Uright", "GFand", "Single-Counter", "Double-Counter", "Nim"}
-COLUMNS = ["family", "set", "instance", "path", "expected", "nike_ci", "status", "agrees", "seconds",
+COLUMNS = ["family", "set", "instance", "path", "expected", "nike_ci", "status", "agrees", "cpu_seconds", "seconds",
            "dfa_seconds", "game_seconds", "dfa_states", "exit"]
 
 
@@ -90,17 +99,35 @@ def instances(data: Path) -> list[dict]:
     return rows
 
 
+#: statuses after which the larger instances of a scaling set are skipped
+OUT = ("timeout", "wall", "memory")
+
+
+def _harder(row: dict, out: dict) -> bool:
+    """Whether `row` is at least as large as `out`, an instance that ran out:
+    a later instance of the same scaling set, or for Nim (nim_HH_TT: HH heaps
+    of TT tokens) at least as many heaps and tokens."""
+    if row["family"] != out["family"] or row["family"] not in SCALING:
+        return False
+    if row["family"] == "Nim":
+        mine, theirs = row["instance"].split("_")[1:], out["instance"].split("_")[1:]
+        return all(int(a) >= int(b) for a, b in zip(mine, theirs))
+    return row["set"] == out["set"] and row["instance"] > out["instance"]
+
+
 def published(path: Path) -> dict[str, tuple[str, str]]:
     with open(path, newline="") as file:
         return {r["instance"]: (r["expected"], r["nike_ci"]) for r in csv.DictReader(file)}
 
 
 def schedule(rows: list[dict]) -> list[dict]:
-    """Nike's CI instances first, then the rest interleaved across sets."""
-    first = [r for r in rows if r["nike_ci"] == "yes"]
+    """The scaling families, then Nike's CI instances, then the rest
+    interleaved across sets (module doc)."""
+    first = [r for r in rows if r["family"] in SCALING]
+    first += [r for r in rows if r["family"] not in SCALING and r["nike_ci"] == "yes"]
     by_set: dict[str, list[dict]] = defaultdict(list)
     for r in rows:
-        if r["nike_ci"] != "yes":
+        if r["family"] not in SCALING and r["nike_ci"] != "yes":
             by_set[r["set"]].append(r)
     rest = []
     for i in range(max((len(v) for v in by_set.values()), default=0)):
@@ -108,59 +135,80 @@ def schedule(rows: list[dict]) -> list[dict]:
     return first + rest
 
 
-def _child(conn, spec: str, part: str, memory: float) -> None:
+def _child(conn, spec: str, part: str, memory: float, cpu: float) -> None:
     """Runs in the forked child: the command line's `main`, its stdout captured."""
     limit = int(memory * 2**30)
     resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+    seconds = math.ceil(cpu)
+    resource.setrlimit(resource.RLIMIT_CPU, (seconds, seconds + 1))  # SIGXCPU, then SIGKILL
     from symsynth.cli import main
     out, err = io.StringIO(), io.StringIO()
     try:
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
             code = main(["synth", spec, "--part", part, "--json"])
     except MemoryError:
-        conn.send({"exit": None, "status": "memory", "out": "", "err": "MemoryError"})
+        conn.send({"status": "memory", "err": "MemoryError", "cpu": time.process_time()})
         return
     except BaseException as error:  # a bug: reported in the table, not fatal to the run
-        conn.send({"exit": None, "status": "error", "out": out.getvalue(), "err": f"{type(error).__name__}: {error}"})
+        conn.send({"status": "error", "err": f"{type(error).__name__}: {error}", "cpu": time.process_time()})
         return
-    conn.send({"exit": code, "out": out.getvalue(), "err": err.getvalue()})
+    conn.send({"exit": code, "out": out.getvalue(), "err": err.getvalue(), "cpu": time.process_time()})
 
 
-def run_one(data: Path, row: dict, timeout: float, memory: float, work: Path) -> dict:
-    """One instance in a forked child, killed at `timeout` (module doc)."""
-    spec, part = work / f"{os.getpid()}-spec.ltlf", work / f"{os.getpid()}-spec.part"
-    spec.write_text(read(data, row["path"]))
-    part.write_text(read(data, row["path"][:-len(".ltlf")] + ".part"))
-    ctx = mp.get_context("fork")
-    parent, child = ctx.Pipe(duplex=False)
-    clock = time.perf_counter()
-    proc = ctx.Process(target=_child, args=(child, str(spec), str(part), memory), daemon=True)
-    proc.start()
-    child.close()
-    got = parent.recv() if parent.poll(timeout) else None
-    seconds = time.perf_counter() - clock
-    proc.kill()  # SIGKILL: CUDD does not look at signals
-    proc.join()
-    parent.close()
-    result = {"seconds": round(seconds, 3), "exit": "", "dfa_seconds": "", "game_seconds": "", "dfa_states": ""}
-    if got is None:
-        return result | {"status": "timeout" if proc.exitcode == -9 or seconds >= timeout else "crashed"}
-    if got.get("status"):
-        return result | {"status": got["status"], "error": got["err"][:200]}
-    lines = got["out"].splitlines()
-    result["exit"] = got["exit"]
-    if got["exit"] not in (10, 20) or not lines:
-        memory_out = "MemoryError" in got["err"] or "memory" in got["err"].lower()
-        return result | {"status": "memory" if memory_out else "error", "error": got["err"].strip()[:200]}
-    summary = json.loads(lines[1])
-    return result | {"status": lines[0].lower(), "dfa_seconds": summary["seconds"]["dfa"],
-                     "game_seconds": summary["seconds"]["game"], "dfa_states": summary["dfa_states"]}
+class Run:
+    """One instance in a forked child (module doc)."""
+
+    def __init__(self, data: Path, row: dict, args, work: Path, number: int):
+        self.row, self.args = row, args
+        spec, part = work / f"{number}.ltlf", work / f"{number}.part"
+        spec.write_text(read(data, row["path"]))
+        part.write_text(read(data, row["path"][:-len(".ltlf")] + ".part"))
+        ctx = mp.get_context("fork")
+        self.conn, child = ctx.Pipe(duplex=False)
+        self.clock = time.perf_counter()
+        self.proc = ctx.Process(target=_child, args=(child, str(spec), str(part), args.memory, args.timeout),
+                                daemon=True)
+        self.proc.start()
+        child.close()
+
+    def done(self) -> bool:
+        return (self.conn.poll() or not self.proc.is_alive()
+                or time.perf_counter() - self.clock > self.args.wall)
+
+    def result(self) -> dict:
+        got = self.conn.recv() if self.conn.poll() else None
+        seconds = time.perf_counter() - self.clock
+        self.proc.kill()  # CUDD does not look at signals
+        self.proc.join()
+        self.conn.close()
+        result = {"seconds": round(seconds, 3), "exit": "", "cpu_seconds": "", "dfa_seconds": "",
+                  "game_seconds": "", "dfa_states": ""}
+        if got is None:  # killed: by RLIMIT_CPU (SIGXCPU/SIGKILL), at the wall limit, or by the kernel (memory)
+            signal_number = -(self.proc.exitcode or 0)
+            if signal_number == signal.SIGXCPU:
+                return result | {"status": "timeout", "cpu_seconds": self.args.timeout}
+            if seconds > self.args.wall:
+                return result | {"status": "wall"}
+            return result | {"status": "crashed", "error": f"exit {self.proc.exitcode}"}
+        result["cpu_seconds"] = round(got["cpu"], 3)
+        if got.get("status"):
+            return result | {"status": got["status"], "error": got["err"][:200]}
+        lines = got["out"].splitlines()
+        result["exit"] = got["exit"]
+        if got["exit"] not in (10, 20) or not lines:
+            memory_out = "MemoryError" in got["err"] or "memory" in got["err"].lower()
+            return result | {"status": "memory" if memory_out else "error", "error": got["err"].strip()[:200]}
+        summary = json.loads(lines[1])
+        return result | {"status": lines[0].lower(), "dfa_seconds": summary["seconds"]["dfa"],
+                         "game_seconds": summary["seconds"]["game"], "dfa_states": summary["dfa_states"]}
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--data", type=Path, default=MIRROR)
-    parser.add_argument("--timeout", type=float, default=60.0, help="seconds per instance (wall)")
+    parser.add_argument("--timeout", type=float, default=60.0, help="CPU seconds per instance")
+    parser.add_argument("--wall", type=float, default=None, help="wall seconds per instance (default 3 x timeout)")
+    parser.add_argument("--jobs", type=int, default=1, help="instances run at once")
     parser.add_argument("--memory", type=float, default=8.0, help="GB of address space per instance")
     parser.add_argument("--families", default=",".join(FAMILIES))
     parser.add_argument("--verdicts", type=Path, default=VERDICTS)
@@ -169,6 +217,7 @@ def main(argv=None) -> int:
                         help="start no instance after this many minutes (the report says what was not run)")
     parser.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "synth-families.md")
     args = parser.parse_args(argv)
+    args.wall = args.wall or 3 * args.timeout
     import symsynth.cli  # noqa: F401  (imported once here, inherited by every forked child)
 
     wanted = set(args.families.split(","))
@@ -184,28 +233,48 @@ def main(argv=None) -> int:
     meta = {"load_start": os.getloadavg(), "started": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
             "commit": _commit(), "args": args}
     work = Path(tempfile.mkdtemp(prefix="synth_families_"))
-    dead: dict[str, str] = {}  # scaling set -> the instance that ran out
-    for r in done.values():
-        if r["family"] in SCALING and r["status"] in ("timeout", "memory"):
-            dead.setdefault(r["set"], r["instance"])
+    dead = [r for r in done.values() if r["family"] in SCALING and r["status"] in OUT]  # ran out
     clock = time.perf_counter()
-    for row in schedule(rows):
-        if row["path"] in done:
-            row.update(done[row["path"]])
-            continue
-        if args.stop_after is not None and time.perf_counter() - clock > 60 * args.stop_after:
-            row["status"] = "not run"
-        elif row["family"] in SCALING and row["set"] in dead and row["instance"] > dead[row["set"]]:
-            row["status"] = "skipped"
-        else:
-            row.update(run_one(args.data, row, args.timeout, args.memory, work))
-            if row["family"] in SCALING and row["status"] in ("timeout", "memory"):
-                if row["set"] not in dead or row["instance"] < dead[row["set"]]:
-                    dead[row["set"]] = row["instance"]
-            print(row["path"], row["status"], row["seconds"], row.get("error", ""), flush=True)
+    pending = [r for r in schedule(rows)]
+    running: list[Run] = []
+    number = 0
+
+    def finish(row: dict) -> None:
         row["agrees"] = _agrees(row)
         done[row["path"]] = row
         write(rows, done, meta, csv_path, args.out)
+
+    while pending or running:
+        busy = {r.row["set"] for r in running if r.row["family"] in SCALING}
+        while len(running) < args.jobs:
+            row = next((r for r in pending if r["path"] in done or r["family"] not in SCALING
+                        or r["set"] not in busy), None)
+            if row is None:
+                break
+            pending.remove(row)
+            if row["path"] in done:
+                row.update(done[row["path"]])
+            elif args.stop_after is not None and time.perf_counter() - clock > 60 * args.stop_after:
+                row["status"] = "not run"
+                finish(row)
+            elif any(_harder(row, out) for out in dead):
+                row["status"] = "skipped"
+                finish(row)
+            else:
+                number += 1
+                running.append(Run(args.data, row, args, work, number))
+                busy = {r.row["set"] for r in running if r.row["family"] in SCALING}
+        if not running:
+            continue
+        mp.connection.wait([r.conn for r in running] + [r.proc.sentinel for r in running], timeout=1.0)
+        for run in [r for r in running if r.done()]:
+            running.remove(run)
+            row = run.row
+            row.update(run.result())
+            if row["family"] in SCALING and row["status"] in OUT:
+                dead.append(row)
+            print(row["path"], row["status"], row["seconds"], row["cpu_seconds"], row.get("error", ""), flush=True)
+            finish(row)
     meta["load_end"] = os.getloadavg()
     write(rows, done, meta, csv_path, args.out)
     return 1 if any(r.get("agrees") == "no" for r in done.values()) else 0
@@ -235,20 +304,25 @@ def write(rows: list[dict], done: dict[str, dict], meta: dict, csv_path: Path, o
     args = meta["args"]
     load_end = meta.get("load_end")
     lines = ["# `symsynth synth` on the LTLf synthesis datasets", "",
-             f"Command: `nice -n 10 python bench/synth_families.py --timeout {args.timeout:g} --memory "
-             f"{args.memory:g}`{' (resumed)' if args.resume else ''}; symsynth commit {meta['commit']}; "
+             f"Command: `nice -n 10 python bench/synth_families.py --timeout {args.timeout:g} --wall {args.wall:g} "
+             f"--memory {args.memory:g} --jobs {args.jobs}"
+             + (f" --stop-after {args.stop_after:g}" if args.stop_after is not None else "")
+             + f"`{' (resumed)' if args.resume else ''}; symsynth commit {meta['commit']}; "
              f"started {meta['started']}; data: github.com/whitemech/finite-synthesis-datasets (MIT), "
              "System-first, agent first, X weak; machine: "
              f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}; load average "
              f"(1/5/15 min) at start {_load(meta['load_start'])}"
              + (f", at end {_load(load_end)}" if load_end else ", run in progress or interrupted") + ". "
-             f"Each instance in a forked child: {args.timeout:g} s wall time (then killed), {args.memory:g} GB. "
+             f"Each instance in a forked child: {args.timeout:g} s of CPU time, {args.wall:g} s of wall time, "
+             f"{args.memory:g} GB; times are CPU seconds of the child (the `seconds` column of the CSV: wall). "
+             "*timeout*: the CPU limit reached; *wall*: killed at the wall limit before it (the machine's load, "
+             "undecided); *skipped*: not run, a smaller instance of its scaling set ran out. "
              "Expected verdicts: [tests/data/synth-verdicts](../../tests/data/synth-verdicts/README.md) "
              "(LydiaSyft's and Nike's integration tests); *Nike CI*: the instances those tests run, "
              f"which their authors call tractable for Nike. Rows: [{csv_path.name}]({csv_path.name}).", ""]
-    header = ("| {0} | instances | run | solved ≤ {1:g} s | realizable / unrealizable | timeout / memory / "
+    header = ("| {0} | instances | run | solved ≤ {1:g} CPU s | realizable / unrealizable | timeout / wall / memory / "
               "skipped | published verdicts: agree / disagree | Nike CI: instances / solved by symsynth | "
-              "median / max s (solved) |")
+              "median / max CPU s (solved) |")
     rule = "|---|---:|---:|---:|---|---|---|---|---|"
     lines += ["## Per family", "", header.format("family", args.timeout), rule]
     families = list(dict.fromkeys(r["family"] for r in rows))
@@ -274,12 +348,13 @@ def _line(name: str, rows: list[dict], done: dict[str, dict]) -> str:
     solved = [r for r in ran if r["status"] in ("realizable", "unrealizable")]
     ci = [r for r in rows if r["nike_ci"] == "yes"]
     ci_solved = sum(1 for r in ci if r["path"] in done and done[r["path"]]["status"] in ("realizable", "unrealizable"))
-    times = sorted(float(r["seconds"]) for r in solved)
+    times = sorted(float(r["cpu_seconds"]) for r in solved)
     median = f"{times[len(times) // 2]:.2f} / {times[-1]:.2f}" if times else "-"
     agree = sum(r.get("agrees") == "yes" for r in ran)
     disagree = sum(r.get("agrees") == "no" for r in ran)
     return (f"| {name} | {len(rows)} | {len(ran)} | {len(solved)} | {status.count('realizable')} / "
-            f"{status.count('unrealizable')} | {status.count('timeout')} / {status.count('memory')} / "
+            f"{status.count('unrealizable')} | {status.count('timeout')} / {status.count('wall')} / "
+            f"{status.count('memory')} / "
             f"{status.count('skipped')} | {agree} / {disagree} | {len(ci)} / {ci_solved} | {median} |")
 
 
