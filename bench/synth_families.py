@@ -29,8 +29,8 @@ smallest first, and after a timeout or a memory-out the larger ones are not
 run ("skipped").
 
 Expected verdicts: `tests/data/synth-verdicts/verdicts.csv`, from the
-integration tests of LydiaSyft (which inherited them from Nike); its
-`nike_ci` column marks the instances those tests run, the ones their
+integration tests of Nike (and LydiaSyft, which inherited them); its
+`nike_ci` column marks the instances Nike's tests run, the ones their
 authors call tractable for Nike.  The scaling families run first (they
 stop at their first timeout), then Nike's CI instances of the random
 families, then the other random instances set by set interleaved (instance
@@ -213,6 +213,8 @@ def main(argv=None) -> int:
     parser.add_argument("--families", default=",".join(FAMILIES))
     parser.add_argument("--verdicts", type=Path, default=VERDICTS)
     parser.add_argument("--resume", action="store_true", help="keep the rows of the CSV and run the others")
+    parser.add_argument("--retry-wall", action="store_true",
+                        help="with --resume: run again the instances killed at the wall limit (and those skipped)")
     parser.add_argument("--stop-after", type=float, default=None, metavar="MINUTES",
                         help="start no instance after this many minutes (the report says what was not run)")
     parser.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "synth-families.md")
@@ -229,7 +231,8 @@ def main(argv=None) -> int:
     done: dict[str, dict] = {}
     if args.resume and csv_path.exists():
         with open(csv_path, newline="") as file:
-            done = {r["path"]: r for r in csv.DictReader(file) if r["status"] not in ("", "not run")}
+            again = ("", "not run") + (("wall", "skipped") if args.retry_wall else ())
+            done = {r["path"]: r for r in csv.DictReader(file) if r["status"] not in again}
     meta = {"load_start": os.getloadavg(), "started": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
             "commit": _commit(), "args": args}
     work = Path(tempfile.mkdtemp(prefix="synth_families_"))
@@ -252,8 +255,10 @@ def main(argv=None) -> int:
             if row is None:
                 break
             pending.remove(row)
-            if row["path"] in done:
-                row.update(done[row["path"]])
+            if row["path"] in done:  # resumed: its run kept, the verdicts as the file now has them
+                row.update(done[row["path"]] | {k: row[k] for k in ("expected", "nike_ci")})
+                row["agrees"] = _agrees(row)
+                done[row["path"]] = row
             elif args.stop_after is not None and time.perf_counter() - clock > 60 * args.stop_after:
                 row["status"] = "not run"
                 finish(row)
@@ -318,8 +323,8 @@ def write(rows: list[dict], done: dict[str, dict], meta: dict, csv_path: Path, o
              "*timeout*: the CPU limit reached; *wall*: killed at the wall limit before it (the machine's load, "
              "undecided); *skipped*: not run, a smaller instance of its scaling set ran out. "
              "Expected verdicts: [tests/data/synth-verdicts](../../tests/data/synth-verdicts/README.md) "
-             "(LydiaSyft's and Nike's integration tests); *Nike CI*: the instances those tests run, "
-             f"which their authors call tractable for Nike. Rows: [{csv_path.name}]({csv_path.name}).", ""]
+             "(Nike's and LydiaSyft's integration tests); *Nike CI*: the instances Nike's tests run, "
+             f"which its authors call tractable for Nike. Rows: [{csv_path.name}]({csv_path.name}).", ""]
     header = ("| {0} | instances | run | solved ≤ {1:g} CPU s | realizable / unrealizable | timeout / wall / memory / "
               "skipped | published verdicts: agree / disagree | Nike CI: instances / solved by symsynth | "
               "median / max CPU s (solved) |")
