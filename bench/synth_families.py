@@ -176,7 +176,10 @@ class Run:
                 or time.perf_counter() - self.clock > self.args.wall)
 
     def result(self) -> dict:
-        got = self.conn.recv() if self.conn.poll() else None
+        try:
+            got = self.conn.recv() if self.conn.poll() else None
+        except EOFError:  # the child died without a word (RLIMIT_CPU, the kernel)
+            got = None
         seconds = time.perf_counter() - self.clock
         self.proc.kill()  # CUDD does not look at signals
         self.proc.join()
