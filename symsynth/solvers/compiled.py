@@ -84,29 +84,32 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
         return won_at_start(scene, k, resolution, budget, seconds | {"explore": 0.0, "solve": 0.0})
 
     clock = time.perf_counter()
-    start = tables.key(tables.canon(tables.pack(v0)), q0, k, robot=False)
-    keys, offsets, targets, units, codes = _explore(start, *tables.kernel_args())
+    start = tables.key(tables.canon(tables.pack(v0)), q0)
+    explored = _explore(start, *tables.kernel_args())
     seconds["explore"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
-    if len(targets) >= 1 << 31 or len(keys) >= 1 << 31:
-        raise TooLarge(f"the compiled solver holds fewer than 2^31 moves; this game has {len(targets)}")
-    value, choice = _dijkstra(keys, offsets, targets, units)
-    graph = Graph(tables, keys, offsets, targets, units, codes, value, choice)
-    top = int(value[1])
+    keys, hflag, r_tgt, h_tgt = explored[0], explored[1], explored[5], explored[9]
+    if max(len(keys), len(r_tgt), len(h_tgt)) >= 1 << 31:
+        raise TooLarge("the compiled solver holds fewer than 2^31 nodes and moves of each player; "
+                       f"this game has {len(keys)} nodes, {len(r_tgt)} robot and {len(h_tgt)} human moves")
+    graph = Graph(tables, explored, _solve(*explored[:7], *explored[8:]))
+    top = int(graph.hval[0])
     result = None if top >= INF else top
     realizable = verdict(result, resolution, budget)
     if result is None:
-        principal, counter = (), graph.counter_play()
+        principal, counter = (), graph.counter_play(0)
         strategy: Mapping = {}
     else:
-        principal = graph.principal_play()
+        principal = graph.principal_play(0)
         counter = principal if realizable is False else None
         strategy = CompiledStrategy(graph)
     seconds["solve"] = time.perf_counter() - clock
+    humans = int(np.count_nonzero(hflag))
+    stats = {"edges": len(r_tgt) + len(h_tgt) + humans, "robot_moves": len(r_tgt), "human_moves": len(h_tgt)}
     solution = Solution(None if result is None else result * resolution, result, resolution, budget,
-                        realizable, k, len(keys) - 1, seconds, strategy, principal, counter,
-                        scene.object_names, {"edges": int(offsets[-1])})
+                        realizable, k, len(keys) + humans, seconds, strategy, principal, counter,
+                        scene.object_names, stats)
     return solution if symmetry is None else symmetry.realize(solution)
 
 
@@ -165,9 +168,7 @@ class Tables:
             mi, si, ti = modes[mode], aidx[s], aidx[t]
             self.rule_start[mi, si, ti] = len(free_list)
             self.rule_count[mi, si, ti] = len(rules)
-            for r in rules:
-                free_list.append(sum(1 << free_bit[x] for x in r.free if x in free_bit))
-                unit_list.append(quantize(r.cost, resolution) if math.isfinite(r.cost) else INF)
+            self._add_rules(rules, free_bit, free_list, unit_list)
         self.slide_start = np.zeros((max(1, len(F)), m, m), np.int64)
         self.slide_count = np.zeros((max(1, len(F)), m, m), np.int64)
         for (a, s, t), rules in costmap.slides.items():
@@ -178,9 +179,7 @@ class Tables:
                 continue
             self.slide_start[fi, si, ti] = len(free_list)
             self.slide_count[fi, si, ti] = len(rules)
-            for r in rules:
-                free_list.append(sum(1 << free_bit[x] for x in r.free if x in free_bit))
-                unit_list.append(quantize(r.cost, resolution) if math.isfinite(r.cost) else INF)
+            self._add_rules(rules, free_bit, free_list, unit_list)
         self.rule_free = np.array(free_list or [0], np.int64)
         self.rule_units = np.array(unit_list or [0], np.int64)
         self.is_grasp = np.array([a in scene.grasps for a in F] or [False], np.bool_)
@@ -200,6 +199,19 @@ class Tables:
                                    for p in props.values()] or [0], np.int64)
         self.atom_place = np.array([self.place_of[HAND if p.kind == "holding" else p.location]
                                     for p in props.values()] or [0], np.int64)
+        # the letter as table reads: the at/holding/occupied atoms object i makes true at place
+        # p, and the free atoms an object at p makes false (a letter is n lookups)
+        self.atom_at = np.zeros((n, m + 2), np.int64)
+        self.free_at = np.zeros(m + 2, np.int64)
+        for j, p in enumerate(props.values()):
+            place = self.place_of[HAND if p.kind == "holding" else p.location]
+            if p.kind == "free":
+                self.free_at[place] |= 1 << j
+            for i, spec in enumerate(scene.objects):
+                if p.kind == "occupied" or (p.kind in ("at", "holding") and p.tag is not None
+                                            and p.tag in spec.tags):
+                    self.atom_at[i, place] |= 1 << j
+        self.free_all = np.int64(sum(1 << j for j, p in enumerate(props.values()) if p.kind == "free"))
         self.dfa = compile_ltlf(formula)
         self._dfa_table()
         self.qbits = _bits(len(self.dfa_states))
@@ -212,6 +224,15 @@ class Tables:
         order = sorted(self.place_names)
         self.place_rank = np.array([order.index(p) for p in self.place_names], np.int64)
         self.rank_place = np.array([self.place_of[p] for p in order], np.int64)
+
+    def _add_rules(self, rules, free_bit, free_list, unit_list) -> None:
+        """A (mode, from, to) cell's rules as masks and units, cheapest first (the
+        kernel takes the first satisfied one)."""
+        cells = [(quantize(r.cost, resolution=self.resolution) if math.isfinite(r.cost) else INF,
+                  sum(1 << free_bit[x] for x in r.free if x in free_bit)) for r in rules]
+        for units, free in sorted(cells, key=lambda cell: cell[0]):
+            free_list.append(free)
+            unit_list.append(units)
 
     def _dfa_table(self) -> None:
         """Every DFA state the initial one reaches over any letter of the task's atoms."""
@@ -264,22 +285,23 @@ class Tables:
 
     def canon(self, x: int) -> int:
         return int(_canon(np.int64(x), self.n, self.m, self.F, self.pb, self.eb, self.class_members,
-                          self.class_offsets, self.place_rank, self.rank_place))
+                          self.class_offsets, self.place_rank, self.rank_place, np.empty(self.n, np.int64)))
 
     def step(self, q: int, x: int) -> int:
-        return int(self.trans[q, _letter(np.int64(x), self.n, self.pb, self.atom_kind, self.atom_mask,
-                                          self.atom_place, len(self.atom_keys))])
+        return int(self.trans[q, _letter(np.int64(x), self.n, self.pb, self.atom_at, self.free_at,
+                                          self.free_all)])
 
-    def key(self, x: int, q: int, h: int, robot: bool) -> int:
-        return ((x << self.qbits | q) * (self.k + 1) + h) * 2 + int(robot)
+    def key(self, x: int, q: int) -> int:
+        """A node's key: the packed state and the DFA state (the layer says h)."""
+        return x << self.qbits | q
 
     def kernel_args(self) -> tuple:
         return (self.n, self.m, self.F, self.pb, self.eb, self.gb, self.qbits, self.k,
                 self.anchor_at, self.anchor_count, self.home_starts, self.samples_mask,
                 self.rule_start, self.rule_count, self.rule_free, self.rule_units,
                 self.slide_start, self.slide_count, self.is_grasp, np.int64(self.grab_units),
-                np.int64(self.drop_units), self.atom_kind, self.atom_mask, self.atom_place,
-                len(self.atom_keys), self.trans, self.accepting, self.class_members,
+                np.int64(self.drop_units), self.atom_at, self.free_at, self.free_all,
+                self.trans, self.accepting, self.class_members,
                 self.class_offsets, self.place_rank, self.rank_place)
 
     def action(self, code: int) -> str:
@@ -313,72 +335,95 @@ def _check_width(tables: Tables, k: int) -> None:
 # -- the graph, read back ------------------------------------------------------------------
 
 class Graph:
-    """The explored positions with their values, for strategies and plays."""
+    """The explored nodes with their values, for strategies and plays.
 
-    def __init__(self, tables, keys, offsets, targets, units, codes, value, choice):
-        self.tables, self.keys, self.offsets = tables, keys, offsets
-        self.targets, self.units, self.codes = targets, units, codes
-        self.value, self.choice = value, choice
-        self.sorted = np.argsort(keys[1:], kind="stable") + 1
-        self.sorted_keys = keys[self.sorted]
+    Node i stands for the robot-turn position (v, q, h) and, where `hflag[i]`,
+    the human-turn position at the same (v, q, h) (its pass leads to the
+    robot's); h is the node's layer."""
 
-    def index(self, key: int) -> int | None:
-        j = int(np.searchsorted(self.sorted_keys, key))
-        if j < len(self.sorted_keys) and self.sorted_keys[j] == key:
-            return int(self.sorted[j])
-        return None
+    def __init__(self, tables: Tables, explored: tuple, values: tuple):
+        (self.keys, self.hflag, self.lo, self.hi, self.r_off, self.r_tgt, self.r_units, self.r_code,
+         self.h_off, self.h_tgt) = explored
+        self.rval, self.hval, self.choice = values
+        self.tables = tables
+        self._sorted: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+    def layer(self, i: int) -> int:
+        return next(h for h in range(self.tables.k + 1) if self.lo[h] <= i < self.hi[h])
+
+    def index(self, x: int, q: int, h: int) -> int | None:
+        """The node of packed state x, DFA state q and layer h, None if unexplored."""
+        if h not in self._sorted:
+            lo, hi = int(self.lo[h]), int(self.hi[h])
+            order = np.argsort(self.keys[lo:hi], kind="stable")
+            self._sorted[h] = (order + lo, self.keys[lo:hi][order])
+        order, keys = self._sorted[h]
+        key = self.tables.key(x, q)
+        j = int(np.searchsorted(keys, key))
+        return int(order[j]) if j < len(keys) and keys[j] == key else None
 
     def position(self, i: int) -> Position:
         t = self.tables
-        key = int(self.keys[i]) >> 1
-        key, h = divmod(key, t.k + 1)
-        q = key & ((1 << t.qbits) - 1)
-        return (t.unpack(key >> t.qbits), t.dfa_states[q], h)
+        key = int(self.keys[i])
+        return (t.unpack(key >> t.qbits), t.dfa_states[key & ((1 << t.qbits) - 1)], self.layer(i))
 
-    def edges(self, i: int) -> range:
-        return range(int(self.offsets[i]), int(self.offsets[i + 1]))
+    def robot_edges(self, i: int) -> range:
+        return range(int(self.r_off[i]), int(self.r_off[i + 1]))
 
-    def _step(self, i: int, e: int, who: str) -> tuple[Step, int]:
+    def _robot_step(self, i: int, e: int) -> tuple[Step, int]:
         t = self.tables
         v = self.position(i)[0]
-        name = t.action(self.codes[e])
-        if name == PASS:
-            return Step(who, PASS, 0.0, v), int(self.targets[e])
-        legal = legal_robot_moves if who == "robot" else legal_human_moves
-        after = next(mv.after for mv in legal(t.scene, v) if mv.action == name)
-        cost = int(self.units[e]) * t.resolution if who == "robot" else 0.0
-        return Step(who, name, cost, after), int(self.targets[e])
+        name = t.action(self.r_code[e])
+        after = next(mv.after for mv in legal_robot_moves(t.scene, v) if mv.action == name)
+        return Step("robot", name, int(self.r_units[e]) * t.resolution, after), int(self.r_tgt[e])
 
-    def principal_play(self) -> tuple[Step, ...]:
-        play, i = [], 1
-        while i != 0:
-            robot = int(self.keys[i]) & 1
-            if robot:
-                step, i = self._step(i, int(self.choice[i]), "robot")
-            else:  # the reply of largest value, the pass (first) on ties
-                e = max(self.edges(i), key=lambda x: int(self.value[self.targets[x]]))
-                step, i = self._step(i, e, "human")
-            if step.action != PASS:
+    def replies(self, i: int) -> list[tuple[Step | None, int, int]]:
+        """The human's replies at node i's human turn: (step, its node (-1: the
+        task is won), its value), the pass (step None, node i) first."""
+        t = self.tables
+        v, q, h = self.position(i)
+        out: list[tuple[Step | None, int, int]] = [(None, i, int(self.rval[i]))]
+        qi = t.dfa_index[q]
+        for mv in (legal_human_moves(t.scene, v) if h > 0 else ()):
+            w = t.canon(t.pack(mv.after))
+            q2 = t.step(qi, w)
+            j = -1 if t.accepting[q2] else self.index(w, q2, h - 1)
+            if j is None:
+                raise RuntimeError("internal error: a human move left the explored nodes")
+            out.append((Step("human", mv.action, 0.0, mv.after), j, 0 if j < 0 else int(self.rval[j])))
+        return out
+
+    def principal_play(self, start: int) -> tuple[Step, ...]:
+        """The strategy against the reply of largest value (the pass, then the
+        first, on ties), to the win."""
+        play, i = [], start
+        while True:
+            step, j, _ = max(self.replies(i), key=lambda reply: reply[2])
+            if step is not None:
                 play.append(step)
+                if j < 0:
+                    break
+                i = j
+            step, i = self._robot_step(i, int(self.choice[i]))
+            play.append(step)
+            if i < 0:
+                break
         return tuple(play)
 
-    def counter_play(self) -> tuple[Step, ...]:
-        play, i, seen = [], 1, set()
+    def counter_play(self, start: int) -> tuple[Step, ...]:
+        play, i, seen = [], start, set()
         while i not in seen:
             seen.add(i)
-            robot = int(self.keys[i]) & 1
-            edges = list(self.edges(i))
-            if robot:
-                if not edges:
-                    break
-                e = min(edges, key=lambda x: int(self.units[x]))
-                step, i = self._step(i, e, "robot")
-            else:
-                e = next(x for x in edges if self.value[self.targets[x]] >= INF)
-                step, i = self._step(i, e, "human")
-            if step.action != PASS:
+            step, j, _ = next(reply for reply in self.replies(i) if reply[2] >= INF)
+            if step is not None:
                 play.append(step)
-            if i == 0:
+                i = j
+            edges = list(self.robot_edges(i))
+            if not edges:
+                break
+            step, i = self._robot_step(i, min(edges, key=lambda x: int(self.r_units[x])))
+            play.append(step)
+            if i < 0:
                 raise RuntimeError("internal error: the counter play reached a win")
         return tuple(play)
 
@@ -393,51 +438,39 @@ class CompiledStrategy(Mapping):
         g, t = self._graph, self._graph.tables
         v, q, h = position
         qi = t.dfa_index.get(q)
-        i = None if qi is None else g.index(t.key(t.pack(v), qi, h, robot=True))
-        if i is None or g.value[i] >= INF:
+        i = None if qi is None or not 0 <= h <= t.k else g.index(t.pack(v), qi, h)
+        if i is None or g.rval[i] >= INF:
             raise KeyError(position)
-        return t.action(g.codes[int(g.choice[i])])
+        return t.action(g.r_code[int(g.choice[i])])
 
     def __iter__(self) -> Iterator[Position]:
         g = self._graph
-        return iter([g.position(i) for i in range(1, len(g.keys))
-                     if int(g.keys[i]) & 1 and g.value[i] < INF])
+        return iter([g.position(i) for i in np.flatnonzero(g.rval < INF)])
 
     def __len__(self) -> int:
-        g = self._graph
-        return int(sum(1 for i in range(1, len(g.keys)) if int(g.keys[i]) & 1 and g.value[i] < INF))
+        return int(np.count_nonzero(self._graph.rval < INF))
 
 
 # -- kernels ---------------------------------------------------------------------------------
 
 @njit(cache=True)
-def _letter(x, n, pb, atom_kind, atom_mask, atom_place, atoms):
+def _letter(x, n, pb, atom_at, free_at, free_all):
+    """The task's letter at packed state x: the atoms that hold, as a bit mask."""
     pmask = (1 << pb) - 1
     bits = 0
-    for j in range(atoms):
-        kind = atom_kind[j]
-        holds = False
-        if kind == 0 or kind == 1:  # at(tag, place), holding(tag) (the hand is a place)
-            for i in range(n):
-                if atom_mask[j] >> i & 1 and ((x >> (i * pb)) & pmask) == atom_place[j]:
-                    holds = True
-                    break
-        else:
-            for i in range(n):
-                if ((x >> (i * pb)) & pmask) == atom_place[j]:
-                    holds = True
-                    break
-            if kind == 3:
-                holds = not holds
-        if holds:
-            bits |= 1 << j
-    return bits
+    gone = 0
+    for i in range(n):
+        p = (x >> (i * pb)) & pmask
+        bits |= atom_at[i, p]
+        gone |= free_at[p]
+    return bits | (free_all & ~gone)
 
 
 @njit(cache=True)
-def _canon(x, n, m, F, pb, eb, class_members, class_offsets, place_rank, rank_place):
+def _canon(x, n, m, F, pb, eb, class_members, class_offsets, place_rank, rank_place, desc):
     """The canonical state of x's orbit: in each class, the members' (place,
-    frame aimed at) sorted by rank and handed out in member order."""
+    frame aimed at) sorted by rank and handed out in member order (`desc`:
+    scratch space for n integers)."""
     classes = len(class_offsets) - 1
     if classes == 0:
         return x
@@ -450,7 +483,6 @@ def _canon(x, n, m, F, pb, eb, class_members, class_offsets, place_rank, rank_pl
         frame = (ee - 1 - m) % F
     new_ee = ee
     out = x
-    desc = np.empty(n, np.int64)
     for c in range(classes):
         lo, hi = class_offsets[c], class_offsets[c + 1]
         size = hi - lo
@@ -478,29 +510,13 @@ def _canon(x, n, m, F, pb, eb, class_members, class_offsets, place_rank, rank_pl
 
 
 @njit(cache=True)
-def _free_for(at, n, m, i, samples_mask):
-    """The places that count as free for a move serving object i (a mask over L ∪ E)."""
-    occupied = 0
-    else_other = False
-    for j in range(n):
-        if j != i:
-            if at[j] < m:
-                occupied |= 1 << at[j]
-            elif at[j] == m:
-                else_other = True
-    free = ((1 << m) - 1) & ~occupied
-    if not else_other:
-        free |= samples_mask
-    return free
-
-
-@njit(cache=True)
 def _rule_min(start, count, free, rule_free, rule_units):
-    best = INF
+    """The cheapest rule of a cell whose free set is inside `free` (the cell's
+    rules are sorted by cost: the first one)."""
     for r in range(start, start + count):
-        if (rule_free[r] & ~free) == 0 and rule_units[r] < best:
-            best = rule_units[r]
-    return best
+        if (rule_free[r] & ~free) == 0:
+            return rule_units[r]
+    return INF
 
 
 @njit(cache=True)
@@ -518,6 +534,8 @@ def _motion(mode, S, slen, T, tlen, free, rule_start, rule_count, rule_free, rul
             c = _rule_min(rule_start[mode, s, t], rule_count[mode, s, t], free, rule_free, rule_units)
             if c > worst:
                 worst = c
+                if c >= INF:
+                    return INF
     return worst
 
 
@@ -564,292 +582,472 @@ def _grow(a, size):
 
 
 @njit(cache=True)
-def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_starts, samples_mask,
-             rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
-             grab_units, drop_units, atom_kind, atom_mask, atom_place, atoms, trans, accepting,
-             class_members, class_offsets, place_rank, rank_place):
-    """Breadth-first from `start` (index 1; WIN is 0): packed keys and the
-    edges of each position in CSR form (targets, units, action codes)."""
+def _free_masks(at, n, m, samples_mask, free):
+    """free[o]: the places that count as free for a move serving object o (a
+    mask over L ∪ E: the locations no other object stands at, and the Else
+    samples when no other object is in Else)."""
+    for o in range(n):
+        occupied = 0
+        else_other = False
+        for j in range(n):
+            if j != o:
+                if at[j] < m:
+                    occupied |= 1 << at[j]
+                elif at[j] == m:
+                    else_other = True
+        f = ((1 << m) - 1) & ~occupied
+        if not else_other:
+            f |= samples_mask
+        free[o] = f
+
+
+@njit(cache=True)
+def _robot_moves(x, n, m, F, pb, eb, gb, anchor_at, anchor_count, home_starts, samples_mask,
+                 rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
+                 grab_units, drop_units, at, free, S, T, mv_after, mv_units, mv_code):
+    """The robot's moves at packed state x (docs/game-semantics.md §4, in
+    game/abstraction.py's order) into mv_*: (state after, units, code); their count."""
     pmask = (1 << pb) - 1
     eshift = n * pb
     emask = (1 << eb) - 1
     gshift = eshift + eb
-    qmask = (1 << qbits) - 1
-    keys = np.empty(1 << 16, np.int64)
-    offsets = np.zeros((1 << 16) + 1, np.int64)
-    targets = np.empty(1 << 18, np.int32)
-    units = np.empty(1 << 18, np.int32)
-    codes = np.empty(1 << 18, np.int32)
-    bits = 17
-    table = np.full((1 << bits, 2), -1, np.int64)  # open addressing: (key, index), -1 empty
-    keys[0] = -1
-    keys[1] = start
-    _insert(table, bits, start, 1)
-    count = 2
-    ne = 0
-    at = np.empty(n, np.int64)
-    S = np.empty(len(home_starts) + anchor_at.shape[2], np.int64)
-    T = np.empty(anchor_at.shape[2], np.int64)
-    # moves of one position: (after state, units, code)
-    mv_after = np.empty(4 * (n * (F + m + 2) + m + 2), np.int64)
-    mv_units = np.empty(len(mv_after), np.int64)
-    mv_code = np.empty(len(mv_after), np.int64)
-    i = 1
-    while i < count:
-        key = keys[i]
-        robot = key & 1
-        rest = key >> 1
-        h = rest % (k + 1)
-        rest //= (k + 1)
-        q = rest & qmask
-        x = rest >> qbits
-        for j in range(n):
-            at[j] = (x >> (j * pb)) & pmask
-        ee = (x >> eshift) & emask
-        grip = (x >> gshift) & ((1 << gb) - 1)
-        occupied = 0
-        held = -1
-        for j in range(n):
-            if at[j] < m:
-                occupied |= 1 << at[j]
-            elif at[j] == m + 1:
-                held = j
-        nm = 0
-        if robot:
-            # the anchors v may stand for
-            if grip != 0 or ee > m:
-                if grip != 0:
-                    place = m if ee == 0 else ee - 1
-                    f = grip - 1
-                else:
-                    place = at[(ee - 1 - m) // F]
-                    f = (ee - 1 - m) % F
-                slen = anchor_count[place, f]
-                for a in range(slen):
-                    S[a] = anchor_at[place, f, a]
-            else:
-                slen = len(home_starts)
-                for a in range(slen):
-                    S[a] = home_starts[a]
-            if held < 0:
-                for o in range(n):
-                    free = _free_for(at, n, m, o, samples_mask)
-                    for f in range(F):
-                        aim = 1 + m + o * F + f
-                        if ee == aim:
-                            continue
-                        tlen = anchor_count[at[o], f]
-                        for a in range(tlen):
-                            T[a] = anchor_at[at[o], f, a]
-                        c = _motion(0, S, slen, T, tlen, free, rule_start, rule_count, rule_free, rule_units)
-                        if c < INF:
-                            mv_after[nm] = (x & ~(emask << eshift)) | (aim << eshift)
-                            mv_units[nm] = c
-                            mv_code[nm] = _code(0, o, f, 0, n, F, m)
-                            nm += 1
-                if ee > m:
-                    o = (ee - 1 - m) // F
-                    f = (ee - 1 - m) % F
-                    if is_grasp[f]:
-                        if grab_units < INF:
-                            y = (x & ~(pmask << (o * pb))) | ((m + 1) << (o * pb))
-                            spot = 1 + at[o] if at[o] < m else 0
-                            y = (y & ~(emask << eshift)) | (spot << eshift)
-                            y |= (1 + f) << gshift
-                            mv_after[nm] = y
-                            mv_units[nm] = grab_units
-                            mv_code[nm] = _code(1, o, f, 0, n, F, m)
-                            nm += 1
-                    elif at[o] < m:
-                        free = _free_for(at, n, m, o, samples_mask)
-                        for l in range(m):
-                            if occupied >> l & 1:
-                                continue
-                            c = _rule_min(slide_start[f, at[o], l], slide_count[f, at[o], l], free,
-                                          rule_free, rule_units)
-                            if c < INF:
-                                mv_after[nm] = (x & ~(pmask << (o * pb))) | (l << (o * pb))
-                                mv_units[nm] = c
-                                mv_code[nm] = _code(4, o, f, l, n, F, m)
-                                nm += 1
-            else:
-                o = held
-                g = grip - 1
-                free = _free_for(at, n, m, o, samples_mask)
-                mode = 1 + o * F + g
-                for l in range(m):
-                    if occupied >> l & 1 or ee == 1 + l:
-                        continue
-                    T[0] = anchor_at[l, g, 0]
-                    c = _motion(mode, S, slen, T, 1, free, rule_start, rule_count, rule_free, rule_units)
-                    if c < INF:
-                        mv_after[nm] = (x & ~(emask << eshift)) | ((1 + l) << eshift)
-                        mv_units[nm] = c
-                        mv_code[nm] = _code(2, o, g, l, n, F, m)
-                        nm += 1
-                if 1 <= ee <= m and not (occupied >> (ee - 1) & 1) and drop_units < INF:
-                    y = (x & ~(pmask << (o * pb))) | ((ee - 1) << (o * pb))
-                    y &= ~(((1 << gb) - 1) << gshift)
-                    y = (y & ~(emask << eshift)) | ((1 + m + o * F + g) << eshift)
-                    mv_after[nm] = y
-                    mv_units[nm] = drop_units
-                    mv_code[nm] = _code(3, o, g, ee - 1, n, F, m)
-                    nm += 1
+    for j in range(n):
+        at[j] = (x >> (j * pb)) & pmask
+    ee = (x >> eshift) & emask
+    grip = (x >> gshift) & ((1 << gb) - 1)
+    occupied = 0
+    held = -1
+    for j in range(n):
+        if at[j] < m:
+            occupied |= 1 << at[j]
+        elif at[j] == m + 1:
+            held = j
+    _free_masks(at, n, m, samples_mask, free)
+    nm = 0
+    # the anchors v may stand for
+    if grip != 0 or ee > m:
+        if grip != 0:
+            place = m if ee == 0 else ee - 1
+            f = grip - 1
         else:
-            mv_after[0] = x
-            mv_units[0] = 0
-            mv_code[0] = _code(5, 0, 0, 0, n, F, m)
-            nm = 1
-            if h > 0:
-                aligned = ee - 1 if grip != 0 and 1 <= ee <= m else -1
-                for o in range(n):
-                    if at[o] == m + 1:
+            place = at[(ee - 1 - m) // F]
+            f = (ee - 1 - m) % F
+        slen = anchor_count[place, f]
+        for a in range(slen):
+            S[a] = anchor_at[place, f, a]
+    else:
+        slen = len(home_starts)
+        for a in range(slen):
+            S[a] = home_starts[a]
+    if held < 0:
+        for o in range(n):
+            for f in range(F):
+                aim = 1 + m + o * F + f
+                if ee == aim:
+                    continue
+                tlen = anchor_count[at[o], f]
+                for a in range(tlen):
+                    T[a] = anchor_at[at[o], f, a]
+                c = _motion(0, S, slen, T, tlen, free[o], rule_start, rule_count, rule_free, rule_units)
+                if c < INF:
+                    mv_after[nm] = (x & ~(emask << eshift)) | (aim << eshift)
+                    mv_units[nm] = c
+                    mv_code[nm] = _code(KIND_TRANSIT, o, f, 0, n, F, m)
+                    nm += 1
+        if ee > m:
+            o = (ee - 1 - m) // F
+            f = (ee - 1 - m) % F
+            if is_grasp[f]:
+                if grab_units < INF:
+                    y = (x & ~(pmask << (o * pb))) | ((m + 1) << (o * pb))
+                    spot = 1 + at[o] if at[o] < m else 0
+                    y = (y & ~(emask << eshift)) | (spot << eshift)
+                    y |= (1 + f) << gshift
+                    mv_after[nm] = y
+                    mv_units[nm] = grab_units
+                    mv_code[nm] = _code(KIND_GRAB, o, f, 0, n, F, m)
+                    nm += 1
+            elif at[o] < m:
+                for l in range(m):
+                    if occupied >> l & 1:
                         continue
-                    aimed = ee > m and (ee - 1 - m) // F == o
-                    for t in range(m + 1):
-                        if t < m and (occupied >> t & 1 or t == aligned):
-                            continue
-                        y = (x & ~(pmask << (o * pb))) | (t << (o * pb))
-                        if aimed:
-                            y &= ~(emask << eshift)
-                        mv_after[nm] = y
-                        mv_units[nm] = 0
-                        mv_code[nm] = _code(6, o, 0, t, n, F, m)
+                    c = _rule_min(slide_start[f, at[o], l], slide_count[f, at[o], l], free[o],
+                                  rule_free, rule_units)
+                    if c < INF:
+                        mv_after[nm] = (x & ~(pmask << (o * pb))) | (l << (o * pb))
+                        mv_units[nm] = c
+                        mv_code[nm] = _code(KIND_SLIDE, o, f, l, n, F, m)
                         nm += 1
-        if ne + nm > len(targets):
-            size = 2 * (ne + nm)
-            targets = _grow(targets, size)
-            units = _grow(units, size)
-            codes = _grow(codes, size)
-        for e in range(nm):
-            w = mv_after[e]
-            if not robot and e == 0:  # the pass: the robot's turn at the same position
-                succ = ((x << qbits | q) * (k + 1) + h) * 2 + 1
-            else:
-                w = _canon(w, n, m, F, pb, eb, class_members, class_offsets, place_rank, rank_place)
-                q2 = trans[q, _letter(w, n, pb, atom_kind, atom_mask, atom_place, atoms)]
-                if accepting[q2]:
-                    succ = -1
-                elif robot:
-                    succ = ((w << qbits | q2) * (k + 1) + h) * 2
-                else:
-                    succ = ((w << qbits | q2) * (k + 1) + h - 1) * 2 + 1
-            if succ < 0:
-                j = 0
-            else:
-                j = _find(table, bits, succ)
-                if j < 0:
-                    j = count
-                    if count == len(keys):
-                        keys = _grow(keys, 2 * count)
-                        offsets = _grow(offsets, 2 * count + 1)
-                    keys[count] = succ
-                    count += 1
-                    if 2 * count > len(table):
-                        bits += 1
-                        table = np.full((1 << bits, 2), -1, np.int64)
-                        for r in range(1, count):
-                            _insert(table, bits, keys[r], r)
-                    else:
-                        _insert(table, bits, succ, j)
-            targets[ne] = j
-            units[ne] = mv_units[e]
-            codes[ne] = mv_code[e]
-            ne += 1
-        offsets[i + 1] = ne
-        i += 1
-    offsets[1] = 0
-    return keys[:count].copy(), offsets[:count + 1].copy(), targets[:ne].copy(), units[:ne].copy(), codes[:ne].copy()
+    else:
+        o = held
+        g = grip - 1
+        mode = 1 + o * F + g
+        for l in range(m):
+            if occupied >> l & 1 or ee == 1 + l:
+                continue
+            T[0] = anchor_at[l, g, 0]
+            c = _motion(mode, S, slen, T, 1, free[o], rule_start, rule_count, rule_free, rule_units)
+            if c < INF:
+                mv_after[nm] = (x & ~(emask << eshift)) | ((1 + l) << eshift)
+                mv_units[nm] = c
+                mv_code[nm] = _code(KIND_TRANSFER, o, g, l, n, F, m)
+                nm += 1
+        if 1 <= ee <= m and not (occupied >> (ee - 1) & 1) and drop_units < INF:
+            y = (x & ~(pmask << (o * pb))) | ((ee - 1) << (o * pb))
+            y &= ~(((1 << gb) - 1) << gshift)
+            y = (y & ~(emask << eshift)) | ((1 + m + o * F + g) << eshift)
+            mv_after[nm] = y
+            mv_units[nm] = drop_units
+            mv_code[nm] = _code(KIND_DROP, o, g, ee - 1, n, F, m)
+            nm += 1
+    return nm
 
 
 @njit(cache=True)
-def _dijkstra(keys, offsets, targets, units):
-    """Values (INF: never settled) and, at robot positions, the chosen edge.
+def _human_moves(x, n, m, F, pb, eb, gb, mv_after):
+    """The human's moves at packed state x (§5: one object not in the hand to a
+    free location, not the one the gripper is aligned over, or to Else) into
+    mv_after; their count."""
+    pmask = (1 << pb) - 1
+    eshift = n * pb
+    emask = (1 << eb) - 1
+    ee = (x >> eshift) & emask
+    grip = (x >> (eshift + eb)) & ((1 << gb) - 1)
+    occupied = 0
+    for j in range(n):
+        p = (x >> (j * pb)) & pmask
+        if p < m:
+            occupied |= 1 << p
+    aligned = ee - 1 if grip != 0 and 1 <= ee <= m else -1
+    nm = 0
+    for o in range(n):
+        p = (x >> (o * pb)) & pmask
+        if p == m + 1:
+            continue
+        aimed = ee > m and (ee - 1 - m) // F == o
+        for t in range(m + 1):
+            if t < m and (occupied >> t & 1 or t == aligned):
+                continue
+            y = (x & ~(pmask << (o * pb))) | (t << (o * pb))
+            if aimed:
+                y &= ~(emask << eshift)
+            mv_after[nm] = y
+            nm += 1
+    return nm
 
-    Dijkstra's algorithm for min-cost reachability games (solvers/explicit.py)
-    with a bucket queue (Dial's): edge costs are small integers, so the
-    positions waiting to settle are kept in a ring of max-cost + 1 buckets."""
+
+@njit(cache=True)
+def _probe(table, bits, key, new):
+    """The index stored with `key` in the hash table; when absent, `key` is
+    stored with index `new` and `new` returned (one probe sequence)."""
+    mask = (1 << bits) - 1
+    a = _slot(key, bits)
+    while True:
+        k = table[a, 0]
+        if k == key:
+            return table[a, 1]
+        if k < 0:
+            table[a, 0] = key
+            table[a, 1] = new
+            return new
+        a = (a + 1) & mask
+
+
+@njit(cache=True)
+def _rehash(keys, lo, count, bits):
+    """A hash table of 2^bits slots holding keys[lo:count] with their indices."""
+    table = np.full((1 << bits, 2), -1, np.int64)
+    for r in range(lo, count):
+        _insert(table, bits, keys[r], r)
+    return table
+
+
+@njit(cache=True)
+def _targets(mv_after, nm, q, n, m, F, pb, eb, qbits, class_members, class_offsets, place_rank, rank_place,
+             desc, atom_at, free_at, free_all, trans, accepting, table, bits):
+    """The keys of the nodes the moves mv_after[:nm] lead to, in place (-1:
+    the task is won).  Then each key's first slot in the hash table is read,
+    all at once, so that the cache misses overlap; returns what was read, that
+    the reads stay."""
+    for e in range(nm):
+        w = _canon(mv_after[e], n, m, F, pb, eb, class_members, class_offsets, place_rank, rank_place, desc)
+        q2 = trans[q, _letter(w, n, pb, atom_at, free_at, free_all)]
+        mv_after[e] = -1 if accepting[q2] else w << qbits | q2
+    seen = 0
+    for e in range(nm):
+        if mv_after[e] >= 0:
+            seen ^= table[_slot(mv_after[e], bits), 0]
+    return seen
+
+
+@njit(cache=True)
+def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_starts, samples_mask,
+             rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
+             grab_units, drop_units, atom_at, free_at, free_all, trans, accepting,
+             class_members, class_offsets, place_rank, rank_place):
+    """Every node the start (the human's turn at key `start`, h = k) reaches,
+    layer by layer from h = k down to 0.
+
+    A node is a key (packed state << qbits | DFA state) in a layer h: the
+    robot's turn there, and (hflag) the human's turn, whose pass leads to it.
+    Layer h is closed under robot moves (breadth-first from the nodes the
+    layer above reached by human moves, and the start); then the human turns
+    of layer h reach, by their moves, the seeds of layer h - 1.  Returns the
+    keys, hflag, the layers' index ranges lo[h]..hi[h], the robot moves in CSR
+    form (r_off; target node, -1 for a win; units; action code) and the human
+    moves (h_off; target node in layer h - 1, -1 for a win)."""
+    qmask = (1 << qbits) - 1
+    keys = np.empty(1 << 16, np.int64)
+    hflag = np.zeros(1 << 16, np.uint8)
+    r_off = np.zeros((1 << 16) + 1, np.int64)
+    h_off = np.zeros((1 << 16) + 1, np.int64)
+    r_tgt = np.empty(1 << 18, np.int32)
+    r_units = np.empty(1 << 18, np.int32)
+    r_code = np.empty(1 << 18, np.int32)
+    h_tgt = np.empty(1 << 18, np.int32)
+    lo = np.zeros(k + 1, np.int64)
+    hi = np.zeros(k + 1, np.int64)
+    at = np.empty(n, np.int64)
+    free = np.empty(n, np.int64)
+    desc = np.empty(n, np.int64)
+    S = np.empty(len(home_starts) + anchor_at.shape[2], np.int64)
+    T = np.empty(anchor_at.shape[2], np.int64)
+    mv_after = np.empty(4 * (n * (F + m + 2) + m + 2), np.int64)
+    mv_units = np.empty(len(mv_after), np.int64)
+    mv_code = np.empty(len(mv_after), np.int64)
+    bits = 17
+    table = np.full((1 << bits, 2), -1, np.int64)  # open addressing: (key, index), -1 empty
+    keys[0] = start
+    hflag[0] = 1
+    _insert(table, bits, start, 0)
+    count = 1
+    ne = 0
+    nh = 0
+    sink = 0
+    for h in range(k, -1, -1):
+        # layer h: closed under robot moves from its seeds
+        i = lo[h]
+        while i < count:
+            key = keys[i]
+            q = key & qmask
+            x = key >> qbits
+            nm = _robot_moves(x, n, m, F, pb, eb, gb, anchor_at, anchor_count, home_starts, samples_mask,
+                              rule_start, rule_count, rule_free, rule_units, slide_start, slide_count,
+                              is_grasp, grab_units, drop_units, at, free, S, T, mv_after, mv_units, mv_code)
+            if ne + nm > len(r_tgt):
+                size = 2 * (ne + nm)
+                r_tgt = _grow(r_tgt, size)
+                r_units = _grow(r_units, size)
+                r_code = _grow(r_code, size)
+            if count + nm >= len(keys):  # room for nm new nodes
+                size = 2 * (count + nm)
+                keys = _grow(keys, size)
+                hflag = _grow(hflag, size)
+                hflag[count:] = 0
+                r_off = _grow(r_off, size + 1)
+                h_off = _grow(h_off, size + 1)
+            if 2 * (count + nm - lo[h]) > len(table):
+                bits += 1
+                table = _rehash(keys, lo[h], count, bits)
+            sink ^= _targets(mv_after, nm, q, n, m, F, pb, eb, qbits, class_members, class_offsets,
+                             place_rank, rank_place, desc, atom_at, free_at, free_all, trans, accepting,
+                             table, bits)
+            for e in range(nm):
+                w = mv_after[e]
+                j = -1
+                if w >= 0:
+                    j = _probe(table, bits, w, count)
+                    if j == count:
+                        keys[count] = w
+                        count += 1
+                    hflag[j] = 1
+                r_tgt[ne] = j
+                r_units[ne] = mv_units[e]
+                r_code[ne] = mv_code[e]
+                ne += 1
+            r_off[i + 1] = ne
+            i += 1
+        hi[h] = count
+        if h == 0:
+            for i in range(lo[h], hi[h]):
+                h_off[i + 1] = nh
+            break
+        # the human's moves from layer h: the seeds of layer h - 1
+        lo[h - 1] = count
+        bits = 17
+        table = np.full((1 << bits, 2), -1, np.int64)
+        for i in range(lo[h], hi[h]):
+            if hflag[i]:
+                key = keys[i]
+                q = key & qmask
+                nm = _human_moves(key >> qbits, n, m, F, pb, eb, gb, mv_after)
+                if nh + nm > len(h_tgt):
+                    h_tgt = _grow(h_tgt, 2 * (nh + nm))
+                if count + nm >= len(keys):
+                    size = 2 * (count + nm)
+                    keys = _grow(keys, size)
+                    hflag = _grow(hflag, size)
+                    hflag[count:] = 0
+                    r_off = _grow(r_off, size + 1)
+                    h_off = _grow(h_off, size + 1)
+                if 2 * (count + nm - lo[h - 1]) > len(table):
+                    bits += 1
+                    table = _rehash(keys, lo[h - 1], count, bits)
+                sink ^= _targets(mv_after, nm, q, n, m, F, pb, eb, qbits, class_members, class_offsets,
+                                 place_rank, rank_place, desc, atom_at, free_at, free_all, trans,
+                                 accepting, table, bits)
+                for e in range(nm):
+                    w = mv_after[e]
+                    j = -1
+                    if w >= 0:
+                        j = _probe(table, bits, w, count)
+                        if j == count:
+                            keys[count] = w
+                            count += 1
+                    h_tgt[nh] = j
+                    nh += 1
+            h_off[i + 1] = nh
+    N = count
+    if sink == 0x5EED:  # keeps the early reads of _targets (never true in effect: harmless)
+        desc[0] = 0
+    return (keys[:N].copy(), hflag[:N].copy(), lo, hi, r_off[:N + 1].copy(), r_tgt[:ne].copy(),
+            r_units[:ne].copy(), r_code[:ne].copy(), h_off[:N + 1].copy(), h_tgt[:nh].copy())
+
+
+@njit(cache=True)
+def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_units, h_off, h_tgt):
+    """The value of every node's robot turn (rval) and human turn (hval; INF
+    where the human's turn was not reached or is lost) and the robot's chosen
+    move (an index into r_*), layer by layer from h = 0 up.
+
+    The human's moves from layer h lead into layer h - 1, solved already, so
+    each human turn's best move is a number K known before layer h is solved:
+    hval = max(K, rval), rval = min over robot moves of units + hval of the
+    target.  In the layer that is Dijkstra's algorithm for min-cost
+    reachability games (solvers/explicit.py) on the robot moves alone, with a
+    bucket queue (Dial's: costs are small integers, so the human turns waiting
+    to settle are kept in a ring of max-cost + 1 buckets) and the human turns
+    whose K dominates released in order of K."""
     N = len(keys)
-    E = len(targets)
-    indeg = np.zeros(N + 1, np.int64)
-    for e in range(E):
-        indeg[targets[e] + 1] += 1
-    for j in range(N):
-        indeg[j + 1] += indeg[j]
-    pred_edge = np.empty(E, np.int64)  # edges into each position, grouped by target
-    fill = indeg[:N].copy()
-    for e in range(E):
-        t = targets[e]
-        pred_edge[fill[t]] = e
-        fill[t] += 1
-    source = np.empty(E, np.int32)
-    for i in range(N):
-        for e in range(offsets[i], offsets[i + 1]):
-            source[e] = i
-    waiting = np.empty(N, np.int64)
-    for i in range(N):
-        waiting[i] = offsets[i + 1] - offsets[i]
-    best = np.full(N, INF, np.int64)
-    best_edge = np.full(N, -1, np.int64)
-    value = np.full(N, INF, np.int64)
+    rval = np.full(N, INF, np.int64)
+    hval = np.full(N, INF, np.int64)
     choice = np.full(N, -1, np.int64)
     C = 1
-    for e in range(E):
-        if units[e] + 1 > C:
-            C = units[e] + 1
+    for e in range(len(r_units)):
+        if r_units[e] + 1 > C:
+            C = r_units[e] + 1
     head = np.full(C, -1, np.int64)
-    entry_node = np.empty(N + 1024, np.int64)
-    entry_dist = np.empty(N + 1024, np.int64)
-    entry_next = np.empty(N + 1024, np.int64)
-    used = 0
-    pending = 0
-    # (0, WIN)
-    entry_node[0] = 0
-    entry_dist[0] = 0
-    entry_next[0] = -1
-    head[0] = 0
-    used = 1
-    pending = 1
-    d = 0
-    while pending > 0:
-        b = d % C
-        x = head[b]
-        if x < 0:
-            d += 1
-            continue
-        head[b] = entry_next[x]
-        pending -= 1
-        j = entry_node[x]
-        if value[j] < INF or entry_dist[x] != d:
-            continue  # settled already, or a stale entry
-        value[j] = d
-        if j != 0 and keys[j] & 1:
-            choice[j] = best_edge[j]
-        for p in range(indeg[j], indeg[j + 1]):
-            e = pred_edge[p]
-            i = source[e]
-            if value[i] < INF:
-                continue
-            nd = -1
-            if keys[i] & 1:
-                cand = d + units[e]
-                if cand < best[i]:
-                    best[i] = cand
-                    best_edge[i] = e
-                    nd = cand
-            else:
-                waiting[i] -= 1
-                if waiting[i] == 0:
-                    nd = d
-            if nd >= 0:
+    entry_node = np.empty(1024, np.int64)
+    entry_dist = np.empty(1024, np.int64)
+    entry_next = np.empty(1024, np.int64)
+    k = len(lo) - 1
+    for h in range(k + 1):
+        a, b = lo[h], hi[h]
+        size = b - a
+        # K: the human's best move into layer h - 1 (-1: none)
+        K = np.full(size, -1, np.int64)
+        for i in range(a, b):
+            best = -1
+            for e in range(h_off[i], h_off[i + 1]):
+                t = h_tgt[e]
+                v = 0 if t < 0 else rval[t]
+                if v > best:
+                    best = v
+            K[i - a] = best
+        # the robot moves into each node of the layer, grouped by target
+        ea, eb = r_off[a], r_off[b]
+        indeg = np.zeros(size + 1, np.int64)
+        for e in range(ea, eb):
+            t = r_tgt[e]
+            if t >= 0:
+                indeg[t - a + 1] += 1
+        for j in range(size):
+            indeg[j + 1] += indeg[j]
+        pred = np.empty(indeg[size], np.int32)  # the edge, relative to ea
+        psrc = np.empty(indeg[size], np.int32)  # its source, relative to a
+        fill = indeg[:size].copy()
+        for i in range(a, b):
+            for e in range(r_off[i], r_off[i + 1]):
+                t = r_tgt[e]
+                if t >= 0:
+                    pred[fill[t - a]] = e - ea
+                    psrc[fill[t - a]] = i - a
+                    fill[t - a] += 1
+        # moves that win
+        for i in range(a, b):
+            for e in range(r_off[i], r_off[i + 1]):
+                if r_tgt[e] < 0 and r_units[e] < rval[i]:
+                    rval[i] = r_units[e]
+                    choice[i] = e
+        for j in range(C):
+            head[j] = -1
+        used = 0
+        pending = 0
+        # human turns whose K (finite) may come to dominate, in order of K
+        waiting = np.empty(size, np.int64)
+        nw = 0
+        for i in range(a, b):
+            if hflag[i] and 0 <= K[i - a] < INF:
+                waiting[nw] = i
+                nw += 1
+        waiting = waiting[:nw]
+        waiting = waiting[np.argsort(K[waiting - a], kind="mergesort")]
+        for i in range(a, b):  # the rest start in the ring
+            if hflag[i] and K[i - a] < INF and rval[i] < INF and rval[i] > K[i - a]:
                 if used == len(entry_node):
                     entry_node = _grow(entry_node, 2 * used)
                     entry_dist = _grow(entry_dist, 2 * used)
                     entry_next = _grow(entry_next, 2 * used)
                 entry_node[used] = i
-                entry_dist[used] = nd
-                entry_next[used] = head[nd % C]
-                head[nd % C] = used
+                entry_dist[used] = rval[i]
+                entry_next[used] = head[rval[i] % C]
+                head[rval[i] % C] = used
                 used += 1
                 pending += 1
-    return value, choice
+        d = 0
+        wp = 0
+        while pending > 0 or wp < nw:
+            if pending == 0 and K[waiting[wp] - a] > d:
+                d = K[waiting[wp] - a]
+            # settle the human turns released at d, then the ring's bucket d
+            while True:
+                j = -1
+                if wp < nw and K[waiting[wp] - a] <= d:
+                    j = waiting[wp]
+                    wp += 1
+                    if hval[j] < INF or rval[j] > K[j - a]:
+                        continue
+                else:
+                    x = head[d % C]
+                    if x < 0:
+                        break
+                    head[d % C] = entry_next[x]
+                    pending -= 1
+                    j = entry_node[x]
+                    if hval[j] < INF or entry_dist[x] != max(K[j - a], rval[j]):
+                        continue  # settled already, or a stale entry
+                hval[j] = d
+                for p in range(indeg[j - a], indeg[j - a + 1]):
+                    e = pred[p] + ea
+                    i = psrc[p] + a
+                    cand = d + r_units[e]
+                    if cand < rval[i]:
+                        rval[i] = cand
+                        choice[i] = e
+                        if hflag[i] and hval[i] >= INF and K[i - a] < INF:
+                            key = max(K[i - a], cand)
+                            if key < d + C:
+                                if used == len(entry_node):
+                                    entry_node = _grow(entry_node, 2 * used)
+                                    entry_dist = _grow(entry_dist, 2 * used)
+                                    entry_next = _grow(entry_next, 2 * used)
+                                entry_node[used] = i
+                                entry_dist[used] = key
+                                entry_next[used] = head[key % C]
+                                head[key % C] = used
+                                used += 1
+                                pending += 1
+            d += 1
+            if used > 4 * size + 1024 and pending == 0:
+                used = 0
+    return rval, hval, choice
