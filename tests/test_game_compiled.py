@@ -5,11 +5,15 @@ scenes with and without contacts and with interchangeable objects."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from symsynth.errors import InputError
+from symsynth.game.abstraction import initial_state
+from symsynth.game.solution import task_formula
+from symsynth.game.symmetry import Symmetry
 from symsynth.logic import parse_ltlf
-from symsynth.solvers.compiled import solve_compiled
+from symsynth.solvers.compiled import Tables, _explore, _human_moves, solve_compiled
 from symsynth.solvers.explicit import solve_explicit
 from support.gamegen import alike_scene, random_scene
 from support.games import make_scene, worst_case_of
@@ -54,3 +58,37 @@ def test_too_many_atoms_is_an_input_error():
     scene = make_scene({f"o{i}": "Else" for i in range(17)}, ["l1"], motions, task=f"F({atoms})")
     with pytest.raises(InputError, match="at most 16 atoms"):
         solve_compiled(scene)
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_human_moves_come_out_canonical(seed):
+    """The kernel's human moves at a canonical state shift one member's key to
+    its place in the class instead of sorting: at every explored human turn,
+    each move equals `_canon` of the same move made without classes (the
+    plain move, sorted afresh)."""
+    scene = alike_scene(seed, contacts=seed % 2 == 0)
+    formula = task_formula(scene, None)
+    t = Tables(scene, formula, 1.0, Symmetry.of(scene, formula), 2)
+    v0 = t.canon(t.pack(initial_state(scene)))
+    keys, hflag = _explore(t.key(v0, t.step(t.dfa_index[t.dfa.initial], v0)), *t.kernel_args())[:2]
+    n = t.n
+    classes = len(t.class_offsets) - 1
+    obj_class, obj_pos = np.full(n, -1, np.int64), np.zeros(n, np.int64)
+    for c in range(classes):
+        for r in range(t.class_offsets[c], t.class_offsets[c + 1]):
+            obj_class[t.class_members[r]], obj_pos[t.class_members[r]] = c, r - t.class_offsets[c]
+    size = 4 * (n * (t.F + t.m + 2) + t.m + 2)
+    fast, plain, scratch = np.empty(size, np.int64), np.empty(size, np.int64), np.empty(n, np.int64)
+    checked = 0
+    for key in keys[hflag == 1]:
+        x = np.int64(int(key) >> t.qbits)
+        assert t.canon(int(x)) == int(x)
+        args = (x, n, t.m, t.F, t.pb, t.eb, t.gb)
+        count = _human_moves(*args, fast, obj_class, obj_pos, t.class_members, t.class_offsets,
+                             t.place_rank, t.rank_place, scratch)
+        assert _human_moves(*args, plain, np.full(n, -1, np.int64), obj_pos, t.class_members,
+                            t.class_offsets, t.place_rank, t.rank_place, scratch) == count
+        for e in range(count):
+            assert fast[e] == t.canon(int(plain[e])), (seed, t.unpack(int(x)), t.unpack(int(plain[e])))
+            checked += 1
+    assert checked > 0 or classes == 0

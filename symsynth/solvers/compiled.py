@@ -483,12 +483,14 @@ def _canon(x, n, m, F, pb, eb, class_members, class_offsets, place_rank, rank_pl
         frame = (ee - 1 - m) % F
     new_ee = ee
     out = x
+    fb = _fbits(F)
+    fmask = (1 << fb) - 1
     for c in range(classes):
         lo, hi = class_offsets[c], class_offsets[c + 1]
         size = hi - lo
         for j in range(size):
             i = class_members[lo + j]
-            d = place_rank[(x >> (i * pb)) & pmask] * (F + 1)
+            d = place_rank[(x >> (i * pb)) & pmask] << fb  # (rank, frame aimed at + 1): no division
             if i == holder:
                 d += 1 + frame
             desc[j] = d
@@ -501,9 +503,9 @@ def _canon(x, n, m, F, pb, eb, class_members, class_offsets, place_rank, rank_pl
             desc[b + 1] = key
         for j in range(size):
             i = class_members[lo + j]
-            place = rank_place[desc[j] // (F + 1)]
+            place = rank_place[desc[j] >> fb]
             out = (out & ~(pmask << (i * pb))) | (place << (i * pb))
-            f = desc[j] % (F + 1)
+            f = desc[j] & fmask
             if f > 0:
                 new_ee = 1 + m + i * F + (f - 1)
     return (out & ~(((1 << eb) - 1) << eshift)) | (new_ee << eshift)
@@ -704,36 +706,88 @@ def _robot_moves(x, n, m, F, pb, eb, gb, anchor_at, anchor_count, home_starts, s
 
 
 @njit(cache=True)
-def _human_moves(x, n, m, F, pb, eb, gb, mv_after):
+def _fbits(F):
+    """Bits for a frame aimed at + 1 (0: none) in a canonical sort key."""
+    fb = 1
+    while (1 << fb) <= F:
+        fb += 1
+    return fb
+
+
+@njit(cache=True)
+def _human_moves(x, n, m, F, pb, eb, gb, mv_after, obj_class, obj_pos, class_members, class_offsets,
+                 place_rank, rank_place, dd):
     """The human's moves at packed state x (§5: one object not in the hand to a
     free location, not the one the gripper is aligned over, or to Else) into
-    mv_after; their count."""
+    mv_after, canonical when x is (below); their count.
+
+    x canonical: in each class the members' sort keys (place rank, frame
+    aimed at) ascend in member order.  A move changes one member's key, so
+    the canonical state is x with that key moved to its place in the order,
+    the members in between shifting by one (what `_canon` would find, without
+    sorting).  dd: scratch space for n integers."""
     pmask = (1 << pb) - 1
     eshift = n * pb
     emask = (1 << eb) - 1
     ee = (x >> eshift) & emask
     grip = (x >> (eshift + eb)) & ((1 << gb) - 1)
+    fb = _fbits(F)
+    fmask = (1 << fb) - 1
+    holder = (ee - 1 - m) // F if ee > m else -1
     occupied = 0
     for j in range(n):
         p = (x >> (j * pb)) & pmask
         if p < m:
             occupied |= 1 << p
+        dd[j] = place_rank[p] << fb
+        if j == holder:
+            dd[j] += 1 + (ee - 1 - m) % F
     aligned = ee - 1 if grip != 0 and 1 <= ee <= m else -1
     nm = 0
     for o in range(n):
         p = (x >> (o * pb)) & pmask
         if p == m + 1:
             continue
-        aimed = ee > m and (ee - 1 - m) // F == o
+        aimed = o == holder
+        c = obj_class[o]
         for t in range(m + 1):
             if t < m and (occupied >> t & 1 or t == aligned):
                 continue
             y = (x & ~(pmask << (o * pb))) | (t << (o * pb))
             if aimed:
                 y &= ~(emask << eshift)
+            if c >= 0:
+                first = class_offsets[c]
+                last = class_offsets[c + 1] - 1
+                r = first + obj_pos[o]
+                d = place_rank[t] << fb
+                if r > first and d < dd[class_members[r - 1]]:
+                    while r > first and d < dd[class_members[r - 1]]:
+                        y = _assign(y, class_members[r], dd[class_members[r - 1]], m, F, pb, eshift, emask,
+                                    fb, fmask, rank_place)
+                        r -= 1
+                    y = _assign(y, class_members[r], d, m, F, pb, eshift, emask, fb, fmask, rank_place)
+                elif r < last and d > dd[class_members[r + 1]]:
+                    while r < last and d > dd[class_members[r + 1]]:
+                        y = _assign(y, class_members[r], dd[class_members[r + 1]], m, F, pb, eshift, emask,
+                                    fb, fmask, rank_place)
+                        r += 1
+                    y = _assign(y, class_members[r], d, m, F, pb, eshift, emask, fb, fmask, rank_place)
             mv_after[nm] = y
             nm += 1
     return nm
+
+
+@njit(cache=True)
+def _assign(y, i, d, m, F, pb, eshift, emask, fb, fmask, rank_place):
+    """y with object i given sort key d: its place, and the end-effector's
+    aim when d carries a frame."""
+    pmask = (1 << pb) - 1
+    y = (y & ~(pmask << (i * pb))) | (rank_place[d >> fb] << (i * pb))
+    f = d & fmask
+    if f > 0:
+        y = (y & ~(emask << eshift)) | ((1 + m + i * F + (f - 1)) << eshift)
+    return y
 
 
 @njit(cache=True)
@@ -763,14 +817,16 @@ def _rehash(keys, lo, count, bits):
 
 
 @njit(cache=True)
-def _targets(mv_after, nm, q, n, m, F, pb, eb, qbits, class_members, class_offsets, place_rank, rank_place,
-             desc, atom_at, free_at, free_all, trans, accepting, table, bits):
+def _targets(mv_after, nm, canonical, q, n, m, F, pb, eb, qbits, class_members, class_offsets, place_rank,
+             rank_place, desc, atom_at, free_at, free_all, trans, accepting, table, bits):
     """The keys of the nodes the moves mv_after[:nm] lead to, in place (-1:
-    the task is won).  Then each key's first slot in the hash table is read,
+    the task is won; `canonical`: the states are canonical already).  Then each key's first slot in the hash table is read,
     all at once, so that the cache misses overlap; returns what was read, that
     the reads stay."""
     for e in range(nm):
-        w = _canon(mv_after[e], n, m, F, pb, eb, class_members, class_offsets, place_rank, rank_place, desc)
+        w = mv_after[e]
+        if not canonical:
+            w = _canon(w, n, m, F, pb, eb, class_members, class_offsets, place_rank, rank_place, desc)
         q2 = trans[q, _letter(w, n, pb, atom_at, free_at, free_all)]
         mv_after[e] = -1 if accepting[q2] else w << qbits | q2
     seen = 0
@@ -824,6 +880,12 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
     ne = 0
     nh = 0
     sink = 0
+    obj_class = np.full(n, -1, np.int64)  # each object's class and place in it
+    obj_pos = np.zeros(n, np.int64)
+    for c in range(len(class_offsets) - 1):
+        for r in range(class_offsets[c], class_offsets[c + 1]):
+            obj_class[class_members[r]] = c
+            obj_pos[class_members[r]] = r - class_offsets[c]
     for h in range(k, -1, -1):
         # layer h: closed under robot moves from its seeds
         i = lo[h]
@@ -849,7 +911,7 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
             if 2 * (count + nm - lo[h]) > len(table):
                 bits += 1
                 table = _rehash(keys, lo[h], count, bits)
-            sink ^= _targets(mv_after, nm, q, n, m, F, pb, eb, qbits, class_members, class_offsets,
+            sink ^= _targets(mv_after, nm, False, q, n, m, F, pb, eb, qbits, class_members, class_offsets,
                              place_rank, rank_place, desc, atom_at, free_at, free_all, trans, accepting,
                              table, bits)
             for e in range(nm):
@@ -880,7 +942,8 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
             if hflag[i]:
                 key = keys[i]
                 q = key & qmask
-                nm = _human_moves(key >> qbits, n, m, F, pb, eb, gb, mv_after)
+                nm = _human_moves(key >> qbits, n, m, F, pb, eb, gb, mv_after, obj_class, obj_pos,
+                                  class_members, class_offsets, place_rank, rank_place, desc)
                 if nh + nm > len(h_tgt):
                     h_tgt = _grow(h_tgt, 2 * (nh + nm))
                 if count + nm >= len(keys):
@@ -893,7 +956,7 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
                 if 2 * (count + nm - lo[h - 1]) > len(table):
                     bits += 1
                     table = _rehash(keys, lo[h - 1], count, bits)
-                sink ^= _targets(mv_after, nm, q, n, m, F, pb, eb, qbits, class_members, class_offsets,
+                sink ^= _targets(mv_after, nm, True, q, n, m, F, pb, eb, qbits, class_members, class_offsets,
                                  place_rank, rank_place, desc, atom_at, free_at, free_all, trans,
                                  accepting, table, bits)
                 for e in range(nm):
