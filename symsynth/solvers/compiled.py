@@ -22,13 +22,28 @@ how a position and its moves are represented:
   name), so the Python side maps a canonical answer back to real objects
   exactly as it does for the explicit solver.
 
-Positions, edges and values live in numpy arrays; the exploration (an
-open-addressing hash table from packed position to index) and Dijkstra's algorithm (a binary
-heap on arrays) are `numba.njit` functions, compiled on first use and cached
-on disk.  The moves are generated in the kernel from docs/game-semantics.md
-§4-§5 as `game/abstraction.py` writes them; the tests hold the two to the
-same value on every generated scene, and the strategy is followed through
-every human behaviour in the real game.
+Nodes, moves and values live in numpy arrays, explored and solved by
+`numba.njit` functions (compiled on first use and cached on disk) in layers of
+h, the human's moves left:
+
+- a node is a robot-turn position (packed state, DFA state; its layer says
+  h), flagged when the human turn at the same position is reached too (its
+  pass leads to the node, so it needs no node of its own);
+- layer k is explored first (breadth-first through the robot moves, an
+  open-addressing hash table per layer), then the human's moves from its
+  human turns seed layer k - 1, and so on down to 0;
+- solving goes back up: the human's moves from layer h lead into layer
+  h - 1, solved already, so each human turn's best reply K is a number before
+  layer h is solved; there the value of a human turn is max(K, the robot
+  turn's value) and Dijkstra's algorithm runs on the robot moves alone.
+  Human moves are kept as 32-bit targets only (no costs, no reverse edges).
+
+The moves are generated in the kernel from docs/game-semantics.md §4-§5 as
+`game/abstraction.py` writes them; the tests hold the two to the same value
+on every generated scene, and the strategy is followed through every human
+behaviour in the real game.  The hot loops run in functions whose arrays are
+never reassigned (growth happens between calls): numba then emits no
+reference counting inside them.
 
 Scenes the packing cannot hold (more than 62 bits per position, more than
 16 task atoms) raise `TooLarge` (an `InputError`) naming the limit; `--solver explicit`
@@ -1019,8 +1034,8 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
             if st[0] == st[1]:
                 break
             keys, hflag, r_off, h_off = _room_nodes(keys, hflag, r_off, h_off, st[1], room)
-            if st[2] + room > len(r_tgt):
-                size = 2 * (st[2] + room)
+            if st[2] + room > len(r_tgt):  # 1.5x: the edge arrays are most of the memory
+                size = st[2] + st[2] // 2 + room
                 r_tgt = _grow(r_tgt, size)
                 r_units = _grow(r_units, size)
                 r_code = _grow(r_code, size)
@@ -1046,14 +1061,15 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
                 break
             keys, hflag, r_off, h_off = _room_nodes(keys, hflag, r_off, h_off, st[1], room)
             if st[3] + room > len(h_tgt):
-                h_tgt = _grow(h_tgt, 2 * (st[3] + room))
+                h_tgt = _grow(h_tgt, st[3] + st[3] // 2 + room)
             if 2 * (st[1] + room - lo[h - 1]) > len(table):
                 bits += 1
                 table = _rehash(keys, lo[h - 1], st[1], bits)
     count, ne, nh = st[1], st[2], st[3]
     N = count
-    return (keys[:N].copy(), hflag[:N].copy(), lo, hi, r_off[:N + 1].copy(), r_tgt[:ne].copy(),
-            r_units[:ne].copy(), r_code[:ne].copy(), h_off[:N + 1].copy(), h_tgt[:nh].copy())
+    # views, not copies: a copy of the edge arrays would hold them twice at the peak
+    return (keys[:N], hflag[:N], lo, hi, r_off[:N + 1], r_tgt[:ne], r_units[:ne], r_code[:ne],
+            h_off[:N + 1], h_tgt[:nh])
 
 
 @njit(cache=True)
