@@ -30,12 +30,15 @@ from contextlib import contextmanager
 from tqdm import tqdm
 
 from symsynth.automata.bdd import Function, peak_nodes
-from symsynth.game.abstraction import State, initial_state, letter
+from symsynth.game.abstraction import (State, initial_state, legal_human_moves, legal_robot_moves,
+                                       letter)
 from symsynth.game.graph import PASS
 from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, HAND, Scene
+from symsynth.game.symmetry import Symmetry, interchangeable
 from symsynth.solvers.bdd.arena import Arena
+from symsynth.solvers.bdd.classes import ClassArena
 from symsynth.solvers.bdd.fixpoint import Attractor, attractor
 
 Q = tuple[bool, ...]
@@ -43,16 +46,27 @@ Q = tuple[bool, ...]
 
 def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
                    k: int | None = None, budget: float | None = None,
-                   resolution: float = 1.0) -> Solution:
+                   resolution: float = 1.0, symmetric: bool = True) -> Solution:
     """E_p, a strategy and plays for `formula` (default: the scene's task)
-    against a human with `k` moves (default: the scene's k)."""
+    against a human with `k` moves (default: the scene's k).  With
+    `symmetric` and interchangeable objects in the scene (`game.symmetry`),
+    on the class encoding (`bdd.classes`); else each object's place in bits."""
     k = check_parameters(scene, k, resolution)
+    formula = task_formula(scene, formula)
     clock = time.perf_counter()
-    arena = Arena(scene, task_formula(scene, formula), k, resolution)
-    game = _Queries(arena)
+    classes = interchangeable(scene, formula) if symmetric else ()
+    if classes:
+        arena = ClassArena(scene, formula, k, resolution, classes)
+        game = _ClassQueries(arena)
+    else:
+        arena = Arena(scene, formula, k, resolution)
+        game = _Queries(arena)
     seconds = {"encode": time.perf_counter() - clock}
-    stats: dict[str, object] = {"state_bits": len(arena.state_bits), "dfa_bits": len(arena.dfa.bits),
+    stats: dict[str, object] = {"encoding": "classes" if classes else "objects",
+                                "state_bits": len(arena.state_bits), "dfa_bits": len(arena.dfa.bits),
                                 "cost_bits": len(arena.c.bits), "max_units": arena.max_units}
+    if classes:
+        stats["interchangeable"] = Symmetry(scene, classes).describe()
 
     v0 = initial_state(scene)
     q0 = game.read(game.dfa_initial, v0)
@@ -230,6 +244,21 @@ class _Queries:
                                                                      value - units)):
                 return action, w, units, value - units
         raise RuntimeError(f"internal error: no action of value {value} at {position}")
+
+
+class _ClassQueries(_Queries):
+    """Questions about real positions on the class encoding: the BDDs are
+    read at a position's orbit (`ClassEncoding.assignment`), the moves are
+    the real state's own (`game.abstraction`), so the strategy names the
+    real object standing where the action acts: an action leads into an
+    iterate exactly when its orbit does."""
+
+    def robot_moves(self, v: State) -> list[tuple[str, State, int]]:
+        units = self.arena.units
+        return sorted((m.action, m.after, units(m.cost)) for m in legal_robot_moves(self.arena.scene, v))
+
+    def human_moves(self, v: State) -> list[tuple[str, State]]:
+        return sorted((m.action, m.after) for m in legal_human_moves(self.arena.scene, v))
 
 
 class Strategy(Mapping):

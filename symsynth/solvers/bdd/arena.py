@@ -72,7 +72,7 @@ class Arena:
         self.props = interpret_all(formula, scene)
         self.h = Domain.declare(bdd, "#h", k + 1)
         self.dfa: SymbolicDFA = compile_ltlf(formula, bdd=bdd)
-        self.enc = StateEncoding.declare(bdd, scene)
+        self.enc = self._declare_state()
         self.max_units = max(self._all_units(), default=0)
         self.c = Domain.declare(bdd, "#c", self.max_units + 1, primed=False)
         self.e: Domain | None = None
@@ -87,10 +87,20 @@ class Arena:
         letter_next = {key: self.enc.proposition(p, primed=True) for key, p in self.props.items()}
         self.dfa_next = {b: bdd.let(letter_next, d) if letter_next else d
                          for b, d in self.dfa.delta.items()}
+        self.robot = self._robot_relations()
+        self.human = self._human_relation()
+
+    # -- the encoding and the relations (`bdd.classes.ClassArena` has its own) ----
+    def _declare_state(self) -> StateEncoding:
+        return StateEncoding.declare(self.bdd, self.scene)
+
+    def _robot_relations(self) -> dict[str, Function]:
         builders = (_transit, _grab, _transfer, _drop, _slide)
-        self.robot = {family: build(self) for family, build in zip(FAMILIES, builders)
-                      if family != "slide" or scene.contacts}
-        self.human = _human(self)
+        return {family: build(self) for family, build in zip(FAMILIES, builders)
+                if family != "slide" or self.scene.contacts}
+
+    def _human_relation(self) -> Function:
+        return _human(self)
 
     # -- the budget ------------------------------------------------------------
     def declare_budget(self, width: int) -> Domain:
