@@ -1,7 +1,9 @@
 """The symbolic solver: semantics §6's value by the cost-bounded attractor on BDDs.
 
 1. Encode the game (`solvers.bdd.arena`): state bits, the task DFA in the same
-   manager, robot relations with cost bits, the human relation.
+   manager, robot relations with cost bits, the human relation; with
+   interchangeable objects, on orbits (`solvers.bdd.classes`), the moves
+   and the strategy still those of real states (`_ClassQueries`).
 2. Qualitative attractor (costs ignored), one layer of h at a time, until
    the initial position is won; its ranks bound the robot actions of some
    winning strategy (`Attractor.action_bound`: the initial position's rank
@@ -34,9 +36,9 @@ from symsynth.game.abstraction import (State, initial_state, legal_human_moves, 
                                        letter)
 from symsynth.game.graph import PASS
 from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
+from symsynth.game.symmetry import Symmetry, interchangeable
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, HAND, Scene
-from symsynth.game.symmetry import Symmetry, interchangeable
 from symsynth.solvers.bdd.arena import Arena
 from symsynth.solvers.bdd.classes import ClassArena
 from symsynth.solvers.bdd.fixpoint import Attractor, attractor
@@ -255,10 +257,12 @@ class _ClassQueries(_Queries):
 
     def robot_moves(self, v: State) -> list[tuple[str, State, int]]:
         units = self.arena.units
-        return sorted((m.action, m.after, units(m.cost)) for m in legal_robot_moves(self.arena.scene, v))
+        return sorted(((m.action, m.after, units(m.cost)) for m in legal_robot_moves(self.arena.scene, v)),
+                      key=lambda m: m[0])
 
     def human_moves(self, v: State) -> list[tuple[str, State]]:
-        return sorted((m.action, m.after) for m in legal_human_moves(self.arena.scene, v))
+        return sorted(((m.action, m.after) for m in legal_human_moves(self.arena.scene, v)),
+                      key=lambda m: m[0])
 
 
 class Strategy(Mapping):
