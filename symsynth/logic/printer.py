@@ -13,10 +13,10 @@ from symsynth.logic import ast
 # Binding strength, loosest first; matches grammars/ltlf.lark.
 _EQUIV, _IMPLIES, _OR, _AND, _TEMPORAL, _UNARY, _ATOMIC = range(7)
 
-_UNARY_SYMBOL = {ast.Not: "!", ast.Next: "X ", ast.WeakNext: "WX ",
+_UNARY_SYMBOL: dict[type[ast.Formula], str] = {ast.Not: "!", ast.Next: "X ", ast.WeakNext: "WX ",
                  ast.Eventually: "F ", ast.Always: "G "}
 # operator, level, right-associative
-_BINARY_SYMBOL = {
+_BINARY_SYMBOL: dict[type[ast.Formula], tuple[str, int, bool]] = {
     ast.Equiv: ("<->", _EQUIV, True), ast.Implies: ("->", _IMPLIES, True),
     ast.Or: ("|", _OR, False), ast.And: ("&", _AND, False),
     ast.Until: ("U", _TEMPORAL, True), ast.Release: ("R", _TEMPORAL, True),
@@ -66,7 +66,7 @@ def _binary(node):
     return f"{left} {symbol} {right}", level
 
 
-for _cls in _UNARY_SYMBOL:
-    _print.register(_cls, _unary)
-for _cls in _BINARY_SYMBOL:
-    _print.register(_cls, _binary)
+for _unary_class in _UNARY_SYMBOL:
+    _print.register(_unary_class, _unary)
+for _binary_class in _BINARY_SYMBOL:
+    _print.register(_binary_class, _binary)
