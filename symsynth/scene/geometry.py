@@ -18,6 +18,7 @@ Conventions, fixed here once:
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -25,6 +26,12 @@ import numpy as np
 
 Vec3 = tuple[float, float, float]
 Quat = tuple[float, float, float, float]  # x, y, z, w
+
+
+def vec3(values: Iterable[float]) -> Vec3:
+    """Three numbers as a `Vec3` of floats (a ValueError if not three)."""
+    x, y, z = values
+    return float(x), float(y), float(z)
 
 
 @dataclass(frozen=True)
@@ -39,13 +46,13 @@ class Pose:
         cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
         quat = (sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
                 cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy)
-        return Pose(tuple(map(float, xyz)), quat)
+        return Pose(vec3(xyz), quat)
 
     @staticmethod
     def from_matrix(matrix: np.ndarray) -> Pose:
         m = np.asarray(matrix, dtype=float)
         x, y, z, w = (float(v) for v in _quat_of(m[:3, :3]))
-        return Pose(tuple(float(v) for v in m[:3, 3]), (x, y, z, w))
+        return Pose(vec3(m[:3, 3]), (x, y, z, w))
 
     def matrix(self) -> np.ndarray:
         """The 4x4 homogeneous transform."""

@@ -167,7 +167,7 @@ def scene_from_data(data: Any, source: Path | None = None,
         geometry=geometry,
     )
     if scene.task is not None:
-        _check_task(scene, report)
+        _check_task(scene, scene.task, report)
     if costmap is None:
         checks = report
         loaded = _costmap(data.get("costmap"), source, report)
@@ -230,9 +230,9 @@ def _yaml_float(value: float) -> str:
     return ".nan" if math.isnan(value) else ("-.inf" if value < 0 else ".inf")
 
 
-def _check_task(scene: Scene, report: Report) -> None:
+def _check_task(scene: Scene, task: str, report: Report) -> None:
     try:
-        formula = parse_ltlf(scene.task, source=f"{report.source} (task)")
+        formula = parse_ltlf(task, source=f"{report.source} (task)")
         interpret_all(formula, scene)
     except LTLfSyntaxError as error:
         report.add(("task",), f"syntax error at column {error.column}: {error.expected}\n{error.context}")
@@ -335,7 +335,8 @@ class Report:
 
     def __init__(self, source: str, lines: dict[KeyPath, int], what: str = "scene",
                  error: type[InputError] = SceneError):
-        self.source, self.lines, self.problems = source, lines, []
+        self.source, self.lines = source, lines
+        self.problems: list[str] = []
         self.what, self.error = what, error
 
     def add(self, path: KeyPath, message: str) -> None:

@@ -48,7 +48,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from symsynth.scene.geometry import Body, Contact, Geometry, Grasp, PlannerSettings, Pose, Robot, Shape, point_text
+from symsynth.scene.geometry import (Body, Contact, Geometry, Grasp, PlannerSettings, Pose, Robot, Shape, point_text,
+                                     vec3)
 from symsynth.scene.mesh import MeshError, load_mesh
 
 NUMBER = {"type": "number"}
@@ -230,7 +231,7 @@ def _same_pose(a: Pose, b: Pose) -> bool:
 
 def _shape(spec: dict[str, Any], base: Path, where: tuple, report: Report) -> Shape:
     if "box" in spec:
-        return Shape("box", size=tuple(float(v) for v in spec["box"]))
+        return Shape("box", size=vec3(spec["box"]))
     if "cylinder" in spec:
         return Shape("cylinder", radius=float(spec["cylinder"]["radius"]),
                      height=float(spec["cylinder"]["height"]))
@@ -259,9 +260,9 @@ def _robot(spec: dict[str, Any], base: Path, report: Report) -> Robot | None:
     except ElementTree.ParseError as error:
         report.add(("robot", "urdf"), f"{urdf}: not a valid URDF: {error}")
         return None
-    links = {link.get("name") for link in tree.iter("link")}
-    movable = [j.get("name") for j in tree.iter("joint") if j.get("type") in ("revolute", "prismatic",
-                                                                               "continuous")]
+    links = {name for link in tree.iter("link") if (name := link.get("name")) is not None}
+    movable = [name for j in tree.iter("joint") if j.get("type") in ("revolute", "prismatic", "continuous")
+               and (name := j.get("name")) is not None]
     default = spec.get("urdf", PANDA_URDF) == PANDA_URDF
     fixed = dict(spec.get("fixed", PANDA_FINGERS if default else {}))
     joints = tuple(spec.get("joints", [j for j in movable if j not in fixed]))
