@@ -125,7 +125,8 @@ class Run:
         """The run's settings without its seed: runs of one cell are trials of each other."""
         parts = [self.label + "".join(f" {k}={v}" for k, v in self.params.items())]
         if self.physical:
-            parts += [self.method, self.planner, f"roadmap={self.roadmap_size}"]
+            parts += [s for s in (self.method, self.planner) if s is not None]  # both set for a physical scene
+            parts.append(f"roadmap={self.roadmap_size}")
         parts += [self.solver, f"k={self.k}"]
         if self.budget is not None:
             parts.append(f"budget={self.budget:g}")

@@ -73,7 +73,9 @@ def sweep(rows: Sequence[dict[str, str]], x: str, path: Path) -> bool:
                          and math.isfinite(v)]
                 if found:
                     mean, std = mean_std(found)
-                    xs.append(value), means.append(mean), stds.append(std)
+                    xs.append(value)
+                    means.append(mean)
+                    stds.append(std)
             if not xs:
                 continue
             axis.plot(xs, means, marker="o", label=setting)

@@ -173,7 +173,7 @@ def markdown_table(rows: list[dict[str, str]], cells: Iterable[str]) -> str:
     for cell in cells:
         runs = found.get(cell, [])
         ok = [r for r in runs if r["status"] == "ok"]
-        failed = {}
+        failed: dict[str, int] = {}
         for r in runs:
             if r["status"] != "ok":
                 failed[r["status"]] = failed.get(r["status"], 0) + 1
