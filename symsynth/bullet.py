@@ -13,6 +13,7 @@ import ctypes
 import os
 import sys
 from collections.abc import Callable, Iterator
+from pathlib import Path
 from dataclasses import dataclass
 
 from symsynth.errors import SymsynthError
@@ -79,8 +80,9 @@ def collision_shape(client, shape: Shape, *, concave: bool = False) -> int:
         return client.createCollisionShape(pybullet.GEOM_CYLINDER, radius=shape.radius, height=shape.height)
     if shape.kind == "mesh" and shape.mesh is not None:
         flags = pybullet.GEOM_FORCE_CONCAVE_TRIMESH if concave else 0
-        return _mesh(shape, lambda: client.createCollisionShape(pybullet.GEOM_MESH, fileName=str(shape.mesh),
-                                                                meshScale=[shape.scale] * 3, flags=flags))
+        path = shape.mesh
+        return _mesh(path, lambda: client.createCollisionShape(pybullet.GEOM_MESH, fileName=str(path),
+                                                               meshScale=[shape.scale] * 3, flags=flags))
     raise SymsynthError(f"unknown shape kind {shape.kind!r} (expected box, cylinder or mesh)")
 
 
@@ -92,15 +94,17 @@ def visual_shape(client, shape: Shape, colour: tuple[float, float, float, float]
     if shape.kind == "cylinder":
         return client.createVisualShape(pybullet.GEOM_CYLINDER, radius=shape.radius, length=shape.height,
                                         rgbaColor=colour)
-    return _mesh(shape, lambda: client.createVisualShape(pybullet.GEOM_MESH, fileName=str(shape.mesh),
-                                                         meshScale=[shape.scale] * 3, rgbaColor=colour))
+    if shape.kind == "mesh" and shape.mesh is not None:
+        path = shape.mesh
+        return _mesh(path, lambda: client.createVisualShape(pybullet.GEOM_MESH, fileName=str(path),
+                                                            meshScale=[shape.scale] * 3, rgbaColor=colour))
+    raise SymsynthError(f"unknown shape kind {shape.kind!r} (expected box, cylinder or mesh)")
 
 
-def _mesh(shape: Shape, create: Callable[[], int]) -> int:
-    """`create()`, a pybullet shape of the mesh file of `shape`; a file
+def _mesh(path: Path, create: Callable[[], int]) -> int:
+    """`create()`, a pybullet shape of the mesh file `path`; a file
     pybullet cannot read is a `SymsynthError` naming it (pybullet raises
     its own bare "createCollisionShape failed.")."""
-    path = shape.mesh
     if path.suffix.lower() not in MESH_SUFFIXES:
         raise SymsynthError(f"pybullet cannot read the mesh {path}: it reads {' and '.join(MESH_SUFFIXES)} "
                             "files only; convert it (trimesh.load(file).export('mesh.obj'))")

@@ -15,6 +15,7 @@ import threading
 import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
+from typing import NoReturn
 
 from symsynth import __version__
 from symsynth.cli import bench, costmap, dfa, show, simulate, solve, synth
@@ -30,7 +31,7 @@ class Parser(argparse.ArgumentParser):
 
     argv: Sequence[str] = ()
 
-    def error(self, message: str):  # type: ignore[override]
+    def error(self, message: str) -> NoReturn:
         options = {o for action in self._actions for o in action.option_strings}
         dashed = [a for a in self.argv if a.startswith("-") and a.split("=")[0] not in options
                   and a != "--" and not _is_number(a)]
