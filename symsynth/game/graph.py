@@ -12,12 +12,12 @@ walk it.
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Hashable
 from typing import NamedTuple
 
 from tqdm import tqdm
 
 from symsynth.automata import SymbolicDFA, compile_ltlf
+from symsynth.automata.symbolic import State as DFAState
 from symsynth.game.abstraction import State, costmap_of, human_moves, letter, quantize, robot_moves
 from symsynth.game.symmetry import Symmetry
 from symsynth.scene.propositions import interpret_all
@@ -30,7 +30,7 @@ WIN, START = 0, 1  # indices of the target and of the initial position
 
 class Node(NamedTuple):
     v: State
-    q: Hashable
+    q: DFAState
     h: int
     robot: bool
 
@@ -57,8 +57,8 @@ class GameGraph:
         self.props = interpret_all(formula, scene)
         self.dfa: SymbolicDFA = compile_ltlf(formula)
         self.resolution = resolution
-        self._steps: dict[tuple[Hashable, frozenset[str]], Hashable] = {}
-        self._accepting: dict[Hashable, bool] = {}
+        self._steps: dict[tuple[DFAState, frozenset[str]], DFAState] = {}
+        self._accepting: dict[DFAState, bool] = {}
         self._letters: dict[State, frozenset[str]] = {}
         self._robot: dict[State, list[tuple[str, State, int]]] = {}
         self._human: dict[State, list[tuple[str, State]]] = {}
@@ -67,7 +67,7 @@ class GameGraph:
         """`v`, or its canonical state when the graph is symmetric."""
         return v if self.symmetry is None else self.symmetry.canon(v)
 
-    def read(self, q: Hashable, v: State) -> Hashable:
+    def read(self, q: DFAState, v: State) -> DFAState:
         """The DFA state after reading ρ(v) from q."""
         if v not in self._letters:
             self._letters[v] = letter(self.scene, self.props, v)
@@ -91,12 +91,12 @@ class GameGraph:
             out += [(a, self._after(w, q, h - 1, robot=True), 0, w) for a, w in self._human[v]]
         return out
 
-    def accepts(self, q: Hashable) -> bool:
+    def accepts(self, q: DFAState) -> bool:
         if q not in self._accepting:
             self._accepting[q] = self.dfa.is_accepting(q)
         return self._accepting[q]
 
-    def _after(self, w: State, q: Hashable, h: int, robot: bool) -> Node | None:
+    def _after(self, w: State, q: DFAState, h: int, robot: bool) -> Node | None:
         q2 = self.read(q, w)
         return None if self.accepts(q2) else Node(w, q2, h, robot)
 
@@ -111,7 +111,10 @@ class GameGraph:
             i = queue.popleft()
             if i & 0xFFF == 0:
                 bar.update(i - bar.n)
-            for action, succ, units, w in self.moves(nodes[i]):
+            node = nodes[i]
+            if node is None:  # WIN, never queued: it has no moves
+                continue
+            for action, succ, units, w in self.moves(node):
                 if succ is None:
                     j = WIN
                 elif succ in index:

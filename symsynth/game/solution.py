@@ -8,17 +8,18 @@ not a step (between two robot steps the human passed).
 from __future__ import annotations
 
 import math
-from collections.abc import Hashable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from symsynth.automata.symbolic import State as DFAState
 from symsynth.errors import InputError
 from symsynth.game.abstraction import State, state_json, within
 from symsynth.logic import ast, parse_ltlf
 from symsynth.scene.model import Scene
 
 #: A robot-turn position: (abstract state, DFA state, human moves left).
-Position = tuple[State, Hashable, int]
+Position = tuple[State, DFAState, int]
 
 
 @dataclass(frozen=True)

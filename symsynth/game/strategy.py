@@ -154,8 +154,8 @@ def guaranteed_units(scene: Scene, formula: ast.Formula, solution: Solution) -> 
     worst = worst_units(choices)
     v0 = initial_state(scene)
     start = _human_turn(game, Node(v0, game.read(game.dfa.initial, v0), solution.k, robot=False))
-    values = [worst[p] for p in start]
-    return None if any(x is None for x in values) else max(values, default=0)
+    values = [x for p in start if (x := worst[p]) is not None]
+    return None if len(values) < len(start) else max(values, default=0)
 
 
 def worst_units(choices: Mapping[Position, Choice]) -> dict[Position, int | None]:
@@ -224,7 +224,7 @@ def strategy_table(scene: Scene, formula_text: str, solution: Solution) -> Strat
         units=solution.units, cost_bound=solution.cost_bound, objects=scene.object_names,
         dfa_bits=tuple(game.dfa.bits), dfa_initial=tuple(bool(b) for b in game.dfa.initial),
         positions={p: c.action for p, c in choices.items()},
-        budgets={p: None if worst[p] is None else worst[p] * solution.resolution for p in choices})
+        budgets={p: None if (w := worst[p]) is None else w * solution.resolution for p in choices})
 
 
 def check_header(scene: Scene, table: StrategyFile) -> ast.Formula:
@@ -280,16 +280,19 @@ def certify(scene: Scene, table: StrategyFile) -> None:
         raise InputError(f"it does not win: {error}") from None
     worst = worst_units(choices)
     starts = _human_turn(game, Node(v0, q0, table.k, robot=False))
-    guaranteed = [worst[p] for p in starts]
-    if None in guaranteed:
+    guaranteed = [w for p in starts if (w := worst[p]) is not None]
+    if len(guaranteed) < len(starts):
         raise InputError("it does not win: its actions can go in circles")
     if max(guaranteed, default=0) > table.units:
         raise InputError(f"it claims E_p = {table.units} units, but its actions guarantee only "
                          f"{max(guaranteed)} against the worst human")
     for p in choices:
-        if table.budgets.get(p) != worst[p] * table.resolution:
+        # Every position reached from a start of finite worst case has one.
+        budget = None if (w := worst[p]) is None else w * table.resolution
+        if table.budgets.get(p) != budget:
             raise InputError(f"its budget at {format_position(p, table.objects)} is {table.budgets.get(p)}, "
-                             f"but its actions guarantee {worst[p] * table.resolution:g} from there")
+                             f"but its actions guarantee {'nothing' if budget is None else f'{budget:g}'} "
+                             "from there")
 
 
 def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: Solution) -> int:
