@@ -78,8 +78,14 @@ class LowerBound:
     def __init__(self, game: GameGraph, formula: ast.Formula):
         self.scene = scene = game.scene
         self.enabled = False
-        self.strike = 0
-        self._cache: dict[State, float] = {}
+        self.strike: float = 0
+        self._cache: dict[State, tuple[float, bool]] = {}  # (L0(v), brink)
+        # costs in units, INF where there is no way
+        self.transit: dict[str, float] = {}  # place -> first transit
+        self.from_anywhere: dict[str, float] = {}
+        self.carry: dict[tuple[int, str | tuple[str, str], str], float] = {}  # (i, x or (x, g), l)
+        self.to_else: dict[tuple[str, str], float] = {}  # (y, g)
+        self.mixed: dict[tuple[int, str, str], float] = {}  # (i, x, l)
         if not isinstance(formula, ast.Eventually):
             return
         parts = split_conjuncts(formula.arg)
@@ -89,7 +95,7 @@ class LowerBound:
         pattern = True  # every conjunct is at(X, l) with l a location of interest
         for part in parts:
             p = game.props.get(part.key) if isinstance(part, ast.Atom) else None
-            if p is not None and p.kind == "at" and p.location in scene.locations:
+            if p is not None and p.kind == "at" and p.tag is not None and p.location in scene.locations:
                 groups.setdefault(p.location, set()).add(p.tag)
             else:
                 pattern = False
@@ -122,7 +128,6 @@ class LowerBound:
         # first transit to an object standing at x (any grasp, or any contact
         # when the scene has them), from any start set the robot can have
         # with an empty hand
-        self.transit = {}
         aims = scene.preimages if scene.contacts else grasps
         for x in places:
             best = INF
@@ -138,8 +143,7 @@ class LowerBound:
         # carrying o from place x to location l: the cheapest chain of
         # transfers, with free changes of grasp at locations (a drop and a
         # grab, not counted) and at x (the first grab picks the grasp)
-        self.carry = {}
-        regrasp = {(l, g): [((l, h), 0) for h in grasps if h != g]
+        regrasp: dict[tuple[str, str], list[tuple[tuple[str, str], float]]] = {(l, g): [((l, h), 0) for h in grasps if h != g]
                    for l in scene.locations for g in grasps}
         for i, o in enumerate(names):
             edges = {node: list(out) for node, out in regrasp.items()}
@@ -164,9 +168,8 @@ class LowerBound:
         # reaching an object at Else, over transits and detours that carry the
         # aimed object elsewhere (grab, transfers, drop) first: Dijkstra over
         # (place, grasp)
-        self.to_else = {}
         if pattern:
-            hop = {}
+            hop: dict[tuple[tuple[str, str], tuple[str, str]], float] = {}
             for y in places:
                 for g in grasps:
                     S = anchors_at(y, g)
@@ -193,14 +196,13 @@ class LowerBound:
         transfer hops (`carry`'s single motions) and slide hops."""
         scene, names = self.scene, self.names
         places = tuple(scene.locations) + (ELSE,)
-        slide = {}
+        slide: dict[tuple[str, str], float] = {}
         for (contact, start, goal), rules in costmap.slides.items():
             if rules:
                 cheapest = quantize(min(rule.cost for rule in rules), r)
                 slide[start, goal] = min(slide.get((start, goal), INF), cheapest)
-        self.mixed = {}
         for i in range(len(names)):
-            edges: dict = {}
+            edges: dict[str, list[tuple[str, float]]] = {}
             for y in places:
                 for l in scene.locations:
                     c = min(self.carry[i, y, l], slide.get((y, l), INF)) if l != y else INF
@@ -227,7 +229,7 @@ class LowerBound:
                 # another transit first
                 to_else = min(self.carry[o, (l, g), y] + self.to_else[y, g]
                               for g in grasps for y in locations)
-                worst = 0
+                worst: float = 0
                 for other, _ in self.groups:
                     if other == l:
                         continue
@@ -263,8 +265,8 @@ class LowerBound:
 
     def _compute(self, v: State) -> tuple[float, bool]:
         """(L0(v), whether v is a brink: one drop from the win)."""
-        at, grip, ee = v.at, v.grip, v.ee
-        total = 0
+        at, ee = v.at, v.ee
+        total: float = 0
         missing = []
         for l, _ in self.groups:
             here = [i for i, a in enumerate(at) if a == l]
@@ -277,7 +279,7 @@ class LowerBound:
                 if self.slides:
                     cost = self._with_slides(v, i, l)
                 elif at[i] == HAND:
-                    cost = self.drop + self.carry[i, (ee, grip), l]
+                    cost = self.drop + self.carry[i, _held_over(v), l]
                 else:
                     aimed = isinstance(ee, tuple) and ee[0] == self.names[i]
                     cost = (self.drop + self.carry[i, at[i], l] + self.grab
@@ -289,7 +291,7 @@ class LowerBound:
         if self.slides:
             return total, False
         held = v.held()
-        brink = (missing == [ee] and held is not None and held in self.candidates[ee])
+        brink = (isinstance(ee, str) and missing == [ee] and held is not None and held in self.candidates[ee])
         if missing and held is None and ee == ELSE:
             # the first action is a transit from anywhere: either the first
             # transit to some final object (counted above from the cheapest
@@ -302,12 +304,20 @@ class LowerBound:
     def _with_slides(self, v: State, i: int, l: str) -> float:
         """The least cost of bringing object i to l when slides may do part
         of it (module doc)."""
-        at, grip, ee = v.at, v.grip, v.ee
+        at, ee = v.at, v.ee
         if at[i] == HAND:  # put down somewhere first (y = l included: carry 0 from there)
-            return self.drop + min(self.carry[i, (ee, grip), y] + (0 if y == l else self.mixed[i, y, l])
+            return self.drop + min(self.carry[i, _held_over(v), y] + (0 if y == l else self.mixed[i, y, l])
                                    for y in self.scene.locations)
         aimed = isinstance(ee, tuple) and ee[0] == self.names[i]
         return self.mixed[i, at[i], l] + (0 if aimed else self.transit[at[i]])
+
+
+def _held_over(v: State) -> tuple[str, str]:
+    """(location, grasp) of a state whose hand holds an object: the hand is
+    then over a location (`ee`) with a grasp (`grip`), semantics §2."""
+    if isinstance(v.ee, tuple) or v.grip is None:
+        raise ValueError(f"the hand holds nothing in {v}")
+    return v.ee, v.grip
 
 
 def _distances(sources, edges) -> dict:

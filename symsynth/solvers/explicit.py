@@ -52,9 +52,11 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
 
     clock = time.perf_counter()
     value, choice = _dijkstra(nodes, edges)
-    strategy = {(nodes[i].v, nodes[i].q, nodes[i].h): edges[i][e].action for i, e in choice.items()}
+    strategy = {(n.v, n.q, n.h): edges[i][e].action for i, e in choice.items() if (n := nodes[i]) is not None}
     units = value.get(START)
     realizable = verdict(units, resolution, budget)
+    principal: tuple[Step, ...]
+    counter: tuple[Step, ...] | None
     if units is None:
         principal, counter = (), _counter_play(nodes, edges, value, resolution)
     else:  # over budget, the principal play is the human's winning answer
@@ -69,6 +71,7 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
 
 def _dijkstra(nodes: list[Node | None], edges: list[list[Edge]]) -> tuple[dict[int, int], dict[int, int]]:
     """Settled values (units) and, for robot positions, the chosen edge index."""
+    robot = _robot_turns(nodes)
     preds: list[list[tuple[int, int]]] = [[] for _ in nodes]
     for i, out in enumerate(edges):
         for e, edge in enumerate(out):
@@ -83,12 +86,12 @@ def _dijkstra(nodes: list[Node | None], edges: list[list[Edge]]) -> tuple[dict[i
         if j in value:
             continue
         value[j] = d
-        if j != WIN and nodes[j].robot:
+        if robot[j]:
             choice[j] = best[j][1]
         for i, e in preds[j]:
             if i in value:
                 continue
-            if nodes[i].robot:
+            if robot[i]:
                 candidate = d + edges[i][e].units
                 if i not in best or candidate < best[i][0]:
                     best[i] = (candidate, e)
@@ -104,10 +107,11 @@ def _principal_play(nodes: list[Node | None], edges: list[list[Edge]], value: di
                     choice: dict[int, int], resolution: float) -> tuple[Step, ...]:
     """The strategy against the human's worst replies (argmax; a pass on ties,
     then the first move), from the initial position to the win."""
+    robot = _robot_turns(nodes)
     play = []
     i = START
     while i != WIN:
-        if nodes[i].robot:
+        if robot[i]:
             edge = edges[i][choice[i]]
             play.append(Step("robot", edge.action, edge.units * resolution, edge.state))
         else:  # edges[i][0] is the pass; max() keeps the first of equal values
@@ -125,18 +129,24 @@ def _counter_play(nodes: list[Node | None], edges: list[list[Edge]], value: dict
     takes its cheapest action.  It ends where the robot has no available
     action, or with the step that comes back to a position already visited
     (from there the robot goes in circles)."""
+    robot = _robot_turns(nodes)
     play = []
     i, seen = START, set()
     while i not in seen:
         seen.add(i)
-        if nodes[i].robot:
+        if robot[i]:
             if not edges[i]:
                 break
             edge = min(edges[i], key=lambda x: x.units)
         else:
             edge = next(x for x in edges[i] if x.target not in value)
         if edge.action != PASS:
-            who = "robot" if nodes[i].robot else "human"
+            who = "robot" if robot[i] else "human"
             play.append(Step(who, edge.action, edge.units * resolution, edge.state))
         i = edge.target
     return tuple(play)
+
+
+def _robot_turns(nodes: list[Node | None]) -> list[bool]:
+    """Whose turn each position is (True: the robot's); WIN (None) is no one's."""
+    return [node is not None and node.robot for node in nodes]

@@ -63,10 +63,11 @@ import operator
 import sys
 import threading
 import time
-from collections.abc import Callable, Hashable, Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 
 from tqdm import tqdm
 
+from symsynth.automata.symbolic import State as DFAState
 from symsynth.game.abstraction import State, initial_state
 from symsynth.solvers.bound import LowerBound
 from symsynth.game.graph import PASS, GameGraph, Node
@@ -112,7 +113,11 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
     # shown on a terminal once the search takes over a second
     lower = None
     with tqdm(desc="forward search", unit=" rounds", delay=1.0, leave=False, disable=None) as bar:
-        search.on_round = lambda b: (bar.update(), bar.set_postfix_str(f"E_p >= {b}", refresh=False))
+        def on_round(b: int) -> None:
+            bar.update()
+            bar.set_postfix_str(f"E_p >= {b}", refresh=False)
+
+        search.on_round = on_round
         if time_limit is None:
             units = _deep(search.value_human, start)
         else:
@@ -241,7 +246,7 @@ class ProvenStrategy(Mapping):
 
 # -- the search ----------------------------------------------------------------------
 
-Key = tuple[State, Hashable, int]  # (v, q, h)
+Key = tuple[State, DFAState, int]  # (v, q, h)
 
 
 class Search:
@@ -718,7 +723,7 @@ class Strategy(Mapping):
         search = self._search
         i = search.ids.get(position)
         entry = None if i is None else search.hi_r.get(i)
-        if entry is None or entry[0] > search.lo_r[i]:  # not known to be optimal
+        if i is None or entry is None or entry[0] > search.lo_r[i]:  # not known to be optimal
             if _deep(search.value_robot, position) is None:
                 raise KeyError(position)
             entry = search.hi_r[search.ids[position]]
