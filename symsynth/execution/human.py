@@ -36,7 +36,7 @@ from symsynth import plugins
 from symsynth.errors import InputError
 from symsynth.game.abstraction import robot_action_names
 from symsynth.game.solution import Position
-from symsynth.scene.geometry import Pose
+from symsynth.scene.geometry import Pose, vec3
 from symsynth.scene.model import ELSE, Scene
 from symsynth.scene.load import Report, schema_message
 from symsynth.scene.yamlpos import read_yaml
@@ -228,8 +228,7 @@ def read_script(path: str | Path, scene: Scene) -> ScriptedHuman:
             if isinstance(to, list) and not all(math.isfinite(v) for v in to):
                 report.add(where + ("to",), "expected finite numbers [x, y] or [x, y, z]")
             elif isinstance(to, list):
-                xyz = tuple(float(v) for v in to) + ((0.0,) if len(to) == 2 else ())
-                to = Pose(xyz)
+                to = Pose(vec3([*to, 0.0] if len(to) == 2 else to))  # the schema allows 2 or 3 numbers
             after = entry["after"]
             if isinstance(after, str):
                 after = after.replace(" ", "")

@@ -113,10 +113,11 @@ def evidence_motion(world: SimWorld, costmap: Costmap, mode: Mode, start: str, g
     """The cheapest rule for `start -> goal` whose places are all `free` and
     whose evidence path touches nothing in the world (None when there is
     none), and the rules tried before it whose paths touched something."""
-    rejected = []
-    rules = sorted((r for r in costmap.rules(str(mode), start, goal) if r.free <= free and r.path),
-                   key=lambda r: r.cost)
+    rejected: list[str] = []
+    rules = sorted((r for r in costmap.rules(str(mode), start, goal) if r.free <= free), key=lambda r: r.cost)
     for rule in rules:
+        if not rule.path:  # no evidence path to follow
+            continue
         path = tuple(tuple(q) for q in rule.path)
         if not np.allclose(path[0], world.config, atol=1e-9):
             path = (world.config,) + path  # a robot a hair off the anchor travels the hair too
@@ -143,6 +144,8 @@ def runtime_motion(world: SimWorld, planner: Planner, mode: Mode, goal: Config, 
         lazy = LazyEdges(free)
         build_roadmap(planner.limits, valid, _unchecked, {"start": start, "goal": goal},
                       RUNTIME_SIZE, seed, resolution, outside=lazy.outside)
+        if lazy.path is None:  # build_roadmap returns once `outside` has found a path
+            raise MotionFailed(f"no path in mode {mode}: the roadmap joins start and goal by no free path")
         return Motion(_shortcut(lazy.path, free), "runtime")
     except PlannerError as error:
         raise MotionFailed(f"no path in mode {mode}: {error}") from None
@@ -223,7 +226,8 @@ def lazy_shortest(roadmap: Roadmap, free, verdicts: dict[tuple[int, int], bool] 
             return [search.config(v) for v in path.vertices]
 
 
-_COLLIDES, _NOTHING = frozenset({"collides"}), frozenset()
+_COLLIDES: frozenset[str] = frozenset({"collides"})
+_NOTHING: frozenset[str] = frozenset()
 
 
 def _verdict(roadmap: Roadmap, free, verdicts: dict[tuple[int, int], bool], a: int, b: int) -> bool:

@@ -23,7 +23,7 @@ import math
 from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import State
 from symsynth.scene.geometry import Pose
-from symsynth.scene.model import ELSE, HAND, Scene
+from symsynth.scene.model import ELSE, HAND, Scene, geometry_of
 
 POSITION = 0.01  # metres
 ANGLE = 0.05  # radians
@@ -34,10 +34,10 @@ def observe(scene: Scene, world: SimWorld) -> State:
     at = tuple(HAND if name == world.held else location_at(scene, world.poses[name])
                for name in scene.object_names)
     ee_pose = world.ee_pose()
-    grasps = scene.geometry.hand_frames  # grasps and contacts
-    if world.held is not None:
+    grasps = world.geometry.hand_frames  # grasps and contacts
+    if world.held is not None and world.grasp is not None:
         pre_image = grasps[world.grasp].pre_image()
-        ee = next((l for l in scene.locations if close(ee_pose, scene.geometry.places[l] @ pre_image)), ELSE)
+        ee = next((l for l in scene.locations if close(ee_pose, world.geometry.places[l] @ pre_image)), ELSE)
         return State(at, world.grasp, ee)
     for name in scene.object_names:
         for g in scene.preimages:
@@ -55,7 +55,7 @@ def location_at(scene: Scene, pose: Pose) -> str:
 def place_at(scene: Scene, pose: Pose) -> str | None:
     """The place (location of interest or Else sample) at `pose`, if any:
     the anchors, and the costmap's motions, exist only for places."""
-    places = scene.geometry.places
+    places = geometry_of(scene).places
     return next((x for x in scene.locations + scene.else_samples if distance(pose, places[x]) <= POSITION),
                 None)
 

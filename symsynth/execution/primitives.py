@@ -21,7 +21,7 @@ the runs come back to -- is the same path, and is computed once.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -32,7 +32,7 @@ from symsynth.execution.motion import steps
 from symsynth.execution.world import SimWorld
 from symsynth.planning.protocol import Config, Planner
 from symsynth.planning.verify import path_length
-from symsynth.scene.geometry import Pose, point_text
+from symsynth.scene.geometry import Pose, point_text, vec3
 
 APPROACH_STEPS = 6
 WALK = 0.01  # radians between the configurations checked along the approach
@@ -82,7 +82,7 @@ def grab(world: SimWorld, approaches: Approaches, name: str, grasp: str) -> Prim
 def drop(world: SimWorld, approaches: Approaches, location: str) -> Primitive:
     """Open the hand over `location` and leave the held object on its pose."""
     name, grasp = world.held, world.grasp
-    if name is None:
+    if name is None or grasp is None:  # held and grasp are set together
         raise PrimitiveFailed(f"drop at {location}: the hand is empty")
     g = world.geometry.grasps[grasp]
     place = world.geometry.places[location]
@@ -137,7 +137,7 @@ def _approach(planner: Planner, at: Config, start: Pose, end: Pose, what: str) -
     path = [at]
     for i in range(1, APPROACH_STEPS + 1):
         t = i / APPROACH_STEPS
-        xyz = tuple(a + (b - a) * t for a, b in zip(start.xyz, end.xyz))
+        xyz = vec3(a + (b - a) * t for a, b in zip(start.xyz, end.xyz))
         config = planner.inverse_kinematics(Pose(xyz, end.quat), path[-1])
         if config is None:
             raise PrimitiveFailed(f"{what}: no inverse kinematics solution {t:.0%} of the way "
@@ -146,7 +146,7 @@ def _approach(planner: Planner, at: Config, start: Pose, end: Pose, what: str) -
     return tuple(path)
 
 
-def _walk(world: SimWorld, path: Sequence[Config], ignore: set[str] = frozenset()) -> set[str]:
+def _walk(world: SimWorld, path: Sequence[Config], ignore: Collection[str] = frozenset()) -> set[str]:
     hits: set[str] = set()
     for config in steps(path, WALK):
         world.set_config(config)

@@ -30,7 +30,7 @@ from symsynth.bullet import pybullet as p
 from symsynth.errors import SymsynthError
 from symsynth.files import atomic_output
 from symsynth.execution.world import SimWorld
-from symsynth.scene.model import Scene
+from symsynth.scene.model import Scene, geometry_of
 
 
 @dataclass(frozen=True)
@@ -65,7 +65,7 @@ class Camera:
 def default_camera(scene: Scene, width: int, height: int, distance: float = 1.9) -> Camera:
     """Looking at the centre of the places (or 40 cm in front of the robot)
     from the front-right and above, `distance` metres away."""
-    geometry = scene.geometry
+    geometry = geometry_of(scene)
     places = [pose.xyz for pose in geometry.places.values()]
     centre = np.mean(places, axis=0) if places else np.array(geometry.robot.base.xyz) + [0.4, 0.0, 0.0]
     target = (float(centre[0]) - 0.1, float(centre[1]), 0.2)
@@ -109,7 +109,7 @@ def label_places(image: Image.Image, scene: Scene, camera: Camera) -> None:
     """Each place's name in a box above and to its right, with a leader line."""
     draw = ImageDraw.Draw(image)
     font = ImageFont.load_default(size=max(10, image.height // 40))
-    for name, pose in scene.geometry.places.items():
+    for name, pose in geometry_of(scene).places.items():
         u, v = camera.project(pose.xyz)
         if not (0 <= u < image.width and 0 <= v < image.height):
             continue

@@ -53,8 +53,8 @@ from symsynth.execution.human import Human, Option, Request, ScriptedHuman, Turn
 from symsynth.execution.observe import observe, place_at
 from symsynth.execution.record import STRIDE, Recorder
 from symsynth.execution.world import SimWorld
-from symsynth.game.abstraction import (Move, State, action_name, anchors, legal_human_moves, legal_robot_moves,
-                                       robot_action_names, state_json, slide_rule)
+from symsynth.game.abstraction import (Move, State, action_name, anchors, costmap_of, legal_human_moves,
+                                       legal_robot_moves, robot_action_names, state_json, slide_rule)
 from symsynth.game.graph import GameGraph
 from symsynth.game.solution import Position
 from symsynth.game.strategy import format_position, format_state
@@ -287,7 +287,7 @@ class _Episode:
         options = []
         for move in legal_human_moves(self.scene, v):
             for place in self._targets(move.obj, move.location):
-                options.append(Option(move.action, move.obj, self.scene.geometry.places[place],
+                options.append(Option(move.action, move.obj, self.world.geometry.places[place],
                                       self._after(move.after, q, h - 1)))
         return tuple(options)
 
@@ -300,7 +300,7 @@ class _Episode:
             places = [e for e in self.scene.else_samples if e != here]
         else:
             places = [target]
-        return [x for x in places if not self.world.blocked(obj, self.scene.geometry.places[x])]
+        return [x for x in places if not self.world.blocked(obj, self.world.geometry.places[x])]
 
     def _after(self, w: State, q, h: int) -> Position | None:
         q2 = self.game.read(q, w)
@@ -320,9 +320,9 @@ class _Episode:
                 self.run.refused.append(f"{what}: no free Else sample")
                 return None
             place = free[0]
-            pose = self.scene.geometry.places[place]
+            pose = self.world.geometry.places[place]
         else:
-            place, pose = request.to, self.scene.geometry.places[request.to]
+            place, pose = request.to, self.world.geometry.places[request.to]
         target = place if place in self.scene.locations else ELSE
         move = next((m for m in legal_human_moves(self.scene, v) if (m.obj, m.location) == (request.obj, target)),
                     None)
@@ -380,7 +380,9 @@ class _Episode:
         rule = slide_rule(self.scene, v, move)
         if rule is None or rule.path is None:
             raise ActionFailed(f"{move.action}: the costmap's slide rule has no evidence path to follow")
-        geometry = self.scene.geometry
+        geometry = self.world.geometry
+        if move.grasp is None:  # a slide names its contact (game.abstraction.Move)
+            raise ActionFailed(f"{move.action}: a slide without a contact")
         plugin = displacement(geometry.contacts[move.grasp].primitive)
         done = plugin.execute(self.world, move, rule.path)
         measured = done.radians * geometry.per_radian + geometry.primitive_costs.get(plugin.name, plugin.fixed_cost)
@@ -394,20 +396,23 @@ class _Episode:
         """A transit or transfer: along an evidence path, or planned at run time."""
         world, scene = self.world, self.scene
         action, abstract, obj, grasp = move.action, move.cost, move.obj, move.grasp
+        if grasp is None or abstract is None:  # a transit or transfer has both (game.abstraction.Move)
+            raise ActionFailed(f"{action}: a {move.kind} without a grasp or a cost")
+        geometry = world.geometry
         if move.kind == "transit":  # to the object where it really stands, which may be on no place
             mode = Mode()
             place = place_at(scene, world.poses[obj])
-            target = world.poses[obj] @ scene.geometry.hand_frame(grasp).pre_image()
+            target = world.poses[obj] @ geometry.hand_frame(grasp).pre_image()
         else:
             mode = Mode(obj, grasp)
             place = move.location
-            target = scene.geometry.places[place] @ scene.geometry.hand_frame(grasp).pre_image()
+            target = geometry.places[place] @ geometry.hand_frame(grasp).pre_image()
         goal = None if place is None else anchors(scene, place, grasp)[0]  # one of move.goals
         outside = self._outside(obj, goal)
         found = None
         if self.anchor is not None and goal is not None:
             free = self._free(obj)
-            found, rejected = motions.evidence_motion(world, scene.costmap, mode, self.anchor, goal, free,
+            found, rejected = motions.evidence_motion(world, costmap_of(scene), mode, self.anchor, goal, free,
                                                       self.sim.planner_step)
             for message in rejected:  # a soundness bug only where the rule describes the world
                 if outside:

@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from symsynth.errors import InputError
 from symsynth.scene.costmap import Costmap
 from symsynth.scene.geometry import Geometry
 
@@ -90,3 +91,10 @@ class Scene:
         """`home` and `x/a` for x in L ∪ E and a in G ∪ P (semantics §5)."""
         places = self.locations + self.else_samples
         return (HOME,) + tuple(f"{x}/{a}" for x in places for a in self.preimages)
+
+
+def geometry_of(scene: Scene) -> Geometry:
+    """The scene's geometry; an abstract scene (no 'robot' key) is an input error."""
+    if scene.geometry is None:
+        raise InputError(f"scene {scene.name!r} is abstract (no 'robot' key): it has no geometry")
+    return scene.geometry
