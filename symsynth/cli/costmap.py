@@ -9,6 +9,7 @@ from pathlib import Path
 from symsynth.cli import options
 from symsynth.cli.options import check_writable, count
 from symsynth.errors import InputError
+from symsynth.game.abstraction import costmap_of
 from symsynth.planning.build import obtain_costmap
 from symsynth.planning.methods import METHODS
 from symsynth.planning.registry import DEFAULT, planner_class, planner_names, planner_version
@@ -123,7 +124,7 @@ def _verify(path: Path, args: argparse.Namespace) -> int:
     scene = load_scene(args.scene, costmap=path)  # the costmap checked against the scene, as solve does
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has nothing to verify against")
-    costmap = scene.costmap
+    costmap = costmap_of(scene)  # loaded from `path`
     name = building_planner(costmap, args.planner, str(path))
     built = costmap.provenance
     if built is not None and built.version is not None and planner_version(name) not in (None, built.version):

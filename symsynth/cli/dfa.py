@@ -51,12 +51,13 @@ def run(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     dfa = compile_ltlf(text, next_semantics=args.next, source=source)
     seconds = time.perf_counter() - start
-    explicit = dfa.to_explicit() if (args.json or args.dot) else None
-    if args.dot:
-        write_atomic(args.dot, explicit.to_dot(title=text.strip()), "DOT file")
-    if args.json:
-        print(json.dumps(explicit.to_json(), indent=2))
-        return 0
+    if args.json or args.dot:
+        explicit = dfa.to_explicit()
+        if args.dot:
+            write_atomic(args.dot, explicit.to_dot(title=text.strip()), "DOT file")
+        if args.json:
+            print(json.dumps(explicit.to_json(), indent=2))
+            return 0
     print(f"formula    {source if args.file else text.strip()}")
     print(f"atoms      {len(dfa.atoms)}: {', '.join(dfa.atoms) or '-'}")
     print(f"states     {dfa.num_states} (minimal, complete)")

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from symsynth.cli import options
 from symsynth.cli.options import check_writable
-from symsynth.game.abstraction import Move, State, initial_state, motions, robot_moves, slides
+from symsynth.game.abstraction import Move, State, costmap_of, initial_state, motions, robot_moves, slides
 from symsynth.game.solution import Solution, Step
 from symsynth.game.strategy import format_state, write_strategy
 from symsynth.game.symmetry import Symmetry
@@ -119,8 +119,8 @@ def costmap_json(got: Obtained) -> dict:
 
 
 def costmap_report(got: Obtained) -> None:
-    origin = "reused from the cache" if got.cached else \
-        f"computed in {sum(got.stats.seconds.values()):.1f} s"
+    origin = ("reused from the cache" if got.cached else "computed" if got.stats is None else
+              f"computed in {sum(got.stats.seconds.values()):.1f} s")
     rules = sum(1 for _ in got.costmap.all_rules())
     count = len(got.costmap.slides)
     slides = f"{count} slide{'s' * (count != 1)}, " if count else ""
@@ -144,13 +144,15 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
         print(f"solver     {solver}")
     print(f"verdict    {_verdict(solution)}")
     if not solution.exact:
-        print(f"E_p        in [{_num(solution.lower_bound)}, "
+        lower = solution.lower_bound
+        assert lower is not None  # set whenever the answer is not exact (Solution.lower_units)
+        print(f"E_p        in [{_num(lower)}, "
               f"{'unknown' if solution.cost_bound is None else _num(solution.cost_bound)}]: "
               "not proven within the time limit")
         print("           lower end proven by refuting every cheaper strategy; "
               + ("no strategy found in time" if solution.cost_bound is None else
                  f"upper end guaranteed by the strategy below, checked against every human reply "
-                 f"(gap {_num(solution.cost_bound - solution.lower_bound)})"))
+                 f"(gap {_num(solution.cost_bound - lower)})"))
     elif solution.cost_bound is None:
         print("E_p        infinite")
     elif r == 1:
@@ -275,6 +277,8 @@ def stuck_reasons(scene: Scene, v: State) -> list[str]:
 def _why_no_slide(scene: Scene, v: State) -> list[str]:
     """Why the robot, at contact `a` of `o`, cannot slide `o` to each place
     it cannot (semantics §4b); nothing for the slides it can make."""
+    if not isinstance(v.ee, tuple):  # the hand is at no contact
+        return []
     o, a = v.ee
     start = v.at[scene.object_names.index(o)]
     name = f"slide({o},{a},...)"
@@ -284,7 +288,7 @@ def _why_no_slide(scene: Scene, v: State) -> list[str]:
     if not targets:
         return [f"{name}: every other location is occupied"]
     available = {m.location for m in slides(scene, v) if m.cost != math.inf}
-    unruled = [l for l in targets if not scene.costmap.slide_rules(a, start, l)]
+    unruled = [l for l in targets if not costmap_of(scene).slide_rules(a, start, l)]
     blocked = [l for l in targets if l not in unruled and l not in available]
     reasons = []
     if unruled:
@@ -297,12 +301,14 @@ def _why_no_slide(scene: Scene, v: State) -> list[str]:
 
 def _why(scene: Scene, m: Move) -> str:
     action, mode = m.action, m.mode
+    if mode is None:  # motions() gives transits and transfers, which have a mode
+        raise ValueError(f"{action} is no motion")
     if not m.goals:
         return f"{action}: the object is at {ELSE} and the scene has no else_samples"
     if not m.starts:
         return f"{action}: the hand is at {ELSE} and the scene has no else_samples"
     missing = [f"{s} -> {t}" for s in m.starts for t in m.goals
-               if s != t and not scene.costmap.rules(mode, s, t)]
+               if s != t and not costmap_of(scene).rules(mode, s, t)]
     if not missing:
         return (f"{action}: the costmap's rules for {mode} to {', '.join(m.goals)} all need "
                 "a location free that is occupied")
@@ -311,6 +317,6 @@ def _why(scene: Scene, m: Move) -> str:
             f"{', '.join(missing[:_MAX_REASONS])}{more}")
 
 
-def _num(x: float) -> str:
-    """12.0 -> '12', 7.25 -> '7.25'."""
-    return f"{x:.10g}"
+def _num(x: float | None) -> str:
+    """12.0 -> '12', 7.25 -> '7.25'; None (no bound, no budget) -> 'infinite'."""
+    return "infinite" if x is None else f"{x:.10g}"
