@@ -64,7 +64,7 @@ def inverse_kinematics(robot: RobotBody, pose: Pose, seed: Config) -> Config | N
         robot.set(robot.home)
 
 
-def end_effector(robot: RobotBody, config: Config) -> Pose:
+def end_effector(robot: RobotBody, config: Config | np.ndarray) -> Pose:
     """The end-effector link pose (world) at `config`, by pybullet's forward kinematics."""
     robot.set(config)
     position, quat = robot.ee_pose()

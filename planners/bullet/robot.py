@@ -45,7 +45,7 @@ class RobotBody:
         self.hand = [j for j in range(-1, len(infos)) if self._below(j, self.ee)]
         self.set(self.home)
 
-    def set(self, config: Config) -> None:
+    def set(self, config: Config | np.ndarray) -> None:
         self.client.resetJointStatesMultiDof(self.id, self.joints, [[float(v)] for v in config])
 
     def ee_pose(self) -> tuple[tuple, tuple]:

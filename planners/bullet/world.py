@@ -43,7 +43,7 @@ class World:
                 body = make_body(self.client, shape, pose, PLACE)
                 self.place_bodies.append((body, frozenset(owners)))
                 self.place_of[body] = place
-        self.held_body = {}
+        self.held_body: dict[str, int] = {}
         for shape, owners in shapes.items():
             body = make_body(self.client, shape, None, OFF)
             for link in self.robot.hand:
@@ -51,18 +51,19 @@ class World:
             self.held_body.update((name, body) for name in owners)
         self.mode: tuple | None = None
         self.held: int | None = None
-        self.offset: tuple | None = None
+        self.offset: tuple[tuple[float, float, float], tuple[float, float, float, float]] | None = None
 
     def set_mode(self, mode: Mode, places: bool = True) -> None:
         """Switch bodies on and off for `mode`; `places=False` leaves every
         place body out (static checks only)."""
         if (mode, places) == self.mode:
             return
+        grasp = mode.grasp
         if mode.object is not None:
             if mode.object not in self.held_body:
                 raise PlannerError(f"mode {mode}: no object {mode.object!r} in the scene "
                                    f"(objects: {', '.join(sorted(self.held_body))})")
-            if mode.grasp not in self.geometry.hand_frames:
+            if grasp is None or grasp not in self.geometry.hand_frames:
                 raise PlannerError(f"mode {mode}: no grasp {mode.grasp!r} in the scene "
                                    f"(grasps and contacts: {', '.join(sorted(self.geometry.hand_frames))})")
         for body, owners in self.place_bodies:
@@ -72,17 +73,17 @@ class World:
             set_group(self.client, self.held, -1, OFF)
             self.client.resetBasePositionAndOrientation(self.held, *PARKED)
             self.held = None
-        if mode.object is not None:
+        if mode.object is not None and grasp is not None:  # both are, or the checks above failed
             self.held = self.held_body[mode.object]
             shape = self.geometry.shapes[mode.object]
-            offset = self.geometry.hand_frame(mode.grasp).pose.inverse() @ shape.centre_offset()
+            offset = self.geometry.hand_frame(grasp).pose.inverse() @ shape.centre_offset()
             self.offset = (offset.xyz, offset.quat)
             set_group(self.client, self.held, -1, HELD)
         self.mode = (mode, places)
 
     def set_config(self, config: Config) -> None:
         self.robot.set(config)
-        if self.held is not None:
+        if self.held is not None and self.offset is not None:  # set with the held body
             position, quat = self.robot.ee_pose()
             position, quat = self.client.multiplyTransforms(position, quat, *self.offset)
             self.client.resetBasePositionAndOrientation(self.held, position, quat)

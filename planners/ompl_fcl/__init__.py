@@ -61,9 +61,9 @@ class OmplFclPlanner:
         return self.world.contacts(mode, config)
 
     def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
-        start, goal = self.kinematics.check(start), self.kinematics.check(goal)
-        configs = segment(start, goal, resolution)
-        known = (mode, start.tobytes(), goal.tobytes(), resolution) in self._free
+        a, b = self.kinematics.check(start), self.kinematics.check(goal)
+        configs = segment(a, b, resolution)
+        known = (mode, a.tobytes(), b.tobytes(), resolution) in self._free
         return self.world.sweep(mode, configs, static=not known)
 
     def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int,

@@ -142,7 +142,7 @@ class CollisionWorld:
                          and frozenset((self.owner[i], self.owner[j])) not in excluded],
                         dtype=np.int64).reshape(-1, 2)
 
-    def _touching(self, config: Config, pairs: np.ndarray) -> set[frozenset[str]]:
+    def _touching(self, config: Config | np.ndarray, pairs: np.ndarray) -> set[frozenset[str]]:
         movers = self._movers(np.asarray(config, dtype=float)[None], None)
         return {frozenset((self.owner[i], self.owner[j])) for i, j in pairs
                 if fcl.collide(movers.object(i), movers.object(j))}
@@ -175,7 +175,7 @@ class CollisionWorld:
 
     # -- queries ----------------------------------------------------------------------------------
 
-    def contacts(self, mode: Mode, config: Config, locations: bool = True) -> Contacts:
+    def contacts(self, mode: Mode, config: Config | np.ndarray, locations: bool = True) -> Contacts:
         """Self, static and (if asked) location contacts of the robot and the
         held object at `config`."""
         return self.sweep(mode, self.kinematics.check(config)[None], locations)
@@ -279,7 +279,8 @@ class _Movers:
 
     def __init__(self, world: np.ndarray, boxes: np.ndarray, halves: np.ndarray, objects: list):
         self.world, self.boxes, self.halves, self.objects = world, boxes, halves, objects
-        self.b, self.placed = 0, set()
+        self.b = 0
+        self.placed: set[int] = set()
 
     def at(self, b: int) -> None:
         self.b, self.placed = b, set()

@@ -38,10 +38,10 @@ def inverse_kinematics(kinematics: Kinematics, pose: Pose, seed: Config) -> Conf
     """A configuration within the limits whose end-effector pose is `pose`
     (1 mm, 0.01 rad), or None if every start fails."""
     target = pose.matrix()
-    seed = kinematics.check(seed)
+    q0 = kinematics.check(seed)
     low, high = kinematics.limits[:, 0], kinematics.limits[:, 1]
-    restarts = np.random.default_rng(RESTART_SEED).uniform(low, high, size=(RESTARTS, len(seed)))
-    pull = PULL * np.eye(len(seed))
+    restarts = np.random.default_rng(RESTART_SEED).uniform(low, high, size=(RESTARTS, len(q0)))
+    pull = PULL * np.eye(len(q0))
 
     def errors(q: np.ndarray) -> np.ndarray:
         return _errors(kinematics, q[None], target)[0]
@@ -49,8 +49,8 @@ def inverse_kinematics(kinematics: Kinematics, pose: Pose, seed: Config) -> Conf
     def jacobian(q: np.ndarray) -> np.ndarray:
         return _jacobian(kinematics, q, target)
 
-    for start in (seed, kinematics.home, *restarts):
-        near = _fit(kinematics, lambda q: np.concatenate([errors(q), PULL * (q - seed)]),
+    for start in (q0, kinematics.home, *restarts):
+        near = _fit(kinematics, lambda q: np.concatenate([errors(q), PULL * (q - q0)]),
                     lambda q: np.vstack([jacobian(q), pull]), np.clip(start, low, high))
         exact = _fit(kinematics, errors, jacobian, near)
         if reaches(kinematics, exact, target):
@@ -58,7 +58,7 @@ def inverse_kinematics(kinematics: Kinematics, pose: Pose, seed: Config) -> Conf
     return None
 
 
-def reaches(kinematics: Kinematics, config: Config, target: np.ndarray) -> bool:
+def reaches(kinematics: Kinematics, config: Config | np.ndarray, target: np.ndarray) -> bool:
     """`config` is within the limits and places the end-effector at `target`
     (4x4) within the tolerances."""
     q = kinematics.check(config)

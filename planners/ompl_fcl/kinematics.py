@@ -73,7 +73,8 @@ class Kinematics:
         indices into `links`; fills the per-joint arrays `poses` uses."""
         actuated = list(self.urdf.actuated_joint_names)
         index = {link: i for i, link in enumerate(self.links)}
-        chain, frontier = [], [self.urdf.base_link]
+        chain: list[tuple[int, int, int]] = []
+        frontier = [self.urdf.base_link]
         origins, axes, kinds, sources, scales, offsets = [], [], [], [], [], []
         while frontier:
             parent = frontier.pop(0)
@@ -129,7 +130,7 @@ class Kinematics:
         """The link this one hangs from in the URDF's tree (None for the root)."""
         return next((j.parent for j in self.urdf.robot.joints if j.child == link), None)
 
-    def check(self, config: Config) -> np.ndarray:
+    def check(self, config: Config | np.ndarray) -> np.ndarray:
         q = np.asarray(config, dtype=float)
         if q.shape != (len(self.joints),):
             raise PlannerError(f"a configuration needs {len(self.joints)} values "
