@@ -28,7 +28,7 @@ from symsynth.execution import primitives as world_primitives
 from symsynth.planning.primitive import SlideRule
 from symsynth.planning.protocol import Config, Planner
 from symsynth.planning.slides import direction, slide_rule
-from symsynth.scene.model import Scene
+from symsynth.scene.model import Scene, geometry_of
 
 TOLERANCE = math.radians(20)
 
@@ -41,7 +41,8 @@ class _Slide:
 
     def slides(self, scene: Scene, planner: Planner, contact: str,
                anchors: Mapping[str, Config]) -> list[SlideRule]:
-        fixed = scene.geometry.primitive_costs.get(self.name, self.fixed_cost)
+        geometry = geometry_of(scene)
+        fixed = geometry.primitive_costs.get(self.name, self.fixed_cost)
         found = []
         for start in scene.locations:
             for goal in scene.locations:
@@ -50,14 +51,15 @@ class _Slide:
                 # one slide rule serves every object (semantics §4b keys it by contact and
                 # locations): it must hold for each shape, so it needs all their places free and
                 # costs the dearest; a shape that cannot make the slide rules it out
-                per_shape = {}
+                per_shape: dict[str, SlideRule | None] = {}
                 for obj in scene.object_names:
-                    shape = repr(scene.geometry.shapes[obj])
+                    shape = repr(geometry.shapes[obj])
                     if shape not in per_shape:
                         per_shape[shape] = slide_rule(scene, planner, obj, contact, start, goal, anchors, fixed)
-                if per_shape and None not in per_shape.values():
-                    dearest = max(per_shape.values(), key=lambda rule: rule.cost)
-                    free = frozenset().union(*(rule.free for rule in per_shape.values()))
+                rules = [rule for rule in per_shape.values() if rule is not None]
+                if rules and len(rules) == len(per_shape):
+                    dearest = max(rules, key=lambda rule: rule.cost)
+                    free = frozenset[str]().union(*(rule.free for rule in rules))
                     found.append(dataclasses.replace(dearest, free=free))
         return found
 
@@ -71,7 +73,8 @@ class _Slide:
         slide goes away from the robot's base (push) or toward it (pull)."""
         if direction(scene, contact, start, goal) > TOLERANCE:
             return False
-        places, base = scene.geometry.places, np.asarray(scene.geometry.robot.base.xyz[:2])
+        geometry = geometry_of(scene)
+        places, base = geometry.places, np.asarray(geometry.robot.base.xyz[:2])
         farther = (np.linalg.norm(np.asarray(places[goal].xyz[:2]) - base)
                    > np.linalg.norm(np.asarray(places[start].xyz[:2]) - base))
         return farther == self.outward
