@@ -3,10 +3,14 @@ command line and for comparison runs alike.
 
 A `Problem` is a scene with its costmap (given with the scene, or obtained
 from the cache or a planner), its task parsed once and checked against
-the scene, and where the costmap came from.  `solve(problem, ...)` solves
+the scene, where the costmap came from, and a strategy file given with it
+(whose task and k are then the problem's).  `solve(problem, ...)` solves
 its game with a registered solver over the horizon `k` can use
-(`game.horizon`).  Below it, every layer takes what it needs as values:
-the solvers a scene and a formula, the planners a physical scene.
+(`game.horizon`); `simulate(problem, ...)` runs a strategy (the file's, or
+one solved now) in the PyBullet world against a simulated human.  Below
+it, every layer takes what it needs as values: the solvers a scene and a
+formula, the planners a physical scene, the simulator a scene, a formula
+and a policy.
 """
 
 from __future__ import annotations
@@ -14,28 +18,53 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 from pathlib import Path
+
+from tqdm import tqdm
 
 from symsynth.errors import InputError
 from symsynth.game.horizon import solve_game
+from symsynth.game.strategy import StrategyFile, certify, check_header, read_strategy, strategy_table
 from symsynth.scene.propositions import interpret_all
-from symsynth.game.solution import Solution, task_formula
+from symsynth.game.solution import Solution, task_formula, verdict
 from symsynth.logic import ast, parse_ltlf
 from symsynth.planning.build import Obtained, obtain_costmap
+from symsynth.planning.registry import planner_class
+from symsynth.planning.verify import installed_planner
 from symsynth.scene import Scene, load_scene
 from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
+
+if TYPE_CHECKING:  # the simulator (pybullet, the renderer) is imported only when simulating
+    from symsynth.execution.human import ScriptedHuman
+    from symsynth.execution.record import Recorder
+    from symsynth.execution.simulate import Run
+    from symsynth.execution.world import SimWorld
+
+
+@dataclass(frozen=True)
+class GivenStrategy:
+    """A strategy file given with the problem: where it was read from, and
+    what it says (its header checked against the scene; what it claims is
+    certified once the costmap gives the costs, by `simulate`)."""
+
+    path: Path
+    table: StrategyFile
 
 
 @dataclass(frozen=True)
 class Problem:
-    """A scene (with its costmap), its task as written and parsed, and how
-    the costmap was obtained (None: it came with the scene)."""
+    """A scene (with its costmap), its task as written and parsed, how the
+    costmap was obtained (None: it came with the scene), and a strategy
+    file given with it (None: solve to get one)."""
 
     scene: Scene
     task: str
     formula: ast.Formula
     obtained: Obtained | None = None
+    strategy: GivenStrategy | None = None
 
 
 @dataclass(frozen=True)
@@ -62,6 +91,20 @@ def load_problem(path: str | Path, *, task: str | None = None, task_source: str 
     if k is not None:
         scene = dataclasses.replace(scene, k=k)
     return with_costmap(with_task(scene, task, task_source, path), request or CostmapRequest())
+
+
+def with_strategy(scene: Scene, path: Path, *, k: int | None = None) -> Problem:
+    """The problem a strategy file poses on `scene`: the file's task and k
+    (its header checked against the scene before any costmap is computed;
+    `k`, if given, must be the file's).  The task is parsed once, here."""
+    table = read_strategy(path)
+    try:
+        formula = check_header(scene, table)
+    except InputError as error:
+        raise InputError(f"{path}: not a strategy for scene {scene.name!r}: {error}") from None
+    if k is not None and k != table.k:
+        raise InputError(f"--k {k}: the strategy {path} was solved for k = {table.k} (--k is for solving here)")
+    return Problem(dataclasses.replace(scene, k=table.k), table.task, formula, strategy=GivenStrategy(path, table))
 
 
 def with_task(scene: Scene, task: str | None, task_source: str = "--task", path: str | Path | None = None) -> Problem:
@@ -112,3 +155,153 @@ def solve(problem: Problem, solver: str = DEFAULT_SOLVER, *, budget: float | Non
                          "use --solver forward or auto for an anytime answer")
     return function(problem.scene, problem.formula, k=k, budget=budget, resolution=resolution,
                     time_limit=time_limit)
+
+
+# -- simulation ----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Simulation:
+    """What `simulate` did: the task and E_p of the strategy that ran,
+    the positions of its table (a strategy file, or the one made for the
+    adversary; None when the solver's strategy was looked up where the
+    runs went), whether a guarantee held, the runs, and the frames
+    recorded.  `stopped` says why nothing ran (no guarantee, and no
+    best effort asked for)."""
+
+    task: str
+    bound: float | None
+    positions: int | None
+    guarantee: bool
+    budget: float | None
+    runs: tuple[Run, ...] = ()
+    frames: int = 0
+    stopped: str | None = None
+
+    @property
+    def ok(self) -> bool:
+        """Every run completed within E_p and the budget, without a soundness
+        divergence (False when nothing ran)."""
+        from symsynth.execution.simulate import SLACK
+
+        return self.stopped is None and all(
+            r.completed and r.sound and r.within_bound is not False
+            and (self.budget is None or r.cost <= self.budget + SLACK) for r in self.runs)
+
+
+def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: str | None = None,
+             solver: str = DEFAULT_SOLVER, budget: float | None = None, best_effort: bool = False,
+             runs: int = 1, seed: int = 0, move_probability: float = 0.3, record: Path | None = None,
+             size: tuple[int, int] = (480, 360), gui: bool = False, progress: bool = True) -> Simulation:
+    """Runs of the problem's strategy (its strategy file, certified first, or
+    the strategy `solver` finds now) in the PyBullet world against `human`:
+    a registered human's name (`symsynth.humans`) or a script
+    (`execution.human.read_script`, read against the problem's scene); run
+    i uses seed `seed + i`.  The planner is `simulation_planner`'s.  When
+    E_p is infinite or above `budget`, nothing runs unless `best_effort`
+    (where the strategy has no action, the explicit solver's action with
+    fewer human moves left is played).  `record`: a GIF of the first run."""
+    from symsynth.execution.human import HUMANS, HumanContext, ScriptedHuman
+    from symsynth.execution.record import Recorder
+    from symsynth.execution.simulate import Policy, Simulator
+
+    scene = problem.scene
+    if scene.geometry is None:
+        raise InputError(f"scene {scene.name!r} is abstract (no 'robot' key): it has no world to simulate")
+    planner_type = planner_class(simulation_planner(scene, planner))
+    if isinstance(human, str) and human not in HUMANS:
+        raise InputError(f"unknown human {human!r}; installed humans: {', '.join(HUMANS)}")
+    given, table, solution = problem.strategy, None, None
+    if given is not None:  # what it claims is checked now that the costmap gives the costs
+        table = given.table
+        try:
+            certify(scene, table, problem.formula)
+        except InputError as error:
+            raise InputError(f"{given.path}: not a strategy for scene {scene.name!r}: {error}") from None
+    else:
+        solution = solve(problem, solver, budget=budget)
+        if human == "adversarial":  # it weighs its moves by the budgets of every position reached
+            table = strategy_table(scene, problem.task, solution, formula=problem.formula)
+    if table is not None:
+        bound, units, resolution = table.cost_bound, table.units, table.resolution
+        actions, budgets, positions = table.positions, table.budgets, len(table.positions)
+    else:
+        assert solution is not None  # solved above: no strategy file was given
+        # The solver's strategy, looked up only where a run goes (none when
+        # none wins).  Unlike strategy_table's exploration, this does not
+        # check up front that every reachable position has an available
+        # action: a strategy that lacks one ends that run with the reason.
+        bound, units, resolution = solution.cost_bound, solution.units, solution.resolution
+        actions, budgets, positions = ({} if bound is None else solution.strategy), {}, None
+    guarantee = bound is not None and (budget is None or verdict(units, resolution, budget) is True)
+    task = problem.task.strip()
+    if not guarantee and not best_effort:
+        return Simulation(task, bound, positions, guarantee, budget, stopped=no_guarantee(bound, budget))
+    if bound is None and human == "adversarial":  # strategy_table explores nothing then
+        raise InputError("--human adversarial: no strategy wins against every human (E_p is infinite), so "
+                         "there are no budgets for the adversary to choose its moves by; run best effort "
+                         "against none, random or a script")
+    fallback = None
+    if bound is None:  # a finite E_p over the budget still has its strategy everywhere it leads
+        # The explicit solver's strategy covers every reachable position of
+        # finite value, also when the initial one has none (the symbolic
+        # solver stops early then).
+        if solution is not None and solver == "explicit":
+            fallback = solution.strategy  # solved just now, with the same task, k and resolution
+        else:
+            fallback = solve(problem, "explicit").strategy
+    policy = Policy(actions, budgets, bound, fallback)
+    simulator = Simulator(scene, problem.formula, policy, planner_type(scene), resolution=resolution)
+
+    made: list[Recorder] = []
+
+    def recorder_to(path: Path) -> Callable[[SimWorld], Recorder]:
+        def recorder(world: SimWorld) -> Recorder:
+            made.append(Recorder(world, path, width=size[0], height=size[1]))
+            return made[-1]
+        return recorder
+
+    first = None if record is None else recorder_to(record)
+    done = []
+    with tqdm(range(runs), desc="runs", unit=" run", disable=None if progress and runs > 1 else True) as bar:
+        for i in bar:
+            if isinstance(human, ScriptedHuman):
+                player = ScriptedHuman(human.entries)  # from its first entry
+            else:
+                player = HUMANS[human](HumanContext(seed + i, move_probability, policy.budget))
+            done.append(simulator.run(player, seed + i, recorder=first if i == 0 else None, gui=gui))
+    frames = made[0].save() if made else 0
+    return Simulation(task, bound, positions, guarantee, budget, tuple(done), frames)
+
+
+def simulation_planner(scene: Scene, given: str | None) -> str:
+    """The planner that simulates: the one the scene's costmap records as its
+    builder, else `given` (--planner) or the scene's.  Another planner than
+    the recorded one is an error, not a warning: evidence paths start and
+    end at the building planner's inverse kinematics solutions for the
+    anchors, but a motion planned at run time ends at the simulating
+    planner's, so the next evidence motion would begin with a jump its
+    rule's cost leaves out (up to 0.7 rad between ompl-fcl's and
+    pybullet's on the bundled scenes), and the runs' cost and evidence
+    verdicts would be about that jump, not the abstraction."""
+    built = None if scene.costmap is None else scene.costmap.provenance
+    if built is not None:
+        installed_planner(built.name, "the scene's costmap")
+    if built is not None and given is not None and given != built.name:
+        raise InputError(f"--planner {given}: the scene's costmap was built by planner {built.name!r} (its key "
+                         f"'planner'), and its evidence paths start and end at {built.name}'s inverse kinematics "
+                         f"solutions for the anchors; {given}'s differ, so the robot would jump onto each path "
+                         f"at a cost the costmap leaves out. Leave --planner out to simulate with {built.name}")
+    if built is not None:
+        return built.name
+    if given is not None:
+        return given
+    if scene.geometry is None:
+        raise InputError(f"scene {scene.name!r} is abstract (no 'robot' key): it names no planner")
+    return scene.geometry.planner.name
+
+
+def no_guarantee(bound: float | None, budget: float | None) -> str:
+    """Why no guarantee holds: E_p infinite, or above the budget."""
+    if bound is None:
+        return "No guarantee: no strategy wins against every human (E_p is infinite)"
+    return f"No guarantee: E_p = {bound:.12g} exceeds the budget {budget:.12g}"

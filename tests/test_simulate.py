@@ -22,7 +22,6 @@ import pytest
 from PIL import Image
 
 from symsynth.cli import main
-from symsynth.cli import simulate as simulate_command
 from symsynth.errors import InputError
 from symsynth.execution import motion as motion_module
 from symsynth.execution.human import (AdversarialHuman, NoHuman, RandomHuman, Request, ScriptedHuman, Turn,
@@ -545,8 +544,8 @@ def test_only_the_adversary_has_every_reachable_position_explored(line_files, ca
     strategy reaches; the other humans' runs ask the solver's strategy only
     where they go, and its positions are not counted."""
     explored = []
-    monkeypatch.setattr(simulate_command, "strategy_table",
-                        lambda *args: explored.append(args) or strategy_table(*args))
+    monkeypatch.setattr(problem_module, "strategy_table",
+                        lambda *args, **kwargs: explored.append(args) or strategy_table(*args, **kwargs))
     for human, positions in (("random", None), ("adversarial", len(line.table.positions))):
         assert main(["simulate", str(line_files), "--human", human, "--json"]) == 0
         out = json.loads(capsys.readouterr().out)
@@ -571,14 +570,14 @@ def test_the_simulating_planner_is_the_one_that_built_the_costmap(paper_arch):
     scene = dataclasses.replace(scene, geometry=dataclasses.replace(scene.geometry, planner=settings))
     recorded = dataclasses.replace(scene, costmap=costmaps["sg"])
     assert costmaps["sg"].provenance.name == "pybullet"
-    assert simulate_command._planner_name(recorded, None) == "pybullet"
-    assert simulate_command._planner_name(recorded, "pybullet") == "pybullet"
+    assert problem_module.simulation_planner(recorded, None) == "pybullet"
+    assert problem_module.simulation_planner(recorded, "pybullet") == "pybullet"
     with pytest.raises(InputError, match="--planner ompl-fcl: the scene's costmap was built by planner 'pybullet'"):
-        simulate_command._planner_name(recorded, "ompl-fcl")
+        problem_module.simulation_planner(recorded, "ompl-fcl")
     unrecorded = dataclasses.replace(scene, costmap=Costmap(costmaps["sg"].motions))
-    assert simulate_command._planner_name(unrecorded, None) == "ompl-fcl"
-    assert simulate_command._planner_name(unrecorded, "pybullet") == "pybullet"
-    assert scene.costmap is None and simulate_command._planner_name(scene, "pybullet") == "pybullet"
+    assert problem_module.simulation_planner(unrecorded, None) == "ompl-fcl"
+    assert problem_module.simulation_planner(unrecorded, "pybullet") == "pybullet"
+    assert scene.costmap is None and problem_module.simulation_planner(scene, "pybullet") == "pybullet"
 
 
 def test_a_recorded_planner_that_is_not_installed_is_named(paper_arch):
@@ -590,7 +589,7 @@ def test_a_recorded_planner_that_is_not_installed_is_named(paper_arch):
         with pytest.raises(InputError, match=r"the scene's costmap records planner 'moveit' as its builder \(its "
                                              r"key 'planner'\), which is not installed \(installed: ompl-fcl, "
                                              r"pybullet\)"):
-            simulate_command._planner_name(recorded, given)
+            problem_module.simulation_planner(recorded, given)
 
 
 def test_budget_below_E_p_means_no_guarantee(line_files, capsys, line):

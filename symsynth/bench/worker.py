@@ -93,10 +93,8 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
     import dataclasses
 
     from symsynth.automata import compile_ltlf
-    from symsynth.game.horizon import solve_game
-    from symsynth.game.solution import task_formula
-    from symsynth.solvers import SOLVERS
     from symsynth.planning.build import obtain_costmap
+    from symsynth.problem import solve, with_task
     from symsynth.scene import load_scene
 
     row: dict[str, Any] = {"host": platform.node(), "cpus": os.cpu_count(), "load": os.getloadavg()[0],
@@ -123,11 +121,10 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
             row |= {f"seconds_{phase.replace(' ', '_')}": value for phase, value in s.seconds.items()}
             row |= {"roadmaps": s.roadmaps, "roadmap_vertices": s.vertices, "roadmap_edges": s.edges,
                     "edge_checks": s.edges, "graph_searches": s.motions, "planner_workers": s.workers}
-    formula = task_formula(scene, None)
-    row["dfa_states"] = compile_ltlf(formula).num_states  # the DFA every solver composes with the game
+    problem = with_task(scene, None)  # the task as the scene loader parsed it
+    row["dfa_states"] = compile_ltlf(problem.formula).num_states  # the DFA every solver composes with the game
     clock = time.perf_counter()
-    solution = solve_game(SOLVERS[run["solver"]], scene, formula, k=run["k"], budget=run["budget"],
-                          resolution=run["resolution"])
+    solution = solve(problem, run["solver"], k=run["k"], budget=run["budget"], resolution=run["resolution"])
     row["seconds_synthesis"] = time.perf_counter() - clock
     row |= {"k": solution.k, "E_p": "inf" if solution.cost_bound is None else solution.cost_bound, "units": solution.units,
             "realizable": solution.realizable, "positions": solution.states,

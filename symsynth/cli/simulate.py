@@ -5,22 +5,24 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+from collections.abc import Sequence
 from pathlib import Path
-
-from tqdm import tqdm
+from typing import TYPE_CHECKING
 
 from symsynth.cli import options
 from symsynth.cli.options import check_writable
 from symsynth.cli.solve import costmap_json, costmap_report
 from symsynth.errors import InputError
-from symsynth.game.solution import verdict
-from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
-from symsynth.game.strategy import (StrategyFile, certify, check_header, format_state, read_strategy,
-                                     strategy_table)
+from symsynth.game.strategy import format_state
 from symsynth.planning.methods import METHODS
-from symsynth.planning.verify import installed_planner
-from symsynth.problem import CostmapRequest, solve, with_costmap, with_task
+from symsynth.planning.registry import planner_class
+from symsynth.problem import (CostmapRequest, no_guarantee, simulate, simulation_planner, with_costmap,
+                              with_strategy, with_task)
 from symsynth.scene import Scene, load_scene
+from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
+
+if TYPE_CHECKING:
+    from symsynth.execution.simulate import Run
 
 HUMANS_GROUP = "symsynth.humans"  # none, random, adversarial, and any installed
 HELP = "run a strategy in a PyBullet world against a simulated human"
@@ -120,11 +122,8 @@ def _probability(text: str) -> float:
 
 
 def run(args: argparse.Namespace) -> int:
-    from symsynth.execution.human import HUMANS, HumanContext, ScriptedHuman, read_script
-    from symsynth.execution.record import Recorder
-    from symsynth.execution.simulate import SLACK, Policy, Simulator
     from symsynth.bullet import check_display
-    from symsynth.planning.registry import planner_class
+    from symsynth.execution.human import HUMANS, read_script
 
     if args.record is not None:
         check_writable(args.record, "recording")
@@ -133,94 +132,37 @@ def run(args: argparse.Namespace) -> int:
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world to simulate")
     # Every input is read and checked before the costmap and the solve.
-    planner_type = planner_class(_planner_name(scene, args.planner))
-    table = None
+    planner = simulation_planner(scene, args.planner)
+    planner_class(planner)
     if args.strategy is not None:
-        table = _read_strategy(args.strategy, scene)
-        if args.k is not None and args.k != table.k:
-            raise InputError(f"--k {args.k}: the strategy {args.strategy} was solved for k = {table.k} "
-                             "(--k is for solving here)")
-        scene = dataclasses.replace(scene, k=table.k)
+        problem = with_strategy(scene, args.strategy, k=args.k)
     elif scene.task is None:
         raise InputError(f"scene {scene.name!r} has no task: give one (task: FORMULA)")
-    elif args.k is not None:
-        scene = dataclasses.replace(scene, k=args.k)
-    script = None
+    else:
+        problem = with_task(scene if args.k is None else dataclasses.replace(scene, k=args.k), None)
+    human = args.human
     if args.human not in HUMANS:
         if not Path(args.human).is_file():
             raise InputError(f"--human: expected {', '.join(HUMANS)} or a script file, "
                              f"found {args.human!r} (no such file)")
-        script = read_script(args.human, scene)  # against the k of the strategy
+        human = read_script(args.human, problem.scene)  # against the k of the strategy
     progress = not args.json
     request = CostmapRequest(args.method, args.planner, args.costmap_seed, not args.no_cache, progress)
-    problem = with_costmap(with_task(scene, None if table is None else table.task, f"{args.strategy} (task)",
-                                     args.scene), request)
-    scene, obtained = problem.scene, problem.obtained
-    if table is not None:  # what it claims is checked once the costmap gives the costs
-        try:
-            certify(scene, table)
-        except InputError as error:
-            raise InputError(f"{args.strategy}: not a strategy for scene {scene.name!r}: {error}") from None
-    else:
-        solution = solve(problem, args.solver, budget=args.budget)
-        if args.human == "adversarial":  # it weighs its moves by the budgets of every position reached
-            table = strategy_table(scene, scene.task, solution)
-    if table is not None:
-        task, bound, units, resolution = table.task, table.cost_bound, table.units, table.resolution
-        actions, budgets, positions = table.positions, table.budgets, len(table.positions)
-    else:
-        # The solver's strategy, looked up only where a run goes (none when
-        # none wins).  Unlike strategy_table's exploration, this does not
-        # check up front that every reachable position has an available
-        # action: a strategy that lacks one ends that run with the reason.
-        task, bound, units, resolution = scene.task.strip(), solution.cost_bound, solution.units, solution.resolution
-        actions, budgets, positions = ({} if bound is None else solution.strategy), {}, None
-    formula = problem.formula
-    guarantee = bound is not None and (args.budget is None or verdict(units, resolution, args.budget))
-    if not guarantee and not args.best_effort:
-        print(_no_guarantee(bound, args.budget) + "; add --best-effort to run anyway")
+    problem = with_costmap(problem, request)
+    simulation = simulate(problem, human, planner=planner, solver=args.solver, budget=args.budget,
+                          best_effort=args.best_effort, runs=args.runs, seed=args.seed,
+                          move_probability=args.move_probability, record=args.record, size=args.size,
+                          gui=args.gui, progress=progress)
+    if simulation.stopped is not None:
+        print(simulation.stopped + "; add --best-effort to run anyway")
         return 1
-    if bound is None and args.human == "adversarial":  # strategy_table explores nothing then
-        raise InputError("--human adversarial: no strategy wins against every human (E_p is infinite), so "
-                         "there are no budgets for the adversary to choose its moves by; run best effort "
-                         "against none, random or a script")
-    fallback = None
-    if bound is None:  # a finite E_p over the budget still has its strategy everywhere it leads
-        # The explicit solver's strategy covers every reachable position of
-        # finite value, also when the initial one has none (the symbolic
-        # solver stops early then).
-        if args.strategy is None and args.solver == "explicit":
-            fallback = solution.strategy  # solved just now, with the same task, k and resolution
-        else:
-            fallback = solve(problem, "explicit").strategy
-    policy = Policy(actions, budgets, bound, fallback)
-    planner = planner_type(scene)
-    simulator = Simulator(scene, formula, policy, planner, resolution=resolution)
-
-    runs, made = [], []
-
-    def recorder(world):
-        made.append(Recorder(world, args.record, width=args.size[0], height=args.size[1]))
-        return made[-1]
-
-    bar = tqdm(range(args.runs), desc="runs", unit=" run", disable=None if progress and args.runs > 1 else True)
-    for i in bar:
-        seed = args.seed + i
-        if script is None:
-            human = HUMANS[args.human](HumanContext(seed, args.move_probability, policy.budget))
-        else:
-            human = ScriptedHuman(script.entries)  # from its first entry
-        record = recorder if args.record is not None and i == 0 else None
-        runs.append(simulator.run(human, seed, recorder=record, gui=args.gui))
-    bar.close()
-    frames = made[0].save() if made else 0
-
+    scene, obtained, runs = problem.scene, problem.obtained, simulation.runs
     if args.json:
         print(json.dumps({
-            "scene": scene.name, "task": task, "k": scene.k, "cost_bound": bound, "budget": args.budget,
-            "guarantee": guarantee, "human": args.human,
+            "scene": scene.name, "task": simulation.task, "k": scene.k, "cost_bound": simulation.bound,
+            "budget": args.budget, "guarantee": simulation.guarantee, "human": args.human,
             "strategy": {"file": None if args.strategy is None else str(args.strategy),
-                         "positions": positions, "solver": None if args.strategy else args.solver},
+                         "positions": simulation.positions, "solver": None if args.strategy else args.solver},
             "costmap": None if obtained is None else costmap_json(obtained),
             "recording": None if args.record is None else str(args.record),
             "runs": [r.to_json(scene.object_names) for r in runs],
@@ -228,54 +170,14 @@ def run(args: argparse.Namespace) -> int:
     else:
         if obtained is not None:
             costmap_report(obtained)
-        _report(scene, args, positions, bound, guarantee, runs)
-        if frames:
-            print(f"\nwrote {args.record} ({frames} frames, run 1)")
-    ok = all(r.completed and r.sound and r.within_bound is not False
-             and (args.budget is None or r.cost <= args.budget + SLACK) for r in runs)
-    return 0 if ok else 1
-
-
-def _read_strategy(path: Path, scene: Scene) -> StrategyFile:
-    """The strategy file, its header checked against the scene (before any
-    costmap is computed; what it claims is certified once there is one)."""
-    table = read_strategy(path)
-    try:
-        check_header(scene, table)
-    except InputError as error:
-        raise InputError(f"{path}: not a strategy for scene {scene.name!r}: {error}") from None
-    return table
-
-
-def _planner_name(scene: Scene, given: str | None) -> str:
-    """The planner that simulates: the one the scene's costmap records as its
-    builder, else --planner or the scene's.  Another --planner than the
-    recorded one is an error, not a warning: evidence paths start and end at
-    the building planner's inverse kinematics solutions for the anchors,
-    but a motion planned at run time ends at the simulating planner's, so
-    the next evidence motion would begin with a jump its rule's cost leaves
-    out (up to 0.7 rad between ompl-fcl's and pybullet's on the bundled
-    scenes), and the runs' cost and evidence verdicts would be about that
-    jump, not the abstraction."""
-    built = None if scene.costmap is None else scene.costmap.provenance
-    if built is not None:
-        installed_planner(built.name, "the scene's costmap")
-    if built is not None and given is not None and given != built.name:
-        raise InputError(f"--planner {given}: the scene's costmap was built by planner {built.name!r} (its key "
-                         f"'planner'), and its evidence paths start and end at {built.name}'s inverse kinematics "
-                         f"solutions for the anchors; {given}'s differ, so the robot would jump onto each path "
-                         f"at a cost the costmap leaves out. Leave --planner out to simulate with {built.name}")
-    return given or (scene.geometry.planner.name if built is None else built.name)
-
-
-def _no_guarantee(bound: float | None, budget: float | None) -> str:
-    if bound is None:
-        return "No guarantee: no strategy wins against every human (E_p is infinite)"
-    return f"No guarantee: E_p = {bound:.12g} exceeds the budget {budget:.12g}"
+        _report(scene, args, simulation.positions, simulation.bound, simulation.guarantee, runs)
+        if simulation.frames:
+            print(f"\nwrote {args.record} ({simulation.frames} frames, run 1)")
+    return 0 if simulation.ok else 1
 
 
 def _report(scene: Scene, args: argparse.Namespace, positions: int | None, bound: float | None,
-            guarantee: bool, runs: list) -> None:
+            guarantee: bool, runs: Sequence[Run]) -> None:
     from symsynth.execution.simulate import SLACK
 
     source = f"from {args.strategy}" if args.strategy else f"solved by {args.solver}"
@@ -283,7 +185,7 @@ def _report(scene: Scene, args: argparse.Namespace, positions: int | None, bound
     print(f"strategy   {source}: " + ("" if positions is None else f"{positions} positions, ") + f"k = {scene.k}, "
           + (f"E_p = {bound:g}" if bound is not None else "E_p infinite"))
     if not guarantee:
-        print(f"guarantee  NONE. {_no_guarantee(bound, args.budget)}; running best effort")
+        print(f"guarantee  NONE. {no_guarantee(bound, args.budget)}; running best effort")
     print(f"human      {args.human}" + (f", move probability {args.move_probability:g}"
                                         if args.human == "random" else ""))
     for i, r in enumerate(runs, 1):

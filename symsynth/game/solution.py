@@ -138,6 +138,8 @@ def task_formula(scene: Scene, formula: str | ast.Formula | None) -> ast.Formula
     if formula is None:
         if scene.task is None:
             raise InputError(f"scene {scene.name!r} has no task: give one (task: FORMULA)")
+        if scene.parsed is not None and scene.parsed[0] == scene.task:  # parsed by the loader
+            return scene.parsed[1]
         formula = scene.task
     if isinstance(formula, str):
         return parse_ltlf(formula, source=f"{scene.name} (task)")

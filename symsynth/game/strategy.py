@@ -211,11 +211,15 @@ class StrategyFile:
         return self.positions[position]
 
 
-def strategy_table(scene: Scene, formula_text: str, solution: Solution) -> StrategyFile:
+def strategy_table(scene: Scene, formula_text: str, solution: Solution, *,
+                   formula: ast.Formula | None = None) -> StrategyFile:
     """The strategy file's content without the file: every position the
     strategy reaches, its action and budget (what `read_strategy` returns
-    for the file `write_strategy` writes)."""
-    game = GameGraph(scene, parse_ltlf(formula_text, source=f"{scene.name} (task)"), solution.resolution)
+    for the file `write_strategy` writes).  `formula`: `formula_text`
+    already parsed (else it is parsed here)."""
+    if formula is None:
+        formula = parse_ltlf(formula_text, source=f"{scene.name} (task)")
+    game = GameGraph(scene, formula, solution.resolution)
     choices = {} if solution.cost_bound is None else _explore(game, solution.strategy, solution.k,
                                                                solution.objects)
     worst = worst_units(choices)
@@ -249,15 +253,17 @@ def check_header(scene: Scene, table: StrategyFile) -> ast.Formula:
     return formula
 
 
-def certify(scene: Scene, table: StrategyFile) -> None:
+def certify(scene: Scene, table: StrategyFile, formula: ast.Formula | None = None) -> None:
     """Check a strategy read from a file against the game it claims to win,
     before anything trusts it (the scene has its costmap): its header
     (`check_header`); every listed action is one the robot has at its
     position's state; from the initial position, the actions, followed
     through every human behaviour, are there and win within `units`; and
     every position reached carries the budget its actions guarantee from
-    there.  The first thing that fails is an `InputError`."""
-    formula = check_header(scene, table)
+    there.  The first thing that fails is an `InputError`.  `formula`: what
+    `check_header` returned for this table (else the header is checked here)."""
+    if formula is None:
+        formula = check_header(scene, table)
     robot = {}
     for (v, q, h), action in table.positions.items():
         if v not in robot:

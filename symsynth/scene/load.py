@@ -19,6 +19,7 @@ from typing import Any
 import jsonschema
 
 from symsynth.errors import InputError, LTLfSyntaxError
+from symsynth.logic import ast
 from symsynth.logic.parser import parse_ltlf
 from symsynth.primitives import PrimitiveError, displacement
 from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data, load_costmap
@@ -167,7 +168,9 @@ def scene_from_data(data: Any, source: Path | None = None,
         geometry=geometry,
     )
     if scene.task is not None:
-        _check_task(scene, scene.task, report)
+        formula = _check_task(scene, scene.task, report)
+        if formula is not None:
+            scene = dataclasses.replace(scene, parsed=(scene.task, formula))
     if costmap is None:
         checks = report
         loaded = _costmap(data.get("costmap"), source, report)
@@ -230,7 +233,8 @@ def _yaml_float(value: float) -> str:
     return ".nan" if math.isnan(value) else ("-.inf" if value < 0 else ".inf")
 
 
-def _check_task(scene: Scene, task: str, report: Report) -> None:
+def _check_task(scene: Scene, task: str, report: Report) -> ast.Formula | None:
+    """The task parsed, if it parses and fits the scene (else reported)."""
     try:
         formula = parse_ltlf(task, source=f"{report.source} (task)")
         interpret_all(formula, scene)
@@ -238,6 +242,9 @@ def _check_task(scene: Scene, task: str, report: Report) -> None:
         report.add(("task",), f"syntax error at column {error.column}: {error.expected}\n{error.context}")
     except InputError as error:
         report.add(("task",), str(error))
+    else:
+        return formula
+    return None
 
 
 def _costmap(value: Any, source: Path | None, report: Report) -> Costmap | None:

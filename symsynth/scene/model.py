@@ -10,6 +10,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from symsynth.errors import InputError
+from symsynth.logic import ast
 from symsynth.scene.costmap import Costmap
 from symsynth.scene.geometry import Geometry
 
@@ -45,6 +46,9 @@ class Scene:
     costmap: Costmap | None = None
     source: Path | None = field(default=None, compare=False)
     geometry: Geometry | None = field(default=None, compare=False)  # physical scenes only
+    #: The task as the loader parsed it, (text, formula): `game.solution.task_formula`
+    #: reads the formula from here while `task` is that text (a task is parsed once).
+    parsed: tuple[str, ast.Formula] | None = field(default=None, compare=False, repr=False)
 
     @property
     def object_names(self) -> tuple[str, ...]:
