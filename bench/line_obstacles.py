@@ -100,8 +100,8 @@ def main() -> int:
         f"{os.cpu_count()} cores, {time.strftime('%Y-%m-%d')})", "",
         f"`python bench/line_obstacles.py --seeds {' '.join(map(str, args.seeds))}"
         + (f" --roadmap {args.roadmap}" if args.roadmap else "") + "`: planner "
-        f"{args.planner or settings.name}, {settings.roadmap_size} roadmap vertices per mode, resolution "
-        f"{settings.resolution} rad, k = {scene.k}; each method computed from scratch on its own (roadmaps "
+        f"{args.planner or settings.name}, {settings.roadmap_size} roadmap vertices per mode, check step "
+        f"{settings.check_step} rad, k = {scene.k}; each method computed from scratch on its own (roadmaps "
         "included), E_p by the symbolic solver.  N = 0 is `scenes/line.yaml`, N > 0 "
         "`scenes/line-obstacles-N.yaml`.", "",
         "Mean over the seeds (`inf`: no winning strategy in some run):", "",

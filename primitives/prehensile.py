@@ -38,7 +38,7 @@ class Grab:
         kinematics without meeting a static obstacle."""
         pose, frame = scene.geometry.places[place], scene.geometry.grasps[grasp]
         return straight(planner, anchor, pose @ frame.pre_image(), pose @ frame.pose,
-                        scene.geometry.planner.resolution) is not None
+                        scene.geometry.planner.check_step) is not None
 
     def holds(self, geometry: Geometry, obj: str, grasp: str) -> bool:
         """Whether the hand closes on `obj` with `grasp`: its width across

@@ -21,7 +21,7 @@ ARCH = "scenes/arch.yaml"
 def small_arch(tmp_path_factory):
     folder = tmp_path_factory.mktemp("arch")
     data = yaml.safe_load(Path(ARCH).read_text())
-    data["planner"] = {"name": "pybullet", "roadmap_size": 30, "resolution": 0.05, "seed": 0}
+    data["planner"] = {"name": "pybullet", "roadmap_size": 30, "check_step": 0.05, "seed": 0}
     path = folder / "arch.yaml"
     path.write_text(yaml.safe_dump(data))
     return path
@@ -47,7 +47,7 @@ def test_compute_verify_and_reuse(capsys, tmp_path, small_arch):
     written = json.loads(out_file.read_text())
     assert written["format"] == "symsynth.costmap/1"
     assert written["planner"] == {"name": "pybullet", "version": __version__, "method": "recursive", "seed": 0,
-                                  "roadmap_size": 30, "resolution": 0.05}
+                                  "roadmap_size": 30, "check_step": 0.05}
     assert summary["rules"] == sum(len(m["rules"]) for m in written["motions"]) > 0
     assert all(rule["path"] for m in written["motions"] for rule in m["rules"])
 
@@ -70,7 +70,7 @@ def test_compute_verify_and_reuse(capsys, tmp_path, small_arch):
 @pytest.fixture(scope="module")
 def pybullet_file(paper_arch, tmp_path_factory):
     """The session's arch start-goal costmap, built by pybullet, as a file;
-    scenes/arch.yaml names ompl-fcl (and the same resolution)."""
+    scenes/arch.yaml names ompl-fcl (and the same check step)."""
     path = tmp_path_factory.mktemp("built") / "arch.json"
     write_costmap(paper_arch[1]["sg"], path)
     assert load_scene(ARCH).geometry.planner.name == "ompl-fcl"
@@ -81,7 +81,7 @@ def test_verify_uses_the_planner_the_costmap_records(capsys, pybullet_file):
     """With the scene's planner, ompl-fcl, every rule would miss its anchors."""
     code, out, err = run(capsys, "costmap", "verify", str(pybullet_file), "--scene", ARCH)
     assert code == 0, out + err
-    assert "with planner pybullet at resolution 0.0125 rad: all evidence paths hold" in out
+    assert "with planner pybullet at check step 0.0125 rad: all evidence paths hold" in out
 
 
 def test_verify_refuses_another_planner_than_the_recorded_one(capsys, pybullet_file):
@@ -148,17 +148,17 @@ def test_bad_input_is_one_message(capsys, argv, expected):
     assert code == 2 and expected in err and "Traceback" not in err
 
 def test_verify_never_checks_coarser_than_the_scene_asks(capsys, pybullet_file, tmp_path):
-    """A record claiming a coarse build resolution (stale or edited) must not
+    """A record claiming a coarse build check step (stale or edited) must not
     weaken the check: the step is a quarter of the finer of the two, here
     the scene's 0.05 rad."""
-    assert load_scene(ARCH).geometry.planner.resolution == 0.05
+    assert load_scene(ARCH).geometry.planner.check_step == 0.05
     data = json.loads(pybullet_file.read_text())
-    data["planner"]["resolution"] = 100.0
+    data["planner"]["check_step"] = 100.0
     coarse = tmp_path / "coarse.json"
     coarse.write_text(json.dumps(data))
     code, out, err = run(capsys, "costmap", "verify", str(coarse), "--scene", ARCH)
     assert code == 0, out + err
-    assert "at resolution 0.0125 rad" in out
+    assert "at check step 0.0125 rad" in out
 
 
 def test_verify_names_a_recorded_planner_that_is_not_installed(capsys, pybullet_file, tmp_path):

@@ -189,10 +189,10 @@ def test_a_costmap_records_who_built_it():
     scene = gap_scene()
     settings = scene.geometry.planner
     assert build(scene, "sg").provenance == Provenance("planar", None, "sg", settings.seed, settings.roadmap_size,
-                                                       None, settings.resolution)
+                                                       None, settings.check_step)
     timed = compute_costmap(timed_scene(1.5), "recursive", "planar", seed=7, progress=False,
                             planner_factory=TimedPlanar)[0]
-    assert timed.provenance == Provenance("planar", None, "recursive", 7, None, 1.5, settings.resolution)
+    assert timed.provenance == Provenance("planar", None, "recursive", 7, None, 1.5, settings.check_step)
 
 
 def test_a_cached_costmap_without_a_record_gets_it_one_of_another_version_is_computed_again(tmp_path,

@@ -122,17 +122,17 @@ def test_each_post_blocks_the_straight_move_between_its_arms(n):
     joint-space motion between their anchors is free in line.yaml and hits
     the post in line.yaml plus that post alone: the hand must go around or
     over it."""
-    resolution = scene(0).geometry.planner.resolution / 4
+    step = scene(0).geometry.planner.check_step / 4
     empty, free = fcl_anchors(0)
     arms = {name: spec["xyz"][:2] for name, spec in raw(0)["locations"].items() if name != "center"}
     for name, spec in posts(n).items():
         a, b = sorted(arms, key=lambda arm: math.dist(arms[arm], spec["xyz"][:2]))[:2]
         start, goal = free[f"{a}/top"], free[f"{b}/top"]
-        assert not empty.motion_contacts(Mode(), start, goal, resolution).static, (a, b)
+        assert not empty.motion_contacts(Mode(), start, goal, step).static, (a, b)
         data = copy.deepcopy(raw(0))
         data["obstacles"][name] = spec
         alone = planner_class("ompl-fcl")(scene_from_data(data, source=path(0)))
-        assert alone.motion_contacts(Mode(), start, goal, resolution).static, (name, a, b)
+        assert alone.motion_contacts(Mode(), start, goal, step).static, (name, a, b)
 
 
 def small(n: int):

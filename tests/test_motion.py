@@ -21,7 +21,7 @@ from symsynth.planning.prm import build_roadmap
 from symsynth.planning.protocol import Contacts, Mode, PlannerError
 
 START, GOAL = (0.2, 0.2), (0.8, 0.2)
-RESOLUTION = 0.05
+CHECK_STEP = 0.05  # radians between collision checks (the planner's check_step)
 
 
 class WallWorld:
@@ -70,7 +70,7 @@ def free_in(world):
 
     def free(a, b) -> bool:
         asked.append((tuple(a), tuple(b)))
-        for q in steps((a, b), RESOLUTION / CHECK):
+        for q in steps((a, b), CHECK_STEP / CHECK):
             world.set_config(q)
             if world.touching():
                 return False
@@ -98,10 +98,10 @@ def eager_shortest(roadmap, free) -> float:
 def eager_motion(world, planner, goal, seed):
     """The way run-time planning went before the lazy search: a roadmap
     whose edges are all checked as it grows, its shortest path, shortcut."""
-    valid, free = world_checks(world, planner, Mode(), RESOLUTION)
+    valid, free = world_checks(world, planner, Mode(), CHECK_STEP)
     start = world.config
     roadmap = build_roadmap(planner.limits, valid, free, {"start": start, "goal": goal}, RUNTIME_SIZE, seed,
-                            RESOLUTION)
+                            CHECK_STEP)
     search = RoadmapSearch(roadmap, [frozenset()] * len(roadmap.edges), ())
     path = search.best_path(search.vertex("start"), search.vertex("goal"), frozenset())
     world.set_config(start)
@@ -118,12 +118,12 @@ def test_the_lazy_search_finds_the_eager_shortest_path_checking_only_some_edges(
     world = BoxesWorld(start, boxes)
     free, asked = free_in(world)
     roadmap = build_roadmap(FreePlanner.limits, valid_in(world), _unchecked, {"start": start, "goal": goal},
-                            RUNTIME_SIZE, seed, RESOLUTION)
+                            RUNTIME_SIZE, seed, CHECK_STEP)
     path = lazy_shortest(roadmap, free)
     checked = len(asked)
     assert len(set(asked)) == checked < len(roadmap.edges)  # each edge at most once, and not all
     assert np.allclose(path[0], start) and np.allclose(path[-1], goal)
-    for q in steps(path, RESOLUTION / CHECK):
+    for q in steps(path, CHECK_STEP / CHECK):
         world.set_config(q)
         assert world.touching() == set(), q
     length = sum(math.dist(a, b) for a, b in zip(path, path[1:]))
@@ -140,7 +140,7 @@ def test_run_time_planning_gives_the_eager_roadmaps_path(case, seed):
     stop at the same size: the shortcut paths are identical."""
     start, goal, boxes = CASES[case]
     world = BoxesWorld(start, boxes)
-    motion = runtime_motion(world, FreePlanner(), Mode(), goal, RESOLUTION, seed)
+    motion = runtime_motion(world, FreePlanner(), Mode(), goal, CHECK_STEP, seed)
     assert world.config == start
     eager_roadmap, eager_path = eager_motion(BoxesWorld(start, boxes), FreePlanner(), goal, seed)
     free, _ = free_in(BoxesWorld(start, boxes))
@@ -148,7 +148,7 @@ def test_run_time_planning_gives_the_eager_roadmaps_path(case, seed):
         assert motion.path == (start, goal)
         return
     lazy_roadmap = build_roadmap(FreePlanner.limits, valid_in(world), _unchecked, {"start": start, "goal": goal},
-                                 len(eager_roadmap.configs) - 2, seed, RESOLUTION)
+                                 len(eager_roadmap.configs) - 2, seed, CHECK_STEP)
     assert np.array_equal(lazy_roadmap.configs, eager_roadmap.configs)
     keep = [free(lazy_roadmap.configs[i], lazy_roadmap.configs[j]) for i, j in lazy_roadmap.edges]
     assert np.array_equal(lazy_roadmap.edges[keep], eager_roadmap.edges)
@@ -166,12 +166,12 @@ def test_a_path_found_only_after_the_roadmap_grew_is_the_grown_roadmaps_shortest
     free, asked = free_in(world)
     lazy = LazyEdges(free)
     roadmap = build_roadmap(FreePlanner.limits, valid_in(world), _unchecked, {"start": start, "goal": goal},
-                            size, seed, RESOLUTION, outside=lazy.outside)
+                            size, seed, CHECK_STEP, outside=lazy.outside)
     assert len(roadmap.configs) > size + 2  # it grew
     assert len(set(asked)) == len(asked)
     path = lazy.path
     assert np.allclose(path[0], start) and np.allclose(path[-1], goal)
-    for q in steps(path, RESOLUTION / CHECK):
+    for q in steps(path, CHECK_STEP / CHECK):
         world.set_config(q)
         assert world.touching() == set(), q
     length = sum(math.dist(a, b) for a, b in zip(path, path[1:]))
@@ -185,7 +185,7 @@ def test_a_goal_walled_in_fails_with_the_eager_message():
     ring = [(0.6, 0.9, 0.6, 0.65), (0.6, 0.9, 0.85, 0.9), (0.6, 0.65, 0.6, 0.9), (0.85, 0.9, 0.6, 0.9)]
     start, goal = (0.2, 0.2), (0.75, 0.75)
     with pytest.raises(MotionFailed) as lazy:
-        runtime_motion(BoxesWorld(start, ring), FreePlanner(), Mode(), goal, RESOLUTION, seed=0)
+        runtime_motion(BoxesWorld(start, ring), FreePlanner(), Mode(), goal, CHECK_STEP, seed=0)
     with pytest.raises(PlannerError) as eager:
         eager_motion(BoxesWorld(start, ring), FreePlanner(), goal, seed=0)
     assert str(lazy.value) == f"no path in mode {Mode()}: {eager.value}"
@@ -200,24 +200,24 @@ class FreePlanner:
     def contacts(self, mode: Mode, config) -> Contacts:
         return Contacts()
 
-    def motion_contacts(self, mode: Mode, start, goal, resolution: float) -> Contacts:
+    def motion_contacts(self, mode: Mode, start, goal, step: float) -> Contacts:
         return Contacts()
 
 
 def test_a_blocked_straight_motion_goes_around_the_wall_on_the_roadmaps_shortest_path():
     world = WallWorld()
-    motion = runtime_motion(world, FreePlanner(), Mode(), GOAL, RESOLUTION, seed=0)
+    motion = runtime_motion(world, FreePlanner(), Mode(), GOAL, CHECK_STEP, seed=0)
     assert motion.source == "runtime" and world.config == START
     assert motion.path[0] == START and np.allclose(motion.path[-1], GOAL)
     hits = []
-    for q in steps(motion.path, RESOLUTION / CHECK):
+    for q in steps(motion.path, CHECK_STEP / CHECK):
         world.set_config(q)
         hits += world.touching()
     assert hits == []
     # over the wall's top corners at best: 2 * |(0.25, 0.5)| + 0.1
     assert motion.radians >= 2 * math.hypot(0.25, 0.5) + 0.1 - 1e-9
     assert motion.radians < 2.5  # the greedy shortcut leaves no long detour
-    again = runtime_motion(WallWorld(), FreePlanner(), Mode(), GOAL, RESOLUTION, seed=0)
+    again = runtime_motion(WallWorld(), FreePlanner(), Mode(), GOAL, CHECK_STEP, seed=0)
     assert again.path == motion.path
 
 
@@ -231,7 +231,7 @@ def test_the_shortcut_keeps_the_farthest_free_waypoint_from_each_kept_one():
     world = WallWorld()
 
     def free(a, b) -> bool:
-        for q in steps((a, b), RESOLUTION / CHECK):
+        for q in steps((a, b), CHECK_STEP / CHECK):
             world.set_config(q)
             if world.touching():
                 return False

@@ -344,7 +344,7 @@ def components(n: int, edges: np.ndarray) -> list[int]:
 
 def test_panda_roadmap_edges_are_collision_free_and_anchors_connected():
     planner, anchors, roadmap = panda_roadmap(seed=1)
-    resolution = planner.geometry.planner.resolution
+    step = planner.geometry.planner.check_step
     assert len(roadmap.configs) >= 25 + len(anchors)
     for name, config in anchors.items():
         assert np.array_equal(roadmap.configs[roadmap.anchors[name]], config)
@@ -356,18 +356,18 @@ def test_panda_roadmap_edges_are_collision_free_and_anchors_connected():
                        [math.dist(roadmap.configs[i], roadmap.configs[j]) for i, j in roadmap.edges])
     fresh = OmplFclPlanner(SCENES["two places"]())  # checks every pair: it did not build the roadmap
     for i, j in roadmap.edges:
-        assert not fresh.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], resolution).static
+        assert not fresh.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], step).static
 
 
 def test_edge_checks_of_the_planner_that_built_the_roadmap_match_a_fresh_one():
     """The planner that grew a roadmap skips the self and static pairs on its
     edges (it found them free); a fresh planner checks every pair."""
     planner, _, roadmap = panda_roadmap(seed=2)
-    resolution = planner.geometry.planner.resolution
+    step = planner.geometry.planner.check_step
     fresh = OmplFclPlanner(SCENES["two places"]())
-    found = [planner.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], resolution)
+    found = [planner.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], step)
              for i, j in roadmap.edges]
-    expected = [fresh.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], resolution)
+    expected = [fresh.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], step)
                 for i, j in roadmap.edges]
     assert found == expected
     assert any(c.locations for c in expected) and not any(c.static for c in expected)
@@ -434,7 +434,7 @@ def test_panda_roadmap_same_seed_same_roadmap():
 # --- the roadmap builder on a square decided by hand ------------------------------------------
 
 LIMITS = np.array([[0.0, 1.0], [0.0, 1.0]])
-STEP = 0.005  # the resolution passed on; the motion checks below are exact
+STEP = 0.005  # the check step passed on; the motion checks below are exact
 
 
 def wall_free(q) -> bool:
@@ -511,10 +511,10 @@ def test_unconnectable_anchors_with_a_time_limit_are_named_after_three_times_the
         build_roadmap(LIMITS, wall_free, clear_of_wall, {"ok": (0.1, 0.1)}, 5, 0, STEP, seconds=0.0)
 
 
-def test_a_resolution_that_is_not_a_positive_number_is_a_planner_error():
-    for resolution in (0.0, -1.0, float("nan")):
-        with pytest.raises(PlannerError, match="resolution > 0"):
-            build_roadmap(LIMITS, wall_free, clear_of_wall, {"ok": (0.1, 0.1)}, 5, 0, resolution)
+def test_a_check_step_that_is_not_a_positive_number_is_a_planner_error():
+    for step in (0.0, -1.0, float("nan")):
+        with pytest.raises(PlannerError, match="check step > 0"):
+            build_roadmap(LIMITS, wall_free, clear_of_wall, {"ok": (0.1, 0.1)}, 5, 0, step)
 
 
 def test_unconnectable_anchors_are_named():

@@ -60,7 +60,7 @@ def test_arch_recursive_evidence_paths_verify(arch):
     scene, costmaps = arch
     planner = planner_class("pybullet")(scene)
     checked, failures = verify_costmap(costmaps["recursive"], scene, planner,
-                                       scene.geometry.planner.resolution / 4, progress=False)
+                                       scene.geometry.planner.check_step / 4, progress=False)
     assert checked > 100 and [str(f) for f in failures] == []
 
 

@@ -144,7 +144,7 @@ def test_costmap_write_read_round_trip(tmp_path):
 
 @pytest.mark.parametrize("provenance", [
     Provenance("pybullet", "0.1.0", "recursive", 3, 60, None, 0.05),
-    Provenance("ompl-fcl", method="sg", seed=0, seconds=2.5, resolution=0.1),
+    Provenance("ompl-fcl", method="sg", seed=0, seconds=2.5, check_step=0.1),
     Provenance("my-planner"),  # only the name is required
 ])
 def test_costmap_provenance_round_trip(tmp_path, provenance):
@@ -155,6 +155,14 @@ def test_costmap_provenance_round_trip(tmp_path, provenance):
     assert data["planner"] == {k: v for k, v in vars(provenance).items() if v is not None}
     back = load_costmap(tmp_path / "c.json")
     assert back == costmap and back.provenance == provenance
+
+
+def test_costmap_provenance_written_before_the_rename_reads_resolution_as_check_step():
+    """Costmap files (and cache entries) written while the key was
+    `resolution` keep their meaning; new files say `check_step`."""
+    old = dict(COSTMAP, planner={"name": "pybullet", "resolution": 0.025})
+    assert costmap_from_data(old).provenance == Provenance("pybullet", check_step=0.025)
+    assert costmap_from_data(old).provenance.to_json() == {"name": "pybullet", "check_step": 0.025}
 
 
 def test_costmap_keys_the_loader_does_not_know_are_ignored_in_the_provenance_too():
@@ -172,13 +180,13 @@ def test_costmap_provenance_methods_are_the_planning_methods():
     (None, ["planner: expected an object"]),
     ({"seed": 0}, ["planner.name: expected the planner's name, found None"]),
     ({"name": "pybullet", "version": 1, "method": "astar", "seed": -1, "roadmap_size": 2.5,
-      "resolution": 0, "seconds": float("inf")},
+      "check_step": 0, "seconds": float("inf")},
      ["planner.version: expected a non-empty string, found 1",
       "planner.method: expected one of sg, recursive, found 'astar'",
       "planner.seed: expected a whole number >= 0, found -1",
       "planner.roadmap_size: expected a whole number >= 2, found 2.5",
       "planner.seconds: expected a finite number > 0, found inf",
-      "planner.resolution: expected a finite number > 0, found 0",
+      "planner.check_step: expected a finite number > 0, found 0",
       "planner: a roadmap has either a size (roadmap_size) or a time limit (seconds), not both"]),
     ({"name": "", "seed": True}, ["planner.name: expected the planner's name, found ''",
                                   "planner.seed: expected a whole number >= 0, found True"]),

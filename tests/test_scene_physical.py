@@ -12,6 +12,7 @@ import pybullet_data
 import pytest
 from scipy.spatial.transform import Rotation
 
+from symsynth.errors import SymsynthWarning
 from symsynth.scene import load_scene
 from symsynth.scene.geometry import Grasp, Pose
 from symsynth.scene.load import SceneError
@@ -35,7 +36,7 @@ else:
 grasps:
   top: {xyz: [0, 0, 0.1434], rpy: [3.14159265, 0, 0], approach: 0.05}
 costs: {per_radian: 10, grab: 4, drop: 6}
-planner: {name: pybullet, roadmap_size: 50, resolution: 0.1, seed: 3}
+planner: {name: pybullet, roadmap_size: 50, check_step: 0.1, seed: 3}
 human: {k: 2}
 task: "F(at(b, l1))"
 """
@@ -67,6 +68,19 @@ def test_physical_scene_is_read(tmp_path):
     assert g.initial == {"b": Pose((0.3, 0.3, 0.0))}
     expected = Rotation.from_euler("xyz", [0, 0, 1.5707963]).as_quat()
     assert np.allclose(g.places["l2"].quat, expected)
+
+
+def test_the_planners_old_key_resolution_is_read_with_a_located_deprecation_warning(tmp_path):
+    """`planner.resolution` was renamed `check_step` (radians between
+    collision checks): 'resolution' means only the game's cost unit.  The
+    old key still loads, with a warning naming the file, line and key;
+    both keys at once are an error."""
+    assert load(tmp_path).geometry.planner.check_step == 0.1
+    with pytest.warns(SymsynthWarning, match=r"scene\.yaml:19: planner\.resolution: deprecated: rename it check_step"):
+        scene = load(tmp_path, BASE.replace("check_step: 0.1", "resolution: 0.25"))
+    assert scene.geometry.planner.check_step == 0.25
+    assert "planner.resolution: give check_step only (resolution is its old name)" in problems(
+        tmp_path, BASE.replace("check_step: 0.1", "check_step: 0.1, resolution: 0.25"))
 
 
 def test_else_samples_are_seeded_and_keep_their_distance(tmp_path):
@@ -176,7 +190,7 @@ def test_bundled_physical_scenes_load():
     (("l1: {xyz: [0.5, 0.1, 0]}", "l1: {xyz: [0.5, 0.1]}"),
      "scene.yaml:10: locations.l1.xyz: [0.5, 0.1] is too short"),
     (("top: {xyz", "top: {xz"), "grasps.top: Additional properties are not allowed"),
-    (("resolution: 0.1", "resolution: 0"), "planner.resolution: 0 is less than or equal"),
+    (("check_step: 0.1", "check_step: 0"), "planner.check_step: 0 is less than or equal"),
     (("roadmap_size: 50,", "roadmap_size: 50, seconds: 2,"),
      "scene.yaml:19: planner.seconds: give the roadmap either a size (roadmap_size) or a time limit (seconds), not both"),
     (("costs: {per_radian: 10, grab: 4, drop: 6}", "costs: {per_radian: -1}"),
@@ -194,8 +208,8 @@ def test_physical_problems_name_file_line_and_key(tmp_path, edit, expected):
     # an endless roadmap growth, an OMPL traceback, a robot nowhere
     (("roadmap_size: 50,", "seconds: .inf,"),
      "scene.yaml:19: planner.seconds: expected a finite number, found .inf"),
-    (("resolution: 0.1", "resolution: .nan"),
-     "scene.yaml:19: planner.resolution: expected a finite number, found .nan"),
+    (("check_step: 0.1", "check_step: .nan"),
+     "scene.yaml:19: planner.check_step: expected a finite number, found .nan"),
     (("robot: {}", "robot: {home: [0, .nan, 0, -2.356, 0, 1.571, 0.785]}"),
      "scene.yaml:2: robot.home.1: expected a finite number, found .nan"),
     (("l1: {xyz: [0.5, 0.1, 0]}", "l1: {xyz: [0.5, -.inf, 0]}"),
@@ -211,11 +225,11 @@ def test_numbers_that_are_not_finite_are_reported(tmp_path, edit, expected):
 
 
 def test_a_number_the_schema_refuses_is_reported_once(tmp_path):
-    found = problems(tmp_path, BASE.replace("roadmap_size: 50, resolution: 0.1",
-                                            "roadmap_size: .inf, resolution: .nan"))
+    found = problems(tmp_path, BASE.replace("roadmap_size: 50, check_step: 0.1",
+                                            "roadmap_size: .inf, check_step: .nan"))
     assert "2 problems in the scene" in found
     assert "planner.roadmap_size: expected integer, found inf" in found
-    assert "planner.resolution: expected a finite number, found .nan" in found
+    assert "planner.check_step: expected a finite number, found .nan" in found
 
 
 def test_an_abstract_scene_with_an_infinite_cost_is_reported(tmp_path):

@@ -10,7 +10,7 @@ from symsynth.planning.protocol import PlannerError
 from symsynth.planning.segment import segment
 
 
-def test_segment_steps_at_most_the_resolution_ends_included():
+def test_segment_steps_at_most_the_check_step_ends_included():
     start, goal = np.zeros(3), np.array([0.3, 0.4, 0.0])  # 0.5 long
     points = segment(start, goal, 0.1)
     assert len(points) == 6 and np.allclose(points[0], start) and np.allclose(points[-1], goal)
@@ -19,10 +19,10 @@ def test_segment_steps_at_most_the_resolution_ends_included():
     assert len(segment(start, goal, 0.12)) == 6 and len(segment(start, start, 0.1)) == 2
 
 
-def test_a_resolution_that_is_not_positive_is_a_planner_error():
-    for resolution in (0.0, -0.1, float("nan")):
-        with pytest.raises(PlannerError, match="resolution must be positive"):
-            segment((0.0, 0.0), (1.0, 0.0), resolution)
+def test_a_check_step_that_is_not_positive_is_a_planner_error():
+    for step in (0.0, -0.1, float("nan")):
+        with pytest.raises(PlannerError, match="check step must be positive"):
+            segment((0.0, 0.0), (1.0, 0.0), step)
 
 
 def test_a_path_steps_through_every_waypoint_each_leg_by_the_rule():

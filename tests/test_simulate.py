@@ -257,7 +257,7 @@ def test_an_evidence_path_into_a_block_off_every_place_is_outside_not_a_soundnes
     rejected as outside the abstraction.  (Run-time planning is replaced by
     a straight move: how the robot gets there is not the question.)"""
     monkeypatch.setattr(motion_module, "runtime_motion",
-                        lambda world, planner, mode, goal, resolution, seed:
+                        lambda world, planner, mode, goal, step, seed:
                         motion_module.Motion((world.config, tuple(goal)), "runtime"))
     run = line.sim.run(script((0, "b", Pose((0.48, 0.0, 0.0)))))
     assert run.completed and run.sound

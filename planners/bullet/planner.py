@@ -7,7 +7,7 @@ and `bodies.py` (collision groups); inverse kinematics is `kinematics.py`.
 Segments are checked at the steps of `symsynth.planning.segment`, up to
 the first static contact.
 Roadmaps (`prm.build_roadmap`) check their edges at the scene's
-`planner.resolution`, for static collisions only, with every place body
+`planner.check_step`, for static collisions only, with every place body
 switched off.
 """
 
@@ -56,12 +56,12 @@ class BulletPlanner:
         self.world.set_config(self._config(config))
         return self.world.touching()
 
-    def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
+    def motion_contacts(self, mode: Mode, start: Config, goal: Config, step: float) -> Contacts:
         """Stops at the first static contact, with the locations touched
         before that configuration (the protocol's rule, as ompl-fcl)."""
         self.world.set_mode(mode)
         locations: set[str] = set()
-        for config in segment(self._config(start), self._config(goal), resolution):
+        for config in segment(self._config(start), self._config(goal), step):
             self.world.set_config(config)
             found = self.world.touching()
             if found.static:
@@ -71,7 +71,7 @@ class BulletPlanner:
 
     def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int,
                 seconds: float | None = None) -> Roadmap:
-        resolution = self.settings.resolution
+        step = self.settings.check_step
 
         def valid(config) -> bool:
             self.world.set_mode(mode, places=False)
@@ -80,14 +80,14 @@ class BulletPlanner:
 
         def motion_valid(start, goal) -> bool:
             self.world.set_mode(mode, places=False)
-            for config in segment(self._config(start), self._config(goal), resolution):
+            for config in segment(self._config(start), self._config(goal), step):
                 self.world.set_config(config)
                 if self.world.touching().static:
                     return False
             return True
 
         anchors = {name: self._config(config) for name, config in anchors.items()}
-        return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, resolution, seconds)
+        return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, step, seconds)
 
     def _config(self, config) -> tuple[float, ...]:
         values = tuple(float(v) for v in config)

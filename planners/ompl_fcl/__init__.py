@@ -5,13 +5,13 @@ python-fcl collisions (`collision`, `shapes`, `bounds`), OMPL roadmaps
 Built for one physical scene (`scene.geometry`); see `kinematics` for the
 configuration conventions and `collision` for which pairs are checked.
 A motion is checked at the steps of `symsynth.planning.segment` (equal,
-at most `resolution` apart, both ends included), and the check stops at
+at most `step` apart, both ends included), and the check stops at
 the first static collision.  Roadmap edges are checked the same way, ends
 first and then by bisection, so that a blocked edge is rejected early.
 The planner remembers the segments it found free that way; the edge checks
 of its own roadmap then test only the location pairs (the self and static
 pairs of the same configurations are known free: same answer, a third of
-the work).  Another planner object, or another resolution, checks all.
+the work).  Another planner object, or another step, checks all.
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ class OmplFclPlanner:
         self.geometry = geometry
         self.kinematics = Kinematics(geometry.robot)
         self.world = CollisionWorld(self.kinematics, geometry)
-        # segments (mode, start, goal, resolution) `roadmap` found free of
+        # segments (mode, start, goal, step) `roadmap` found free of
         # self and static contacts at every step: their edge checks need
         # only the location pairs
         self._free: set[tuple[Mode, bytes, bytes, float]] = set()
@@ -60,28 +60,28 @@ class OmplFclPlanner:
     def contacts(self, mode: Mode, config: Config) -> Contacts:
         return self.world.contacts(mode, config)
 
-    def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
+    def motion_contacts(self, mode: Mode, start: Config, goal: Config, step: float) -> Contacts:
         a, b = self.kinematics.check(start), self.kinematics.check(goal)
-        configs = segment(a, b, resolution)
-        known = (mode, a.tobytes(), b.tobytes(), resolution) in self._free
+        configs = segment(a, b, step)
+        known = (mode, a.tobytes(), b.tobytes(), step) in self._free
         return self.world.sweep(mode, configs, static=not known)
 
     def roadmap(self, mode: Mode, anchors: Mapping[str, Config], size: int, seed: int,
                 seconds: float | None = None) -> Roadmap:
-        resolution = self.geometry.planner.resolution
+        step = self.geometry.planner.check_step
         self.world.held(mode)  # an unknown mode fails here, naming the known objects and grasps
 
         def valid(config: np.ndarray) -> bool:
             return not self.world.contacts(mode, config, locations=False).static
 
         def motion_valid(start: np.ndarray, goal: np.ndarray) -> bool:
-            configs = segment(start, goal, resolution)
+            configs = segment(start, goal, step)
             if self.world.sweep(mode, configs[bisection(len(configs))], locations=False).static:
                 return False
-            self._free.add((mode, start.tobytes(), goal.tobytes(), resolution))
+            self._free.add((mode, start.tobytes(), goal.tobytes(), step))
             return True
 
-        return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, resolution, seconds)
+        return build_roadmap(self.limits, valid, motion_valid, anchors, size, seed, step, seconds)
 
 
 def bisection(n: int) -> np.ndarray:

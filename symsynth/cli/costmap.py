@@ -39,7 +39,7 @@ instance); the file is the same either way.
 
   symsynth costmap verify FILE --scene SCENE [--planner NAME]
 
-re-checks every rule's evidence path at 4x finer resolution than it was
+re-checks every rule's evidence path at a 4x finer check step than it was
 built with (or than the scene's setting, if that is finer) against the static obstacles and the location obstacles the
 rule assumes, its cost, and that it starts and ends at its anchors.
 Anchors are the planner's inverse kinematics solutions, so the paths are
@@ -133,16 +133,16 @@ def _verify(path: Path, args: argparse.Namespace) -> int:
     planner = planner_class(name)(scene)
     # 4x finer than the paths were checked when built, and than the scene asks: never coarser than the
     # scene's own setting, whatever the file records
-    resolution = scene.geometry.planner.resolution
-    if built is not None and built.resolution is not None:
-        resolution = min(resolution, built.resolution)
-    resolution /= 4
-    checked, failures = verify_costmap(costmap, scene, planner, resolution)
+    step = scene.geometry.planner.check_step
+    if built is not None and built.check_step is not None:
+        step = min(step, built.check_step)
+    step /= 4
+    checked, failures = verify_costmap(costmap, scene, planner, step)
     for failure in failures[:20]:
         print(f"FAIL {failure}")
     if len(failures) > 20:
         print(f"... and {len(failures) - 20} more")
     verdict = "all evidence paths hold" if not failures else f"{len(failures)} failed"
-    print(f"verified   {checked} rules of {path} with planner {name} at resolution "
-          f"{resolution:g} rad: {verdict}")
+    print(f"verified   {checked} rules of {path} with planner {name} at check step "
+          f"{step:g} rad: {verdict}")
     return 1 if failures else 0

@@ -5,7 +5,7 @@ costmap when its assumptions hold, otherwise a path planned at run time.
 rules of the costmap whose `free` places are all free in the world
 (no object other than the served one stands on them) are tried cheapest
 first.  Each rule's path is checked in the world -- objects where they
-really are -- at `CHECK` times the planner's resolution; the first that
+really are -- at `CHECK` times the planner's check step; the first that
 touches nothing is followed.  A path that touches something although its
 rule's assumptions hold is a *rejected evidence path*: the costmap claimed
 a motion the world does not allow, which the simulator reports loudly.
@@ -62,7 +62,7 @@ from symsynth.planning.segment import segment
 from symsynth.planning.verify import path_length
 from symsynth.scene.costmap import Costmap
 
-CHECK = 4  # world checks per planner resolution step (as `costmap verify`)
+CHECK = 4  # world checks per step of the planner's check_step (as `costmap verify`)
 RUNTIME_SIZE = 60  # roadmap vertices for a motion planned at run time
 
 
@@ -83,23 +83,23 @@ class Motion:
         return path_length(self.path)
 
 
-def steps(path: Sequence[Config], resolution: float) -> Iterator[tuple[float, ...]]:
+def steps(path: Sequence[Config], step: float) -> Iterator[tuple[float, ...]]:
     """The configurations along `path`, each leg cut by the planners'
     stepping rule (`planning.segment`), every waypoint included."""
     if len(path) == 0:
         return
     yield tuple(path[0])
     for a, b in zip(path, path[1:]):
-        yield from (tuple(q) for q in segment(a, b, resolution)[1:])
+        yield from (tuple(q) for q in segment(a, b, step)[1:])
 
 
-def touched(world: SimWorld, path: Sequence[Config], resolution: float) -> set[str]:
+def touched(world: SimWorld, path: Sequence[Config], step: float) -> set[str]:
     """What the robot (and the held object) penetrate along `path`, the
     first configuration that touches anything deciding; the robot is back
     at the path's start afterwards."""
     start = world.config
     found: set[str] = set()
-    for config in steps(path, resolution):
+    for config in steps(path, step):
         world.set_config(config)
         found = world.touching()
         if found:
@@ -109,7 +109,7 @@ def touched(world: SimWorld, path: Sequence[Config], resolution: float) -> set[s
 
 
 def evidence_motion(world: SimWorld, costmap: Costmap, mode: Mode, start: str, goal: str,
-                    free: frozenset[str], resolution: float) -> tuple[Motion | None, list[str]]:
+                    free: frozenset[str], step: float) -> tuple[Motion | None, list[str]]:
     """The cheapest rule for `start -> goal` whose places are all `free` and
     whose evidence path touches nothing in the world (None when there is
     none), and the rules tried before it whose paths touched something."""
@@ -121,7 +121,7 @@ def evidence_motion(world: SimWorld, costmap: Costmap, mode: Mode, start: str, g
         path = tuple(tuple(q) for q in rule.path)
         if not np.allclose(path[0], world.config, atol=1e-9):
             path = (world.config,) + path  # a robot a hair off the anchor travels the hair too
-        hits = touched(world, path, resolution / CHECK)
+        hits = touched(world, path, step / CHECK)
         if not hits:
             return Motion(path, "evidence"), rejected
         rejected.append(f"{mode} {start} -> {goal} (free {_names(rule.free)}, cost {rule.cost:g}) "
@@ -129,11 +129,11 @@ def evidence_motion(world: SimWorld, costmap: Costmap, mode: Mode, start: str, g
     return None, rejected
 
 
-def runtime_motion(world: SimWorld, planner: Planner, mode: Mode, goal: Config, resolution: float,
+def runtime_motion(world: SimWorld, planner: Planner, mode: Mode, goal: Config, step: float,
                    seed: int) -> Motion:
     """A path from the robot's configuration to `goal` in the current world."""
     start = world.config
-    valid, free = world_checks(world, planner, mode, resolution)
+    valid, free = world_checks(world, planner, mode, step)
     try:
         if tuple(start) == tuple(goal):
             return Motion((tuple(start),), "none")
@@ -143,7 +143,7 @@ def runtime_motion(world: SimWorld, planner: Planner, mode: Mode, goal: Config, 
             raise MotionFailed(f"the goal configuration collides in the world ({_what(world)})")
         lazy = LazyEdges(free)
         build_roadmap(planner.limits, valid, _unchecked, {"start": start, "goal": goal},
-                      RUNTIME_SIZE, seed, resolution, outside=lazy.outside)
+                      RUNTIME_SIZE, seed, step, outside=lazy.outside)
         if lazy.path is None:  # build_roadmap returns once `outside` has found a path
             raise MotionFailed(f"no path in mode {mode}: the roadmap joins start and goal by no free path")
         return Motion(_shortcut(lazy.path, free), "runtime")
@@ -153,7 +153,7 @@ def runtime_motion(world: SimWorld, planner: Planner, mode: Mode, goal: Config, 
         world.set_config(start)
 
 
-def world_checks(world: SimWorld, planner: Planner, mode: Mode, resolution: float):
+def world_checks(world: SimWorld, planner: Planner, mode: Mode, step: float):
     """`valid(q)` and `free(a, b)` in the current world: the world for the
     objects where they stand, the planner for the rest (self and static
     collisions).  Both leave the robot wherever they checked last."""
@@ -163,9 +163,9 @@ def world_checks(world: SimWorld, planner: Planner, mode: Mode, resolution: floa
         return not world.touching(obstacles=False) and not planner.contacts(mode, tuple(q)).static
 
     def free(a, b) -> bool:  # the planner's question for the whole segment at once (batched)
-        if planner.motion_contacts(mode, tuple(a), tuple(b), resolution / CHECK).static:
+        if planner.motion_contacts(mode, tuple(a), tuple(b), step / CHECK).static:
             return False
-        for q in steps((a, b), resolution / CHECK):
+        for q in steps((a, b), step / CHECK):
             world.set_config(q)
             if world.touching(obstacles=False):
                 return False

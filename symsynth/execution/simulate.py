@@ -195,7 +195,7 @@ class Simulator:
         self.anchors = anchor_configs(planner, scene)
         self.approaches = primitives.Approaches(planner)  # grab and drop paths, shared by the runs
         self.per_radian = scene.geometry.per_radian
-        self.planner_step = scene.geometry.planner.resolution  # radians; `resolution` quantizes costs
+        self.planner_step = scene.geometry.planner.check_step  # radians; `resolution` quantizes costs
 
     def run(self, human: Human, seed: int = 0, *, recorder: Callable[[SimWorld], Recorder] | None = None,
             gui: bool = False, max_actions: int = MAX_ACTIONS) -> Run:

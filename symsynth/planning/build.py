@@ -193,7 +193,7 @@ def provenance(scene: Scene, method: str, planner_name: str, seed: int) -> Prove
     settings = scene.geometry.planner
     return Provenance(planner_name, planner_version(planner_name), method, seed,
                       settings.roadmap_size if settings.seconds is None else None, settings.seconds,
-                      settings.resolution)
+                      settings.check_step)
 
 
 def _factory(scene: Scene, name: str, planner_factory: Callable[[Scene], Planner] | None
@@ -216,7 +216,7 @@ def _roadmaps(scene: Scene, name: str, planner: Planner, jobs: list, settings, s
     `executor` given (each worker builds its own planner: the results do not
     depend on where they are computed)."""
     args = [(members[0], {name: q for name, (q, _) in anchors.items()}, settings.roadmap_size, seed,
-             settings.resolution, settings.seconds) for members, anchors in jobs]
+             settings.check_step, settings.seconds) for members, anchors in jobs]
     if executor is None and workers <= 1:
         results = []
         for job in args:
@@ -245,7 +245,7 @@ def _worker_job(job):
     return _roadmap_job(_worker_planner, *job)
 
 
-def _roadmap_job(planner: Planner, mode: Mode, anchors: dict, size: int, seed: int, resolution: float,
+def _roadmap_job(planner: Planner, mode: Mode, anchors: dict, size: int, seed: int, step: float,
                  seconds: float | None):
     start = time.perf_counter()
     if seconds is None:  # planners without a time limit need not take the parameter
@@ -253,7 +253,7 @@ def _roadmap_job(planner: Planner, mode: Mode, anchors: dict, size: int, seed: i
     else:
         roadmap = planner.roadmap(mode, anchors, size, seed, seconds=seconds)
     middle = time.perf_counter()
-    blocked = edge_blockers(planner, mode, roadmap, resolution)
+    blocked = edge_blockers(planner, mode, roadmap, step)
     return roadmap, blocked, (middle - start, time.perf_counter() - middle)
 
 
@@ -285,10 +285,10 @@ def physical_queries(scene: Scene, mode: Mode, touched: dict[str, frozenset[str]
     return queries
 
 
-def edge_blockers(planner: Planner, mode: Mode, roadmap: Roadmap, resolution: float) -> list[frozenset[str]]:
+def edge_blockers(planner: Planner, mode: Mode, roadmap: Roadmap, step: float) -> list[frozenset[str]]:
     """The location obstacles each roadmap edge touches (computed once per roadmap)."""
     configs = roadmap.configs
-    return [planner.motion_contacts(mode, tuple(configs[i]), tuple(configs[j]), resolution).locations
+    return [planner.motion_contacts(mode, tuple(configs[i]), tuple(configs[j]), step).locations
             for i, j in roadmap.edges]
 
 

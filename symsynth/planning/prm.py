@@ -62,7 +62,7 @@ Outside = Callable[[Roadmap], list[str]]
 
 
 def build_roadmap(limits: np.ndarray, valid: Validity, motion_valid: MotionValidity,
-                  anchors: Mapping[str, Config], size: int, seed: int, resolution: float,
+                  anchors: Mapping[str, Config], size: int, seed: int, step: float,
                   seconds: float | None = None, outside: Outside | None = None) -> Roadmap:
     """A PRM roadmap of the anchors plus about `size` sampled milestones, or
     (when `seconds` is given, and then `size` is not used) the milestones
@@ -70,8 +70,8 @@ def build_roadmap(limits: np.ndarray, valid: Validity, motion_valid: MotionValid
 
     `limits` is (d, 2), lower and upper bound per joint; `valid(q)` is false
     for a configuration in static collision; `motion_valid(a, b)` checks the
-    straight segment (its callers step along it at `resolution` radians,
-    which is also given to OMPL as its checking resolution).
+    straight segment (its callers step along it at `step` radians, which is
+    also given to OMPL as its state validity checking resolution).
 
     `outside(roadmap)` names the anchors a grown roadmap leaves unconnected
     (default `outside_largest_component`); growth goes on while it names
@@ -85,13 +85,13 @@ def build_roadmap(limits: np.ndarray, valid: Validity, motion_valid: MotionValid
     limits = np.asarray(limits, dtype=float)
     if limits.ndim != 2 or limits.shape[1] != 2 or np.any(limits[:, 0] > limits[:, 1]):
         raise PlannerError(f"joint limits must be (d, 2) with lower <= upper, got {limits.tolist()}")
-    if not (size >= 1 and resolution > 0):  # written so that NaN fails too
-        raise PlannerError(f"roadmap size must be >= 1 and resolution > 0, got {size} and {resolution}")
+    if not (size >= 1 and step > 0):  # written so that NaN fails too
+        raise PlannerError(f"roadmap size must be >= 1 and check step > 0, got {size} and {step}")
     if seconds is not None and not seconds > 0:
         raise PlannerError(f"a roadmap time limit must be positive, got {seconds} s")
     points, index = _anchor_milestones(limits, valid, anchors)
     draws = _Draws(limits, valid, points, seed)
-    prm, space_info, _alive = _prm(limits, valid, motion_valid, draws, resolution)
+    prm, space_info, _alive = _prm(limits, valid, motion_valid, draws, step)
 
     judge = outside_largest_component if outside is None else outside
     budget = _Budget(len(points), size, seconds)
@@ -240,7 +240,7 @@ def _config(state: ob.State, dimension: int) -> np.ndarray:
 
 
 def _prm(limits: np.ndarray, valid: Validity, motion_valid: MotionValidity, draws: _Draws,
-         resolution: float) -> tuple[og.PRM, ob.SpaceInformation, tuple]:
+         step: float) -> tuple[og.PRM, ob.SpaceInformation, tuple]:
     """The PRM, its space information, and the Python objects OMPL holds
     pointers to (the bindings do not keep them alive for us)."""
     ou.setLogLevel(ou.LOG_WARN)
@@ -257,7 +257,7 @@ def _prm(limits: np.ndarray, valid: Validity, motion_valid: MotionValidity, draw
     space_info.setMotionValidator(validator)
     space_info.setValidStateSamplerAllocator(draws.sampler)
     extent = space.getMaximumExtent()
-    space_info.setStateValidityCheckingResolution(min(1.0, resolution / extent) if extent > 0 else 1.0)
+    space_info.setStateValidityCheckingResolution(min(1.0, step / extent) if extent > 0 else 1.0)
     space_info.setup()
     problem = ob.ProblemDefinition(space_info)
     problem.setOptimizationObjective(ob.PathLengthOptimizationObjective(space_info))

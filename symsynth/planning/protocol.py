@@ -19,8 +19,8 @@ Conventions both built-in planners follow (and the suite checks):
   links below it (the fingers hold it), but against the rest of the robot;
 * when `Contacts.static` is true, `locations` may be incomplete (the check
   stops early; for `motion_contacts`, exactly where is fixed below);
-* "at most `resolution` radians" is the euclidean norm in joint space, and
-  the roadmap's edges are checked at `geometry.planner.resolution`;
+* "at most `step` radians" is the euclidean norm in joint space, and
+  the roadmap's edges are checked at `geometry.planner.check_step`;
 * an unknown object or grasp in a mode raises `PlannerError`.
 """
 
@@ -109,9 +109,9 @@ class Planner(Protocol):
         at one configuration: self-collision (adjacent links excluded,
         `planning.adjacent`), static obstacles, and location obstacles."""
 
-    def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
+    def motion_contacts(self, mode: Mode, start: Config, goal: Config, step: float) -> Contacts:
         """`contacts` along the straight joint-space segment, checked at steps
-        of at most `resolution` radians, both ends included (`planning.segment`).
+        of at most `step` radians, both ends included (`planning.segment`).
 
         The check stops at the first configuration with a static contact (the
         whole motion is unusable): the answer is then `static=True` with the

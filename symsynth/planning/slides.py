@@ -66,13 +66,13 @@ def slide_path(scene: Scene, planner: Planner, obj: str, contact: str, start: st
     segments = [(here @ frame.pre_image(), here @ frame.pose), (here @ frame.pose, there @ frame.pose),
                 (there @ frame.pose, there @ frame.pre_image())]
     for a, b in segments:
-        found = straight(planner, path[-1], a, b, geometry.planner.resolution)
+        found = straight(planner, path[-1], a, b, geometry.planner.check_step)
         if found is None:
             return None
         path += found[0][1:]
         touched |= found[1]
     if path[-1] != tuple(last):
-        ending: Contacts = planner.motion_contacts(Mode(), path[-1], tuple(last), geometry.planner.resolution)
+        ending: Contacts = planner.motion_contacts(Mode(), path[-1], tuple(last), geometry.planner.check_step)
         if ending.static:
             return None
         touched |= ending.locations
@@ -80,12 +80,12 @@ def slide_path(scene: Scene, planner: Planner, obj: str, contact: str, start: st
     return tuple(path), frozenset(touched - {start, goal})
 
 
-def straight(planner: Planner, q: Config, a: Pose, b: Pose, resolution: float
+def straight(planner: Planner, q: Config, a: Pose, b: Pose, step: float
              ) -> tuple[list[Config], frozenset[str]] | None:
     """The end-effector along the straight line from pose `a` (where the
     robot stands at `q`) to pose `b`, the hand empty, by inverse kinematics
     in `STEP`s: the configurations (`q` first) and the places the motion
-    through them touches (each joint-space segment checked at `resolution`
+    through them touches (each joint-space segment checked at `step`
     radians, as `costmap verify` checks it again); None when a step fails
     or the hand meets a static obstacle.  Shared by the slides and by the
     grab's approach (`symsynth_primitives`)."""
@@ -96,7 +96,7 @@ def straight(planner: Planner, q: Config, a: Pose, b: Pose, resolution: float
         if reached is None:
             return None
         for config in reached:
-            found = planner.motion_contacts(Mode(), path[-1], config, resolution)
+            found = planner.motion_contacts(Mode(), path[-1], config, step)
             if found.static:
                 return None
             touched |= found.locations

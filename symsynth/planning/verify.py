@@ -5,7 +5,7 @@ every place outside `F` occupied (except the places the motion's `never` set
 says cannot be, as `build.physical_queries` gives them), the robot can
 follow `path` from `s`'s configuration to `t`'s, and it costs `c`.  Each
 path's end points are compared with the anchors' configurations, the path
-is checked again, at a finer resolution than the one it was built with,
+is checked again, at a finer check step than the one it was built with,
 against the static obstacles and exactly those location obstacles, and its
 cost is recomputed.  A failure is a bug in a planner or in the costmap
 algorithms.
@@ -99,11 +99,11 @@ def installed_planner(name: str, source: str) -> str:
     return name
 
 
-def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution: float,
+def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, step: float,
                    progress: bool = True) -> tuple[int, list[Failure]]:
-    """(rules checked, failures).  `resolution` is the step along each path
-    (the command passes a quarter of the finer of the recorded build
-    resolution and the scene's);
+    """(rules checked, failures).  `step` is the step along each path, in
+    radians (the command passes a quarter of the finer of the recorded
+    build check step and the scene's);
     `planner` must be the one that built the costmap (module doc)."""
     places = frozenset(scene.locations + scene.else_samples)
     per_radian = scene.geometry.per_radian
@@ -145,7 +145,7 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
                  f"x {per_radian} per radian = {per_radian * path_length(rule.path):.6f}")
         allowed = rule.free | query.never
         for a, b in zip(rule.path, rule.path[1:] or rule.path):
-            contacts = planner.motion_contacts(mode, tuple(a), tuple(b), resolution)
+            contacts = planner.motion_contacts(mode, tuple(a), tuple(b), step)
             if contacts.static:
                 fail("collides with the robot itself or a static obstacle")
                 break
@@ -156,12 +156,12 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, resolution:
     for (contact, start, goal), rules in costmap.slides.items():
         for i, rule in enumerate(rules):
             checked += 1
-            for reason in _slide_problems(scene, planner, configs, limits, resolution, contact, start, goal, rule):
+            for reason in _slide_problems(scene, planner, configs, limits, step, contact, start, goal, rule):
                 failures.append(Failure(f"slide {contact}", start, goal, i, reason))
     return checked, failures
 
 
-def _slide_problems(scene: Scene, planner: Planner, configs: dict, limits: np.ndarray, resolution: float,
+def _slide_problems(scene: Scene, planner: Planner, configs: dict, limits: np.ndarray, step: float,
                     contact: str, start: str, goal: str, rule) -> list[str]:
     """What is wrong with a slide rule's evidence (`planning.slides`): its
     path must run from anchor `start/contact` to `goal/contact` within the
@@ -191,7 +191,7 @@ def _slide_problems(scene: Scene, planner: Planner, configs: dict, limits: np.nd
     allowed = rule.free | {start, goal}
     places = frozenset(scene.locations + scene.else_samples)
     for a, b in zip(rule.path, rule.path[1:] or rule.path):
-        contacts = planner.motion_contacts(Mode(), tuple(a), tuple(b), resolution)
+        contacts = planner.motion_contacts(Mode(), tuple(a), tuple(b), step)
         if contacts.static:
             problems.append("the hand collides with the robot itself or a static obstacle")
             break

@@ -53,7 +53,8 @@ class Provenance:
     by its entry-point name, the version of the package that provides it,
     and `symsynth costmap`'s method, seed and the scene's roadmap settings
     (`roadmap_size`, or `seconds` for a time-limited roadmap, and the
-    collision-check `resolution` in radians).  Only `name` is required."""
+    `check_step` in radians between collision checks; files written before
+    it was renamed say `resolution`).  Only `name` is required."""
 
     name: str
     version: str | None = None
@@ -61,7 +62,7 @@ class Provenance:
     seed: int | None = None
     roadmap_size: int | None = None
     seconds: float | None = None
-    resolution: float | None = None
+    check_step: float | None = None
 
     def to_json(self) -> dict[str, Any]:
         return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) is not None}
@@ -183,7 +184,7 @@ def _provenance(value: Any, problems: list[str]) -> Provenance | None:
         number = value.get(key)
         if number is not None and (not isinstance(number, int) or isinstance(number, bool) or number < least):
             problems.append(f"planner.{key}: expected a whole number >= {least}, found {number!r}")
-    for key in ("seconds", "resolution"):
+    for key in ("seconds", "check_step", "resolution"):  # resolution: check_step's old name
         number = value.get(key)
         if number is not None and (not _is_number(number) or number <= 0):
             problems.append(f"planner.{key}: expected a finite number > 0, found {number!r}")
@@ -191,10 +192,11 @@ def _provenance(value: Any, problems: list[str]) -> Provenance | None:
         problems.append("planner: a roadmap has either a size (roadmap_size) or a time limit (seconds), not both")
     if len(problems) > found:
         return None
+    step = value.get("check_step", value.get("resolution"))
     return Provenance(name, value.get("version"), value.get("method"), value.get("seed"),
                       value.get("roadmap_size"),
                       None if value.get("seconds") is None else float(value["seconds"]),
-                      None if value.get("resolution") is None else float(value["resolution"]))
+                      None if step is None else float(step))
 
 
 def _rule(rule: Any, where: str, problems: list[str]) -> Rule | None:

@@ -169,7 +169,7 @@ class PlannerSettings:
     name: str = "ompl-fcl"
     roadmap_size: int = 300  # vertices per mode, anchors not counted
     seconds: float | None = None  # a time limit per roadmap instead of a size
-    resolution: float = 0.05  # radians between collision checks along an edge
+    check_step: float = 0.05  # radians between collision checks along a segment (YAML: check_step)
     seed: int = 0
 
 

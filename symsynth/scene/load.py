@@ -12,13 +12,14 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
+import warnings
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import jsonschema
 
-from symsynth.errors import InputError, LTLfSyntaxError
+from symsynth.errors import InputError, LTLfSyntaxError, SymsynthWarning
 from symsynth.logic import ast
 from symsynth.logic.parser import parse_ltlf
 from symsynth.primitives import PrimitiveError, displacement
@@ -351,6 +352,13 @@ class Report:
         where = f"{self.source}:{line}" if line else self.source
         key = ".".join(map(str, path)) or "(top)"
         self.problems.append(f"{where}: {key}: {message}")
+
+    def warn(self, path: KeyPath, message: str) -> None:
+        """Something that does not stop the load (a deprecated key), located
+        as `add` locates problems: a `SymsynthWarning`."""
+        line = line_of(self.lines, path)
+        where = f"{self.source}:{line}" if line else self.source
+        warnings.warn(f"{where}: {'.'.join(map(str, path))}: {message}", SymsynthWarning, stacklevel=2)
 
     def raise_if_any(self) -> None:
         if self.problems:

@@ -30,7 +30,7 @@ grasps:
 contacts:              # optional: poses for displacement primitives (push, pull, plugins)
   behind: {primitive: push, xyz: [-0.16, 0, 0.12], rpy: [0, 2.356, 0], approach: 0.05}
 costs: {per_radian: 1, grab: 5, drop: 5, push: 2}   # push: the primitive's fixed cost
-planner: {name: ompl-fcl, roadmap_size: 300, resolution: 0.05, seed: 0}
+planner: {name: ompl-fcl, roadmap_size: 300, check_step: 0.05, seed: 0}
 ```
 
 `planner: {seconds: S}` instead of `roadmap_size` grows each mode's roadmap
@@ -105,7 +105,8 @@ PLANNER = {
         "name": {"type": "string"},
         "roadmap_size": {"type": "integer", "minimum": 2},
         "seconds": POSITIVE,
-        "resolution": POSITIVE,
+        "check_step": POSITIVE,
+        "resolution": POSITIVE,  # check_step's old name (deprecated)
         "seed": {"type": "integer", "minimum": 0},
     },
 }
@@ -123,6 +124,8 @@ MAX_ELSE_SAMPLES = 64
 
 class Report(Protocol):
     def add(self, path: tuple, message: str) -> None: ...
+
+    def warn(self, path: tuple, message: str) -> None: ...
 
 
 def pose_of(spec: dict[str, Any]) -> Pose:
@@ -159,11 +162,18 @@ def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report
     if "seconds" in settings and "roadmap_size" in settings:
         report.add(("planner", "seconds"), "give the roadmap either a size (roadmap_size) or a time limit "
                    "(seconds), not both")
+    step = settings.get("check_step", PlannerSettings.check_step)
+    if "resolution" in settings and "check_step" in settings:
+        report.add(("planner", "resolution"), "give check_step only (resolution is its old name)")
+    elif "resolution" in settings:  # the old name, read as check_step for now
+        report.warn(("planner", "resolution"), "deprecated: rename it check_step (radians between collision "
+                    "checks along a segment; 'resolution' now means only the game's cost unit, --resolution)")
+        step = settings["resolution"]
     planner = PlannerSettings(
         name=settings.get("name", PlannerSettings.name),
         roadmap_size=settings.get("roadmap_size", PlannerSettings.roadmap_size),
         seconds=settings.get("seconds"),
-        resolution=float(settings.get("resolution", PlannerSettings.resolution)),
+        check_step=float(step),
         seed=settings.get("seed", PlannerSettings.seed),
     )
     if robot is None:

@@ -53,9 +53,9 @@ class PlanarPlanner:
         touched = frozenset(x for x, p in self.places.items() if np.linalg.norm(q - p) < PLACE_RADIUS + r)
         return Contacts(static, touched)
 
-    def motion_contacts(self, mode: Mode, start: Config, goal: Config, resolution: float) -> Contacts:
+    def motion_contacts(self, mode: Mode, start: Config, goal: Config, step: float) -> Contacts:
         a, b = np.asarray(start, float), np.asarray(goal, float)
-        steps = max(1, math.ceil(np.linalg.norm(b - a) / resolution))
+        steps = max(1, math.ceil(np.linalg.norm(b - a) / step))
         result = Contacts()
         for t in np.linspace(0.0, 1.0, steps + 1):
             result = result | self.contacts(mode, tuple(a + t * (b - a)))
@@ -107,7 +107,7 @@ def planar_scene(places: dict[str, tuple[float, float]], objects: dict[str, str]
         places={x: Pose((px, py, 0.0)) for x, (px, py) in all_places.items()},
         grasps={g: Grasp(g, Pose(GRASP_OFFSETS[i]), approach=0.0) for i, g in enumerate(grasps)},
         per_radian=per_radian,
-        planner=PlannerSettings(name="planar", roadmap_size=roadmap_size, resolution=0.02, seed=0),
+        planner=PlannerSettings(name="planar", roadmap_size=roadmap_size, check_step=0.02, seed=0),
     )
     return Scene(name="planar", objects=tuple(ObjectSpec(o, frozenset({o, "block"}), at)
                                               for o, at in objects.items()),

@@ -59,7 +59,7 @@ JOINTS = tuple(f"panda_joint{i}" for i in range(1, 8))
 FINGERS = (("panda_finger_joint1", 0.04), ("panda_finger_joint2", 0.04))
 HOME = (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785)
 ROBOT = Robot(urdf=PANDA, base=Pose(), home=HOME, ee_link="panda_hand", joints=JOINTS, fixed=FINGERS)
-RESOLUTION = 0.05
+CHECK_STEP = 0.05  # radians between collision checks along a segment
 PALM = (0.0, 0.0, 0.02)  # points inside the hand's collision mesh (checked in a test)
 PALM_LOW = (0.0, 0.0, 0.06)
 PADS = {"leftfinger": (0.0, 0.01, 0.05), "rightfinger": (0.0, -0.01, 0.05)}  # inside each finger, its frame
@@ -211,9 +211,9 @@ def inside_box(point: Sequence[float], body_pose: Pose, size: Sequence[float], m
     return bool(np.all(np.abs(centred) <= half - margin))
 
 
-def segment(start: Sequence[float], goal: Sequence[float], resolution: float = RESOLUTION / 5) -> np.ndarray:
+def segment(start: Sequence[float], goal: Sequence[float], step: float = CHECK_STEP / 5) -> np.ndarray:
     a, b = np.asarray(start, float), np.asarray(goal, float)
-    steps = max(1, math.ceil(float(np.linalg.norm(b - a)) / resolution))
+    steps = max(1, math.ceil(float(np.linalg.norm(b - a)) / step))
     return np.array([a + (b - a) * i / steps for i in range(steps + 1)])
 
 
@@ -369,7 +369,7 @@ class PlannerConformance:
                                                 margin=0.03), cross
         planner = self.planner("wall")
         assert planner.contacts(Mode(), start) == Contacts() == planner.contacts(Mode(), goal)
-        assert planner.motion_contacts(Mode(), start, goal, RESOLUTION).static
+        assert planner.motion_contacts(Mode(), start, goal, CHECK_STEP).static
 
     def test_roadmap_joins_the_anchors_around_the_wall(self):
         start, goal = self.anchor("wall", "A"), self.anchor("wall", "B")
@@ -381,7 +381,7 @@ class PlannerConformance:
         assert math.isfinite(shortest(roadmap, a, b))
         assert shortest(roadmap, a, b) > np.linalg.norm(np.subtract(goal, start)) + 1e-6
         for i, j in roadmap.edges:  # no edge carries the palm through the wall
-            palm = URDF.points(segment(roadmap.configs[i], roadmap.configs[j], RESOLUTION), PALM)
+            palm = URDF.points(segment(roadmap.configs[i], roadmap.configs[j], CHECK_STEP), PALM)
             cross = crossing(palm)
             assert cross is None or not inside_box(cross, WALL.pose, WALL.shape.size * np.array([1, 100, 1])), \
                 (i, j, cross)
@@ -400,8 +400,8 @@ class PlannerConformance:
         assert cross is not None and inside_box(cross, m, PLATE.size, margin=0.01), cross
         assert mesh("hand").contains([PALM_LOW])[0]
         planner = self.planner("passage")
-        assert planner.motion_contacts(Mode(), start, goal, RESOLUTION) == Contacts(locations=frozenset({"M"}))
-        assert planner.motion_contacts(Mode(), goal, start, RESOLUTION) == Contacts(locations=frozenset({"M"}))
+        assert planner.motion_contacts(Mode(), start, goal, CHECK_STEP) == Contacts(locations=frozenset({"M"}))
+        assert planner.motion_contacts(Mode(), goal, start, CHECK_STEP) == Contacts(locations=frozenset({"M"}))
 
     def test_with_the_place_ignored_the_path_is_short(self):
         start, goal = self.anchor("passage", "A"), self.anchor("passage", "B")
@@ -410,7 +410,7 @@ class PlannerConformance:
         a, b = roadmap.anchors["A"], roadmap.anchors["B"]
         straight = float(np.linalg.norm(np.subtract(goal, start)))
         assert shortest(roadmap, a, b) == pytest.approx(straight, abs=1e-9)
-        blocked = [planner.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], RESOLUTION).locations
+        blocked = [planner.motion_contacts(Mode(), roadmap.configs[i], roadmap.configs[j], CHECK_STEP).locations
                    for i, j in roadmap.edges]
         direct = [k for k, (i, j) in enumerate(roadmap.edges) if {i, j} == {a, b}]
         assert len(direct) == 1 and blocked[direct[0]] == {"M"}
@@ -456,7 +456,7 @@ class PlannerConformance:
             assert np.all(np.abs(points[:, 1]) < 0.15 - 0.05), link  # inside the gap, 5 cm clear
             assert np.all(points[:, 2] < 0.5), link  # and below the posts' tops
         planner = self.planner("gap")
-        assert planner.motion_contacts(Mode(), high, low, RESOLUTION) == Contacts()
+        assert planner.motion_contacts(Mode(), high, low, CHECK_STEP) == Contacts()
 
     def test_long_held_object_collides_in_the_gap(self):
         low, high = self.gap_configs()
@@ -466,7 +466,7 @@ class PlannerConformance:
         planner, holding = self.planner("gap"), Mode("bar", "top")
         assert planner.contacts(holding, low) == Contacts(static=True)
         assert planner.contacts(holding, high) == Contacts()
-        assert planner.motion_contacts(holding, high, low, RESOLUTION).static
+        assert planner.motion_contacts(holding, high, low, CHECK_STEP).static
 
     # --- (4) location obstacles and modes
 
@@ -497,16 +497,16 @@ class PlannerConformance:
         assert inside_box(URDF.point(INTO_TABLE, PALM), TABLE.pose, TABLE.shape.size, margin=0.015)
         planner = self.planner("single")
         assert planner.contacts(Mode(), config) == Contacts(locations=frozenset({"x"}))
-        assert planner.motion_contacts(Mode(), config, INTO_TABLE, RESOLUTION) == \
+        assert planner.motion_contacts(Mode(), config, INTO_TABLE, CHECK_STEP) == \
             Contacts(static=True, locations=frozenset({"x"}))
-        assert planner.motion_contacts(Mode(), INTO_TABLE, config, RESOLUTION) == Contacts(static=True)
+        assert planner.motion_contacts(Mode(), INTO_TABLE, config, CHECK_STEP) == Contacts(static=True)
 
     def test_motion_contacts_include_both_ends(self):
         config = self.finger_in_block()
         planner = self.planner("single")
-        assert planner.motion_contacts(Mode(), HOME, config, RESOLUTION).locations == {"x"}
-        assert planner.motion_contacts(Mode(), config, HOME, RESOLUTION).locations == {"x"}
-        assert planner.motion_contacts(Mode(), config, config, RESOLUTION).locations == {"x"}
+        assert planner.motion_contacts(Mode(), HOME, config, CHECK_STEP).locations == {"x"}
+        assert planner.motion_contacts(Mode(), config, HOME, CHECK_STEP).locations == {"x"}
+        assert planner.motion_contacts(Mode(), config, config, CHECK_STEP).locations == {"x"}
         coarse = 10 * float(np.linalg.norm(np.subtract(config, HOME)))  # one step: the ends alone
         assert planner.motion_contacts(Mode(), HOME, config, coarse).locations == {"x"}
         assert planner.motion_contacts(Mode(), config, HOME, coarse).locations == {"x"}
