@@ -12,16 +12,21 @@ from __future__ import annotations
 from symsynth.planning.methods import Query
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError
 from symsynth.scene.geometry import point_text
-from symsynth.scene.model import HOME, Scene
+from symsynth.scene.model import HOME, Scene, geometry_of
 
 
 def place_of(anchor: str) -> str | None:
-    return None if anchor == HOME else anchor.rsplit("/", 1)[0]
+    return None if anchor == HOME else _place(anchor)
+
+
+def _place(anchor: str) -> str:
+    """The place of an anchor `x/a` (not `home`)."""
+    return anchor.rsplit("/", 1)[0]
 
 
 def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
     """Every anchor's configuration; all failures are reported together."""
-    geometry = scene.geometry
+    geometry = geometry_of(scene)
     home = tuple(geometry.robot.home)
     configs: dict[str, Config] = {HOME: home}
     problems = []
@@ -64,7 +69,7 @@ def mode_queries(scene: Scene, mode: Mode) -> tuple[Query, ...]:
     places = scene.locations + scene.else_samples
     if mode.object is None:
         targets = [f"{x}/{a}" for x in places for a in scene.preimages]
-        return tuple(Query(s, t, always=frozenset({place_of(t)}))
+        return tuple(Query(s, t, always=frozenset({_place(t)}))
                      for s in (HOME,) + tuple(targets) for t in targets if s != t)
     g = mode.grasp
     result = []

@@ -29,7 +29,7 @@ from symsynth.planning.registry import planner_class, planner_version
 from symsynth.primitives import displacement, primitive
 from symsynth.scene.costmap import Costmap, CostmapError, Provenance, Rule, SlideKey, costmap_from_data
 from symsynth.scene.load import costmap_problems
-from symsynth.scene.model import Scene
+from symsynth.scene.model import Scene, geometry_of
 
 
 @dataclass
@@ -54,7 +54,7 @@ class Stats:
 
 def _geometric_key(scene: Scene, mode: Mode) -> tuple:
     """Modes with equal keys see the same static and location geometry."""
-    shapes = scene.geometry.shapes
+    shapes = geometry_of(scene).shapes
     if mode.object is None:
         return ("empty",)
     others = sorted(repr(shapes[o]) for o in shapes if o != mode.object)
@@ -180,7 +180,7 @@ def slide_rules(scene: Scene, planner: Planner, configs: dict[str, Config]) -> d
     (`planning.primitive`); the same for every costmap method: a slide is
     one Cartesian path, not a roadmap search."""
     found: dict[SlideKey, list[Rule]] = {}
-    for contact, spec in sorted(scene.geometry.contacts.items()):
+    for contact, spec in sorted(geometry_of(scene).contacts.items()):
         for rule in displacement(spec.primitive).slides(scene, planner, contact, configs):
             found.setdefault((rule.contact, rule.start, rule.goal), []).append(
                 Rule(rule.free, rule.cost, rule.path))
@@ -190,7 +190,7 @@ def slide_rules(scene: Scene, planner: Planner, configs: dict[str, Config]) -> d
 def provenance(scene: Scene, method: str, planner_name: str, seed: int) -> Provenance:
     """What a costmap records of who built it (the file's key `planner`):
     everything `symsynth costmap` and the scene's planner settings chose."""
-    settings = scene.geometry.planner
+    settings = geometry_of(scene).planner
     return Provenance(planner_name, planner_version(planner_name), method, seed,
                       settings.roadmap_size if settings.seconds is None else None, settings.seconds,
                       settings.check_step)
@@ -203,7 +203,7 @@ def _factory(scene: Scene, name: str, planner_factory: Callable[[Scene], Planner
     and so does a roadmap time limit for a planner whose class does not
     declare `time_limited` (protocol.Planner.roadmap)."""
     factory = planner_factory or planner_class(name)
-    if scene.geometry.planner.seconds is not None and not getattr(factory, "time_limited", False):
+    if geometry_of(scene).planner.seconds is not None and not getattr(factory, "time_limited", False):
         raise PlannerError(f"the {name} planner has no roadmap time limit: give the scene's planner a "
                            f"roadmap_size instead of seconds")
     return factory
@@ -217,14 +217,14 @@ def _roadmaps(scene: Scene, name: str, planner: Planner, jobs: list, settings, s
     depend on where they are computed)."""
     args = [(members[0], {name: q for name, (q, _) in anchors.items()}, settings.roadmap_size, seed,
              settings.check_step, settings.seconds) for members, anchors in jobs]
+    results: list = []
     if executor is None and workers <= 1:
-        results = []
         for job in args:
             bar.set_postfix_str(f"{job[0]}: roadmap and edge checks")
             results.append(_roadmap_job(planner, *job))
             bar.update()
         return results
-    results: list = [None] * len(args)
+    results = [None] * len(args)
     with executor or LocalPool(workers) as running:
         for i, result in running.imap(_worker_job, args, setup=_start_worker, setup_args=(scene, name)):
             results[i] = result
@@ -242,6 +242,8 @@ def _start_worker(scene: Scene, name: str) -> None:
 
 
 def _worker_job(job):
+    if _worker_planner is None:  # set by _start_worker, the pool's setup
+        raise RuntimeError("a roadmap job ran in a worker whose planner was not started")
     return _roadmap_job(_worker_planner, *job)
 
 
@@ -326,8 +328,9 @@ def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | 
                    executor: Executor | None = None) -> Obtained:
     """The cached costmap of a physical scene, or a new one (then cached);
     its roadmaps built on `executor` (default: a local pool)."""
-    name = planner_name or scene.geometry.planner.name
-    seed = scene.geometry.planner.seed if seed is None else seed
+    settings = geometry_of(scene).planner
+    name = planner_name or settings.name
+    seed = settings.seed if seed is None else seed
     _factory(scene, name, planner_factory)  # fails before anything is hashed or computed
     path = cache.cache_path(scene, method, name, seed) if use_cache else None
     hit = None if path is None else cache.cached(path, scene)
@@ -335,7 +338,7 @@ def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | 
     # A hit without a record predates it (the key says who built it); one
     # with another record was built by another version of the plugin (the
     # key has symsynth's version, not the plugin's): computed again.
-    if hit is not None and hit.provenance in (None, built):
+    if hit is not None and path is not None and hit.provenance in (None, built):  # a hit has its path
         if hit.provenance is None:  # written back with its record, so the file says who built it
             hit = dataclasses.replace(hit, provenance=built)
             cache.store(hit, path)

@@ -28,7 +28,7 @@ from symsynth.files import write_atomic
 from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data
 from symsynth.scene.load import costmap_problems
 from symsynth.scene.yamlpos import read_json
-from symsynth.scene.model import Scene
+from symsynth.scene.model import Scene, geometry_of
 
 #: Bumped whenever the way costmaps are computed changes, so that no cached
 #: costmap of an older revision is reused.
@@ -43,15 +43,15 @@ def cache_dir() -> Path:
 
 
 def cache_key(scene: Scene, method: str, planner: str, seed: int) -> str:
-    geometry = dataclasses.replace(scene.geometry, initial={},
-                                   planner=dataclasses.replace(scene.geometry.planner, name="", seed=0))
+    physical = geometry_of(scene)
+    geometry = dataclasses.replace(physical, initial={}, planner=dataclasses.replace(physical.planner, name="", seed=0))
     digest = hashlib.sha256()
     for part in (__version__, str(FORMAT_REVISION), method, planner, str(seed), repr(scene.object_names),
                  repr(sorted((o.name, sorted(o.tags)) for o in scene.objects)),
                  repr(scene.locations), repr(scene.else_samples), repr(scene.grasps), repr(geometry)):
         digest.update(part.encode() + b"\0")
-    files = [scene.geometry.robot.urdf] + [s.mesh for s in scene.geometry.shapes.values() if s.mesh] \
-        + [b.shape.mesh for b in scene.geometry.obstacles if b.shape.mesh]
+    files = [physical.robot.urdf] + [s.mesh for s in physical.shapes.values() if s.mesh] \
+        + [b.shape.mesh for b in physical.obstacles if b.shape.mesh]
     for path in files:
         digest.update(Path(path).read_bytes())
     return digest.hexdigest()[:24]

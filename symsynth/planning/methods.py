@@ -231,8 +231,8 @@ def recursive(search: RoadmapSearch, query: Query, per_radian: float) -> tuple[R
     start, goal = search.vertex(query.start), search.vertex(query.goal)
     cands = candidates(search, query)
     rules = []
-    seen = {frozenset()}
-    todo = deque([frozenset()])
+    seen: set[frozenset[str]] = {frozenset()}
+    todo: deque[frozenset[str]] = deque([frozenset()])
     while todo:
         obs = todo.popleft()
         path = search.best_path(start, goal, obs | query.always)

@@ -195,6 +195,7 @@ class _Draws:
         return self.samplers[-1]
 
     def next(self) -> np.ndarray | None:
+        q: np.ndarray | None
         if self.pending:
             q = self.pending.pop(0)
         else:

@@ -36,8 +36,8 @@ import numpy as np
 
 from symsynth.planning.primitive import SlideRule
 from symsynth.planning.protocol import Config, Contacts, Mode, Planner
-from symsynth.scene.geometry import Pose
-from symsynth.scene.model import Scene
+from symsynth.scene.geometry import Pose, vec3
+from symsynth.scene.model import Scene, geometry_of
 
 STEP = 0.01  # metres between inverse kinematics steps along a segment
 MAX_JUMP = 0.3  # radians (joint-space norm) between two steps
@@ -50,7 +50,7 @@ def slide_path(scene: Scene, planner: Planner, obj: str, contact: str, start: st
                anchors: Mapping[str, Config]) -> tuple[tuple[Config, ...], frozenset[str]] | None:
     """The configurations of the slide (module doc) and the places it
     touches, or None when it is not possible."""
-    geometry = scene.geometry
+    geometry = geometry_of(scene)
     frame = geometry.hand_frame(contact)
     here, there = geometry.places[start], geometry.places[goal]
     if abs(here.xyz[2] - there.xyz[2]) > SAME_HEIGHT or here.angle_to(there) > SAME_ORIENTATION:
@@ -89,7 +89,8 @@ def straight(planner: Planner, q: Config, a: Pose, b: Pose, step: float
     radians, as `costmap verify` checks it again); None when a step fails
     or the hand meets a static obstacle.  Shared by the slides and by the
     grab's approach (`symsynth_primitives`)."""
-    path, touched = [tuple(q)], set()
+    path: list[Config] = [tuple(q)]
+    touched: set[str] = set()
     previous = a
     for pose in _between(a, b):
         reached = _reach(planner, path[-1], previous, pose, 0)
@@ -113,7 +114,7 @@ def slide_rule(scene: Scene, planner: Planner, obj: str, contact: str, start: st
         return None
     path, touched = found
     length = float(np.linalg.norm(np.diff(np.asarray(path), axis=0), axis=1).sum())
-    cost = length * scene.geometry.per_radian + fixed_cost
+    cost = length * geometry_of(scene).per_radian + fixed_cost
     return SlideRule(contact, start, goal, touched, cost, path)
 
 
@@ -124,13 +125,15 @@ def swept_places(scene: Scene, obj: str, start: str, goal: str) -> frozenset[str
     (bounding circles on the table: more places than exactly touched,
     never fewer, so the rule's condition stays sound).  None for an object
     of a shape without a known footprint (a mesh)."""
-    shapes = scene.geometry.shapes
+    geometry = geometry_of(scene)
+    shapes = geometry.shapes
     radius = _footprint(shapes[obj])
     others = [_footprint(shape) for name, shape in shapes.items() if name != obj]
-    if radius is None or None in others:
+    known = [r for r in others if r is not None]
+    if radius is None or len(known) < len(others):
         return None
-    reach = radius + max(others, default=0.0)
-    places = scene.geometry.places
+    reach = radius + max(known, default=0.0)
+    places = geometry.places
     a, b = np.asarray(places[start].xyz[:2]), np.asarray(places[goal].xyz[:2])
     found = set()
     for name, pose in places.items():
@@ -157,7 +160,7 @@ def direction(scene: Scene, contact: str, start: str, goal: str) -> float:
     the direction the contact's hand faces (its z axis, along which it
     approaches), both projected on the table; pi when the hand faces
     straight down."""
-    geometry = scene.geometry
+    geometry = geometry_of(scene)
     here, there = geometry.places[start], geometry.places[goal]
     facing = (here @ geometry.hand_frame(contact).pose).matrix()[:3, 2]
     move = np.subtract(there.xyz, here.xyz)
@@ -178,7 +181,7 @@ def _reach(planner: Planner, q: Config, a: Pose, b: Pose, depth: int) -> list[Co
         return [tuple(found)]
     if depth == SPLITS:
         return None
-    middle = Pose(tuple(float(v) for v in (np.add(a.xyz, b.xyz) / 2)), b.quat)
+    middle = Pose(vec3(np.add(a.xyz, b.xyz) / 2), b.quat)
     first = _reach(planner, q, a, middle, depth + 1)
     if first is None:
         return None
@@ -191,4 +194,4 @@ def _between(a: Pose, b: Pose) -> list[Pose]:
     most STEP apart, the orientation of `a` (the segments keep it)."""
     gap = np.subtract(b.xyz, a.xyz)
     steps = max(1, math.ceil(np.linalg.norm(gap) / STEP))
-    return [Pose(tuple(float(v) for v in np.add(a.xyz, gap * i / steps)), a.quat) for i in range(1, steps + 1)]
+    return [Pose(vec3(np.add(a.xyz, gap * i / steps)), a.quat) for i in range(1, steps + 1)]

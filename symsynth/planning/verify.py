@@ -40,7 +40,7 @@ from symsynth.planning.slides import swept_places
 from symsynth.primitives import displacement
 from symsynth.scene.costmap import Costmap
 from symsynth.scene.geometry import point_text
-from symsynth.scene.model import Scene
+from symsynth.scene.model import Scene, geometry_of
 
 #: How far (radians, per joint) a path's end may be from its anchor's configuration.
 ANCHOR_TOLERANCE = 1e-6
@@ -106,7 +106,7 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, step: float
     build check step and the scene's);
     `planner` must be the one that built the costmap (module doc)."""
     places = frozenset(scene.locations + scene.else_samples)
-    per_radian = scene.geometry.per_radian
+    per_radian = geometry_of(scene).per_radian
     failures: list[Failure] = []
     configs = anchor_configs(planner, scene)
     limits = np.asarray(planner.limits, dtype=float)
@@ -169,7 +169,8 @@ def _slide_problems(scene: Scene, planner: Planner, configs: dict, limits: np.nd
     cost, meet no static obstacle with the hand, and touch (with the hand)
     or sweep (with the object's footprint) no place outside its `free` set
     but the two locations."""
-    spec = scene.geometry.contacts.get(contact)
+    geometry = geometry_of(scene)
+    spec = geometry.contacts.get(contact)
     if spec is None or start not in scene.locations or goal not in scene.locations:
         return ["not a slide of this scene"]
     if rule.path is None or len(rule.path) == 0:
@@ -183,11 +184,11 @@ def _slide_problems(scene: Scene, planner: Planner, configs: dict, limits: np.nd
         if anchor not in configs or not _same_config(point, configs[anchor]):
             problems.append(f"{end} at {point_text(point)}, not at anchor {anchor}")
     plugin = displacement(spec.primitive)
-    fixed = scene.geometry.primitive_costs.get(plugin.name, plugin.fixed_cost)
-    expected = scene.geometry.per_radian * path_length(rule.path) + fixed
+    fixed = geometry.primitive_costs.get(plugin.name, plugin.fixed_cost)
+    expected = geometry.per_radian * path_length(rule.path) + fixed
     if not math.isclose(rule.cost, expected, rel_tol=1e-9, abs_tol=1e-9):
         problems.append(f"cost {rule.cost} but the path is {path_length(rule.path):.6f} rad x "
-                        f"{scene.geometry.per_radian} per radian + {fixed} ({plugin.name}) = {expected:.6f}")
+                        f"{geometry.per_radian} per radian + {fixed} ({plugin.name}) = {expected:.6f}")
     allowed = rule.free | {start, goal}
     places = frozenset(scene.locations + scene.else_samples)
     for a, b in zip(rule.path, rule.path[1:] or rule.path):
@@ -199,7 +200,7 @@ def _slide_problems(scene: Scene, planner: Planner, configs: dict, limits: np.nd
         if touched:
             problems.append(f"the hand touches {', '.join(sorted(touched))}, which the rule assumes may be occupied")
             break
-    swept = set()
+    swept: set[str] = set()
     for obj in scene.object_names:
         swept |= swept_places(scene, obj, start, goal) or set()
     if swept - allowed:

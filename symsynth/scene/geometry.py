@@ -18,7 +18,7 @@ Conventions, fixed here once:
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -80,8 +80,9 @@ class Pose:
         return 2 * math.acos(min(1.0, dot))
 
 
-def point_text(xyz: Vec3) -> str:
-    """A point for messages: "(x, y, z)" in metres, to the millimetre."""
+def point_text(xyz: Sequence[float]) -> str:
+    """A point for messages: "(x, y, z)" in metres, to the millimetre (also
+    a configuration, in radians)."""
     return "(" + ", ".join(f"{v:.3f}" for v in xyz) + ")"
 
 
