@@ -190,7 +190,7 @@ def _provenance(value: Any, problems: list[str]) -> Provenance | None:
             problems.append(f"planner.{key}: expected a finite number > 0, found {number!r}")
     if value.get("roadmap_size") is not None and value.get("seconds") is not None:
         problems.append("planner: a roadmap has either a size (roadmap_size) or a time limit (seconds), not both")
-    if len(problems) > found:
+    if len(problems) > found or not isinstance(name, str):  # a name that is no string is a problem above
         return None
     step = value.get("check_step", value.get("resolution"))
     return Provenance(name, value.get("version"), value.get("method"), value.get("seed"),
