@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Iterable, Mapping
-from typing import Any
+from typing import Any, TypeAlias
 
 try:
     from dd import cudd as _backend
@@ -18,8 +18,10 @@ except ImportError:  # pragma: no cover - only without the CUDD extension
     from dd import autoref as _backend
     BACKEND = "autoref"
 
-BDD = _backend.BDD
-Function = Any  # the backend's node type (`dd.cudd.Function` or `dd.autoref.Function`)
+#: The backend's manager and node types (`dd.cudd` or `dd.autoref`), untyped to the
+#: type checker: dd.cudd is a compiled module without stubs.
+BDD: TypeAlias = Any
+Function: TypeAlias = Any
 Cube = tuple[tuple[str, bool], ...]  # a conjunction of literals, as (variable, polarity)
 
 
@@ -31,7 +33,7 @@ def new_manager(*, reordering: bool = False, memory: int = 2**24, cache: int = 2
     `cache` is that table's initial number of slots."""
     # dd's default sizes CUDD for 1 GiB: 17-20 ms to create and free, more
     # than most compilations take.  Start small; CUDD grows on demand.
-    bdd = BDD(memory_estimate=memory, initial_cache_size=cache) if BACKEND == "cudd" else BDD()
+    bdd = _backend.BDD(memory_estimate=memory, initial_cache_size=cache) if BACKEND == "cudd" else _backend.BDD()
     bdd.configure(reordering=reordering)
     return bdd
 
