@@ -103,7 +103,9 @@ class Progression:
 
     @_unfold.register
     def _(self, node: ast.Not):
-        return ~self.bdd.var(node.arg.key)  # NNF: only atoms are negated
+        if not isinstance(node.arg, ast.Atom):  # NNF: only atoms are negated
+            raise ValueError(f"not in negation normal form: {node!r}")
+        return ~self.bdd.var(node.arg.key)
 
     @_unfold.register
     def _(self, node: ast.Last):
@@ -291,7 +293,7 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
     # renumber blocks in BFS order from the initial state
     rename: dict[int, int] = {block[dfa.initial]: 0}
     order = [dfa.initial]
-    representative = {}
+    representative: dict[int, int] = {}  # block -> its first state in BFS order
     for state in order:
         representative.setdefault(block[state], state)
         for succ in dfa.edges[state]:

@@ -185,7 +185,7 @@ def _evaluate(bdd: BDD, values: Mapping[str, bool], u: Function) -> bool:
 def _split(bdd: BDD, functions: list[Function]) -> list[tuple[State, Function]]:
     """The distinct values of a vector of Boolean functions of the letter,
     each with the set of letters that produce it."""
-    found = [((), bdd.true)]
+    found: list[tuple[State, Function]] = [((), bdd.true)]
     for f in functions:
         found = [(value + (bit,), part)
                  for value, guard in found
