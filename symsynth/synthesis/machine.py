@@ -86,6 +86,8 @@ def strategy_machine(game: Realizability) -> Machine:
             raise TooLarge(f"the strategy has more than {MAX_STATES} states; too many to list")
         cube = dfa.state_cube(state)
         rank = game.rank(cube)
+        if rank is None:  # the walk follows winning moves only, which stay in W
+            raise ValueError(f"the strategy reached DFA state {state} outside the winning region")
         choices = bdd.let(dict(zip(dfa.bits, state)), game.choices(rank)) if dfa.bits else game.choices(rank)
         moves = []
         if game.agent_first:  # one output for every input: \A x: C
