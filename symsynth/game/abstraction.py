@@ -170,12 +170,14 @@ def motions(scene: Scene, v: State) -> list[Move]:
                     moves.append(Move("transit", action_name("transit", o, g), o, i, g, v.at[i],
                                       State(v.at, None, (o, g)), EMPTY, S, T, _motion(scene, v, EMPTY, S, T, i)))
         return moves
-    o, g = names[held], v.grip
-    mode = f"{o}/{g}"
+    o, grip = names[held], v.grip
+    if grip is None:  # holding: the grip is the grasp (semantics §2)
+        raise ValueError(f"a state holding {o} without a grasp: {v}")
+    mode = f"{o}/{grip}"
     for l in scene.locations:
         if l not in v.at and v.ee != l:
-            T = anchors(scene, l, g)
-            moves.append(Move("transfer", action_name("transfer", l), o, held, g, l, State(v.at, g, l),
+            T = anchors(scene, l, grip)
+            moves.append(Move("transfer", action_name("transfer", l), o, held, grip, l, State(v.at, grip, l),
                               mode, S, T, _motion(scene, v, mode, S, T, held)))
     return moves
 
@@ -194,7 +196,8 @@ def legal_robot_moves(scene: Scene, v: State) -> list[Move]:
                           State(_replace(v.at, i, HAND), g, v.at[i]), cost=scene.grab_cost))
     elif held is None and isinstance(v.ee, tuple):
         moves += slides(scene, v)
-    elif held is not None and v.ee in scene.locations and v.ee not in v.at:
+    elif held is not None and isinstance(v.ee, str) and v.grip is not None and v.ee in scene.locations \
+            and v.ee not in v.at:  # (holding: ee is a place and grip a grasp, semantics §2)
         o = scene.object_names[held]
         at = _replace(v.at, held, v.ee)
         moves.append(Move("drop", action_name("drop", o, v.ee), o, held, v.grip, v.ee,
@@ -206,6 +209,8 @@ def slides(scene: Scene, v: State) -> list[Move]:
     """`slide(o,a,l')` from `v` (semantics §4b): the hand at contact `a` of
     `o`, which stands at a location `l`; one move per other free location,
     with its cost (inf where no slide rule is satisfied)."""
+    if not isinstance(v.ee, tuple):  # the hand is at no object
+        return []
     o, a = v.ee
     i = scene.object_names.index(o)
     start = v.at[i]
@@ -221,6 +226,8 @@ def slide_rule(scene: Scene, v: State, move: Move) -> Rule | None:
     """The slide rule that gives a slide from `v` its cost (the least-cost
     satisfied one, whose evidence path the simulator follows); None when
     none is satisfied."""
+    if move.grasp is None:  # a slide names its contact
+        return None
     start = v.at[move.serves]
     satisfied = [r for r in costmap_of(scene).slide_rules(move.grasp, start, move.location)
                  if r.free <= _free_for(scene, v, move.serves)]
@@ -236,7 +243,7 @@ def slide_cost(costmap: Costmap, contact: str, start: str, goal: str, free: froz
 def robot_moves(scene: Scene, v: State) -> list[tuple[str, State, float]]:
     """Every available robot action from `v` as (action, next state, cost):
     `legal_robot_moves` by name."""
-    return [(m.action, m.after, m.cost) for m in legal_robot_moves(scene, v)]
+    return [(m.action, m.after, m.cost) for m in legal_robot_moves(scene, v) if m.cost is not None]  # all have one
 
 
 def anchors(scene: Scene, place: str, grasp: str) -> tuple[str, ...]:
@@ -248,7 +255,7 @@ def anchors(scene: Scene, place: str, grasp: str) -> tuple[str, ...]:
 
 def starts(scene: Scene, v: State) -> tuple[str, ...]:
     """The robot configurations `v` may stand for (semantics §5)."""
-    if v.grip is not None:  # holding
+    if v.grip is not None and isinstance(v.ee, str):  # holding: ee is a place
         return anchors(scene, v.ee, v.grip)
     if isinstance(v.ee, tuple):
         o, g = v.ee
@@ -340,7 +347,7 @@ def letter(scene: Scene, props: Mapping[str, Proposition], v: State) -> frozense
     return frozenset(true)
 
 
-def _places(scene: Scene, v: State, tag: str) -> set[str]:
+def _places(scene: Scene, v: State, tag: str | None) -> set[str]:
     """Where the objects tagged `tag` are."""
     return {a for spec, a in zip(scene.objects, v.at) if tag in spec.tags}
 
