@@ -115,9 +115,15 @@ class Arena:
         self.e = Domain("#e", 1 << width, bits)
         return self.e
 
+    def budget(self) -> Domain:
+        """The budget's domain e (`declare_budget` first)."""
+        if self.e is None:
+            raise ValueError("the arena has no budget bits: declare_budget() first")
+        return self.e
+
     def cost_vector(self) -> list[Function]:
         """c, zero-extended to the width of e."""
-        bdd, width = self.bdd, len(self.e.bits)
+        bdd, width = self.bdd, len(self.budget().bits)
         return self.c.vector(bdd) + constant(bdd, 0, width - len(self.c.bits))
 
     # -- substitutions -----------------------------------------------------------
@@ -132,8 +138,8 @@ class Arena:
         bdd = self.bdd
         sub = self._next_state()
         if with_costs:
-            budget = self.e.vector(bdd)
-            sub.update(zip(self.e.bits, subtract(bdd, budget, self.cost_vector())))
+            e = self.budget()
+            sub.update(zip(e.bits, subtract(bdd, e.vector(bdd), self.cost_vector())))
         return sub
 
     def move_substitution(self) -> dict[str, Function]:
@@ -142,7 +148,7 @@ class Arena:
 
     def affordable(self) -> Function:
         """c <= e."""
-        return less_equal(self.bdd, self.cost_vector(), self.e.vector(self.bdd))
+        return less_equal(self.bdd, self.cost_vector(), self.budget().vector(self.bdd))
 
     # -- costs ---------------------------------------------------------------------
     def units(self, cost: float) -> int:

@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from symsynth.automata.bdd import BDD, Function
-from symsynth.game.abstraction import State
+from symsynth.game.abstraction import EndEffector, State
 from symsynth.scene.propositions import Proposition
 from symsynth.scene.model import ELSE, HAND, Scene
 from symsynth.solvers.bdd.bitvec import Domain
@@ -32,14 +32,14 @@ class StateEncoding:
     ee: Domain
     at_values: tuple[str, ...]            # L + (Else, Hand)
     grip_values: tuple[str | None, ...]   # G + (None,)
-    ee_values: tuple[object, ...]         # (Else,) + L + ((o, a), ...), a in G + P
+    ee_values: tuple[EndEffector, ...]    # (Else,) + L + ((o, a), ...), a in G + P
 
     @classmethod
     def declare(cls, bdd: BDD, scene: Scene) -> StateEncoding:
         grip_values = scene.grasps + (None,)
         grip = Domain.declare(bdd, "#grip", len(grip_values))
-        ee_values = ((ELSE,) + scene.locations
-                     + tuple((o, a) for o in scene.object_names for a in scene.preimages))
+        ee_values: tuple[EndEffector, ...] = ((ELSE,) + scene.locations
+                                              + tuple((o, a) for o in scene.object_names for a in scene.preimages))
         ee = Domain.declare(bdd, "#ee", len(ee_values))
         at_values = scene.locations + (ELSE, HAND)
         at = {o: Domain.declare(bdd, f"#at.{o}", len(at_values)) for o in scene.object_names}
@@ -73,11 +73,15 @@ class StateEncoding:
     def proposition(self, prop: Proposition, primed: bool = False) -> Function:
         """The set of states where a task proposition (semantics §3) holds."""
         bdd = self.bdd
-        if prop.kind == "occupied":
-            return self.occupied(prop.location, primed)
-        if prop.kind == "free":
-            return ~self.occupied(prop.location, primed)
         where = HAND if prop.kind == "holding" else prop.location
+        if where is None:  # at, occupied and free name a location
+            raise ValueError(f"{prop.key} names no location")
+        if prop.kind == "occupied":
+            return self.occupied(where, primed)
+        if prop.kind == "free":
+            return ~self.occupied(where, primed)
+        if prop.tag is None:  # at and holding name a tag
+            raise ValueError(f"{prop.key} names no tag")
         result = bdd.false
         for o in self.scene.tagged(prop.tag):
             result |= self.at_is(o, where, primed)
