@@ -25,6 +25,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
@@ -84,7 +85,7 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
     stats["qualitative_iterations"] = sum(qualitative.rounds)
     if qualitative.converged:  # the initial position was never won
         game.attractor = qualitative
-        counter = _counter_play(game, start)
+        counter: tuple[Step, ...] | None = _counter_play(game, start)
         stats["peak_nodes"] = peak_nodes(arena.bdd)
         return _solution(arena, None, budget, seconds, stats, None, (), counter)
 
@@ -146,6 +147,12 @@ class _Queries:
         self.dfa_initial: Q = arena.dfa.initial
         self.attractor: Attractor | None = None
 
+    def _attractor(self) -> Attractor:
+        """The attractor the questions are answered from (set by the solver)."""
+        if self.attractor is None:
+            raise ValueError("no attractor computed yet")
+        return self.attractor
+
     # -- the DFA on explicit states ----------------------------------------------
     def read(self, q: Q, v: State) -> Q:
         """The DFA state after reading ρ(v) from q."""
@@ -164,7 +171,7 @@ class _Queries:
         if h is not None:
             values.update(arena.h.assignment(h))
         if e is not None:
-            values.update(arena.e.assignment(e))
+            values.update(arena.budget().assignment(e))
         return values
 
     def _holds(self, u: Function, values: dict[str, bool]) -> bool:
@@ -181,13 +188,13 @@ class _Queries:
 
     def value_robot(self, position: Position) -> int | None:
         """val(p) of a robot-turn position, in units; None when infinite."""
-        return self._least_budget(self.attractor.robot_win, position)
+        return self._least_budget(self._attractor().robot_win, position)
 
     def value_human(self, position: Position) -> int | None:
         v, q, h = position
         if self.accepting(q):
             return 0
-        return self._least_budget(self.attractor.win, position)
+        return self._least_budget(self._attractor().win, position)
 
     def _least_budget(self, u: Function, position: Position) -> int | None:
         restricted = self.restrict(u, position)
@@ -199,7 +206,7 @@ class _Queries:
         """The first iterate (0-based) that wins `position` with `budget`."""
         v, q, h = position
         values = self._values(v, q, h, budget)
-        layers = self.attractor.layers
+        layers = self._attractor().layers
         lo, hi = 0, len(layers) - 1  # layers grow: binary search the first member
         while lo < hi:
             mid = (lo + hi) // 2
@@ -222,6 +229,8 @@ class _Queries:
                 w = arena.enc.decode(bits, primed=True)
                 # the relation is upward closed in c: the action's cost is its least c
                 cost = arena.c.least(bdd, bdd.let(arena.enc.assignment(w, primed=True), options))
+                if cost is None:  # w was picked from the options: some cost leads there
+                    raise ValueError(f"no cost for the robot move from {v} to {w}")
                 moves.append((action_between(arena.scene, v, w), w, cost))
         return sorted(moves, key=lambda m: m[0])
 
@@ -240,7 +249,7 @@ class _Queries:
             return None
         i = self.rank(position, value)
         v, q, h = position
-        target = self.attractor.wins[i]  # the human-turn set R_{i+1} was computed from
+        target = self._attractor().wins[i]  # the human-turn set R_{i+1} was computed from
         for action, w, units in self.robot_moves(v):
             if units <= value and self._holds(target, self._values(w, self.read(q, w), h,
                                                                      value - units)):
@@ -308,12 +317,15 @@ def _principal_play(game: _Queries, start: Position) -> tuple[Step, ...]:
                 q2 = game.read(q, u)
                 worth = 0 if game.accepting(q2) else game.value_robot((u, q2, h - 1))
                 options.append((worth, name, u, q2, h - 1))
-        _, name, v, q, h = max(options, key=lambda o: o[0])
+        _, name, v, q, h = max(options, key=lambda o: math.inf if o[0] is None else o[0])  # None: infinite
         if name != PASS:
             play.append(Step("human", name, 0.0, v))
             if game.accepting(q):
                 return tuple(play)
-        action, w, cost, _ = game.choose((v, q, h))
+        chosen = game.choose((v, q, h))
+        if chosen is None:  # every position of the play is won (its value is finite)
+            raise ValueError(f"the strategy has no action at {(v, q, h)}")
+        action, w, cost, _ = chosen
         play.append(Step("robot", action, cost * r, w))
         v, q = w, game.read(q, w)
         if game.accepting(q):
@@ -353,13 +365,14 @@ def _counter_play(game: _Queries, start: Position) -> tuple[Step, ...]:
 def action_between(scene: Scene, v: State, w: State) -> str:
     """The robot action that leads from v to w (semantics §4's names)."""
     if v.grip is None:
-        if w.grip is None and w.at != v.at:  # the hand stays at the contact, the object moves
-            o, a = w.ee
+        if w.grip is not None:
+            return f"grab({scene.object_names[w.at.index(HAND)]})"
+        if not isinstance(w.ee, tuple):  # an empty hand moves to an object
+            raise ValueError(f"no robot action leads from {v} to {w}")
+        o, a = w.ee
+        if w.at != v.at:  # the hand stays at the contact, the object moves
             return f"slide({o},{a},{w.at[scene.object_names.index(o)]})"
-        if w.grip is None:
-            o, g = w.ee
-            return f"transit({o},{g})"
-        return f"grab({scene.object_names[w.at.index(HAND)]})"
+        return f"transit({o},{a})"
     if w.grip is not None:
         return f"transfer({w.ee})"
     i = v.at.index(HAND)
