@@ -542,12 +542,15 @@ def test_command_runs_and_reports_json(solver, line_files, capsys, line):
 def test_only_the_adversary_has_every_reachable_position_explored(line_files, capsys, line, monkeypatch):
     """The adversary weighs its moves by the budgets of the positions the
     strategy reaches; the other humans' runs ask the solver's strategy only
-    where they go, and its positions are not counted."""
+    where they go, and its positions are not counted.  (The symbolic
+    solver, as the fixture's table: strategies of equal value may reach
+    different positions, and the default solver is auto: on line, the
+    compiled solver's reaches 3549, the symbolic one's 3546.)"""
     explored = []
     monkeypatch.setattr(problem_module, "strategy_table",
                         lambda *args, **kwargs: explored.append(args) or strategy_table(*args, **kwargs))
     for human, positions in (("random", None), ("adversarial", len(line.table.positions))):
-        assert main(["simulate", str(line_files), "--human", human, "--json"]) == 0
+        assert main(["simulate", str(line_files), "--human", human, "--json", "--solver", "symbolic"]) == 0
         out = json.loads(capsys.readouterr().out)
         assert out["strategy"]["positions"] == positions
         assert out["runs"][0]["completed"] and out["runs"][0]["cost"] <= line.solution.cost_bound + 1e-6
