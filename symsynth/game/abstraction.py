@@ -254,13 +254,16 @@ def anchors(scene: Scene, place: str, grasp: str) -> tuple[str, ...]:
 
 
 def starts(scene: Scene, v: State) -> tuple[str, ...]:
-    """The robot configurations `v` may stand for (semantics §5)."""
+    """The robot configurations `v` may stand for (semantics §5).  With the
+    hand empty at Else: home and every anchor but the absent ones (the
+    **choice** of semantics §5: every robot action ends at an anchor that
+    exists, so the robot can never have stood at an absent one)."""
     if v.grip is not None and isinstance(v.ee, str):  # holding: ee is a place
         return anchors(scene, v.ee, v.grip)
     if isinstance(v.ee, tuple):
         o, g = v.ee
         return anchors(scene, v.at[scene.object_names.index(o)], g)
-    return scene.anchors  # home and every x/g: wherever the robot has been
+    return scene.present_anchors  # home and every x/a that exists: wherever the robot has been
 
 
 def _motion(scene: Scene, v: State, mode: str, S: tuple[str, ...], T: tuple[str, ...],

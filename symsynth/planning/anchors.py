@@ -5,6 +5,9 @@ the planner's inverse kinematics seeded at home.  An anchor that cannot be
 reached, or where the robot collides with a static obstacle or with the
 object standing at `x`, is an error naming it: a scene with a silently
 missing anchor would make the game unrealizable for reasons nobody sees.
+The scene may instead declare it absent (`absent_at: [x]` on the grasp or
+contact: semantics §5's absent anchors); a declared anchor is not looked
+for, gets no configuration, and the costmap records it under `absent`.
 """
 
 from __future__ import annotations
@@ -35,6 +38,8 @@ def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
     for place, pose in geometry.places.items():
         for grasp in scene.preimages:  # grasps and contacts
             name = f"{place}/{grasp}"
+            if name in geometry.absent:
+                continue
             target = pose @ geometry.hand_frame(grasp).pre_image()  # world frame
             config = planner.inverse_kinematics(target, home)
             if config is None:
@@ -51,7 +56,9 @@ def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
                 configs[name] = config
     if problems:
         raise PlannerError(f"{len(problems)} anchor{'s' if len(problems) > 1 else ''} cannot be used:\n"
-                           + "\n".join(f"  {p}" for p in problems))
+                           + "\n".join(f"  {p}" for p in problems)
+                           + "\n(where a grasp or contact cannot be used by design, declare it: "
+                           "absent_at: [PLACE] on the grasp or contact)")
     return configs
 
 

@@ -171,7 +171,8 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     stats.add("slides", clock)
     bar.close()
     stats.rules = sum(len(r) for found in result.values() for r in found.values())
-    return {method: Costmap(dict(sorted(found.items())), provenance(scene, method, name, seed), slides)
+    return {method: Costmap(dict(sorted(found.items())), provenance(scene, method, name, seed), slides,
+                            scene.geometry.absent)
             for method, found in result.items()}, stats
 
 

@@ -50,6 +50,8 @@ def cache_key(scene: Scene, method: str, planner: str, seed: int) -> str:
                  repr(sorted((o.name, sorted(o.tags)) for o in scene.objects)),
                  repr(scene.locations), repr(scene.else_samples), repr(scene.grasps), repr(geometry)):
         digest.update(part.encode() + b"\0")
+    if physical.absent:  # not in the geometry's repr (which older keys read)
+        digest.update(repr(sorted(physical.absent)).encode() + b"\0")
     files = [physical.robot.urdf] + [s.mesh for s in physical.shapes.values() if s.mesh] \
         + [b.shape.mesh for b in physical.obstacles if b.shape.mesh]
     for path in files:

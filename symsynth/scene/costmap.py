@@ -15,6 +15,15 @@ same planner.  Hand-written costmaps have no such key.  As everywhere in
 this format, keys the loader does not know are ignored, at the top level,
 in a motion, a rule or `planner`: a reader of the spec's format alone
 reads these files too.
+
+An optional top-level key `absent` (an extension too: docs/game-semantics.md
+§5's **choice**) lists anchors `x/a` that are no robot configuration: the
+grasp or contact `a` cannot be reached, or not without a collision, for an
+object standing at `x` (a top grasp under a low shelf board).  No motion
+goes to or from an absent anchor and no slide starts or ends at one, and the
+robot, which can never have been there, does not count it among the places
+it may be (`game.abstraction.else_starts`).  A costmap without the key has
+every anchor, as in the spec.
 """
 
 from __future__ import annotations
@@ -77,6 +86,8 @@ class Costmap:
     #: Slide rules (semantics §4b, v2): for a contact and an ordered pair of
     #: locations, "if every place in `free` is free, the slide costs `cost`".
     slides: Mapping[SlideKey, tuple[Rule, ...]] = field(default_factory=dict)
+    #: Anchors that are no robot configuration (the key `absent`, module doc).
+    absent: frozenset[str] = frozenset()
 
     def rules(self, mode: str, start: str, goal: str) -> tuple[Rule, ...]:
         return self.motions.get((mode, start, goal), ())
@@ -98,7 +109,8 @@ class Costmap:
             head["planner"] = self.provenance.to_json()
         slides = [{"contact": contact, "from": start, "to": goal, "rules": _rules_json(rules)}
                   for (contact, start, goal), rules in sorted(self.slides.items())]
-        return head | {"motions": motions} | ({"slides": slides} if slides else {})
+        return (head | ({"absent": sorted(self.absent)} if self.absent else {}) | {"motions": motions}
+                | ({"slides": slides} if slides else {}))
 
 
 def _rules_json(rules: tuple[Rule, ...]) -> list[dict[str, Any]]:
@@ -131,9 +143,28 @@ def costmap_from_data(data: Any, source: str = "<costmap>") -> Costmap:
             problems.append("slides: expected a list")
         slides = _entries(data["slides"], "slides", "contact", problems)
     provenance = None if "planner" not in data else _provenance(data["planner"], problems)
+    absent = _absent(data.get("absent", []), problems)
     if problems:
         raise CostmapError(f"{source}: invalid costmap:\n" + "\n".join(f"  {p}" for p in problems))
-    return Costmap(motions, provenance, slides)
+    return Costmap(motions, provenance, slides, absent)
+
+
+def _absent(value: Any, problems: list[str]) -> frozenset[str]:
+    """The key `absent`: a list of anchor names `PLACE/GRASP` or
+    `PLACE/CONTACT`, each once (whether they are the scene's anchors is
+    `scene.load.costmap_problems`' question)."""
+    if not isinstance(value, list):
+        problems.append(f"absent: expected a list of anchors (PLACE/GRASP or PLACE/CONTACT), found {value!r}")
+        return frozenset()
+    seen: set[str] = set()
+    for i, name in enumerate(value):
+        if not isinstance(name, str) or name.count("/") != 1 or "" in name.split("/"):
+            problems.append(f"absent[{i}]: expected an anchor PLACE/GRASP or PLACE/CONTACT, found {name!r}")
+        elif name in seen:
+            problems.append(f"absent[{i}]: {name!r} is listed twice")
+        else:
+            seen.add(name)
+    return frozenset(seen)
 
 
 def _entries(entries: Any, name: str, head: str, problems: list[str]) -> dict[Key, tuple[Rule, ...]]:

@@ -149,6 +149,10 @@ class Grasp:
     name: str
     pose: Pose  # end-effector link in the object's frame
     approach: float = 0.05  # metres, back along the end-effector's z axis
+    #: Places where this grasp or contact has no anchor by the scene's
+    #: declaration (`absent_at`: semantics §5's absent anchors).  Left out
+    #: of the repr, which cache keys read: `cache.cache_key` adds it itself.
+    absent_at: frozenset[str] = field(default=frozenset(), repr=False)
 
     def pre_image(self) -> Pose:
         """End-effector pose of the anchor, in the object's frame."""
@@ -198,3 +202,9 @@ class Geometry:
     @property
     def hand_frames(self) -> dict[str, Grasp]:
         return {**self.grasps, **self.contacts}
+
+    @property
+    def absent(self) -> frozenset[str]:
+        """The anchors `x/a` the scene declares absent (`absent_at` of its
+        grasps and contacts): no robot configuration, semantics §5."""
+        return frozenset(f"{x}/{a}" for a, frame in self.hand_frames.items() for x in frame.absent_at)

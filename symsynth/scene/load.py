@@ -286,6 +286,19 @@ def costmap_problems(scene: Scene, costmap: Costmap) -> list[str]:
                                 + (f" (or PLACE/CONTACT with contacts {', '.join(scene.contacts)})"
                                    if scene.contacts else ""))
         problems += _unknown_places(what, rules, places)
+        problems += [f"{what}: {anchor!r} is listed as absent (no robot configuration), so no motion "
+                     "goes to or from it" for anchor in dict.fromkeys((start, goal)) if anchor in costmap.absent]
+    for anchor in sorted(costmap.absent):
+        if anchor == HOME or anchor not in anchors:
+            problems.append(f"absent: {anchor!r} is not an anchor of the scene; expected PLACE/GRASP with "
+                            f"places {', '.join(sorted(places))} and grasps {', '.join(scene.grasps)}"
+                            + (f" (or PLACE/CONTACT with contacts {', '.join(scene.contacts)})"
+                               if scene.contacts else ""))
+    declared = None if scene.geometry is None else scene.geometry.absent
+    if declared is not None and costmap.absent != declared:
+        problems.append(f"absent: the costmap lists {', '.join(sorted(costmap.absent)) or 'no anchor'} as absent, "
+                        f"the scene declares {', '.join(sorted(declared)) or 'none'} (absent_at of its grasps and "
+                        "contacts): it is another scene's costmap")
     for (contact, start, goal), rules in costmap.slides.items():
         what = f"slide {contact} {start} -> {goal}"
         if contact not in scene.contacts:
@@ -298,6 +311,9 @@ def costmap_problems(scene: Scene, costmap: Costmap) -> list[str]:
                                 f"locations ({', '.join(scene.locations)})")
         if start == goal:
             problems.append(f"{what}: a slide goes from one location to another")
+        problems += [f"{what}: its anchor {end}/{contact} is listed as absent (no robot configuration), so "
+                     "no slide starts or ends there" for end in dict.fromkeys((start, goal))
+                     if f"{end}/{contact}" in costmap.absent]
         problems += _unknown_places(what, rules, places)
     return problems
 

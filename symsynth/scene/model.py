@@ -81,7 +81,8 @@ class Scene:
             return anchor.rsplit("/", 1)[-1] in contacts
 
         costmap = None if self.costmap is None else replace(self.costmap, slides={}, motions={
-            key: rules for key, rules in self.costmap.motions.items() if not (aimed(key[1]) or aimed(key[2]))})
+            key: rules for key, rules in self.costmap.motions.items() if not (aimed(key[1]) or aimed(key[2]))},
+            absent=frozenset(a for a in self.costmap.absent if not aimed(a)))
         geometry = None if self.geometry is None else replace(self.geometry, contacts={}, primitive_costs={})
         return replace(self, contacts=(), costmap=costmap, geometry=geometry)
 
@@ -92,9 +93,18 @@ class Scene:
 
     @property
     def anchors(self) -> tuple[str, ...]:
-        """`home` and `x/a` for x in L ∪ E and a in G ∪ P (semantics §5)."""
+        """`home` and `x/a` for x in L ∪ E and a in G ∪ P (semantics §5),
+        absent ones included (`present_anchors` leaves them out)."""
         places = self.locations + self.else_samples
         return (HOME,) + tuple(f"{x}/{a}" for x in places for a in self.preimages)
+
+    @property
+    def present_anchors(self) -> tuple[str, ...]:
+        """`anchors` but those the costmap lists as absent (no robot
+        configuration: semantics §5's **choice**), in the same order: where
+        the robot may have been."""
+        absent = frozenset() if self.costmap is None else self.costmap.absent
+        return tuple(a for a in self.anchors if a not in absent)
 
 
 def geometry_of(scene: Scene) -> Geometry:

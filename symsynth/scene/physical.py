@@ -29,6 +29,8 @@ grasps:
   top: {xyz: [0, 0, 0.1634], rpy: [3.14159265, 0, 0], approach: 0.05}
 contacts:              # optional: poses for displacement primitives (push, pull, plugins)
   behind: {primitive: push, xyz: [-0.16, 0, 0.12], rpy: [0, 2.356, 0], approach: 0.05}
+# A grasp or contact may say where it has no anchor (`absent_at: [PLACE, ...]`, e.g. a top
+# grasp under a low shelf board): semantics §5's absent anchors, recorded in the costmap.
 costs: {per_radian: 1, grab: 5, drop: 5, push: 2}   # push: the primitive's fixed cost
 planner: {name: ompl-fcl, roadmap_size: 300, check_step: 0.05, seed: 0}
 ```
@@ -81,10 +83,11 @@ ROBOT = {
 }
 OBSTACLE = {"type": "object", "additionalProperties": False,
             "properties": {**SHAPE_KEYS, **POSE_KEYS}, **ONE_SHAPE}
+ABSENT_AT = {"type": "array", "items": {"type": "string"}, "uniqueItems": True}
 GRASP = {"type": "object", "additionalProperties": False, "required": ["xyz"],
-         "properties": {**POSE_KEYS, "approach": {"type": "number", "minimum": 0}}}
+         "properties": {**POSE_KEYS, "approach": {"type": "number", "minimum": 0}, "absent_at": ABSENT_AT}}
 CONTACT = {"type": "object", "additionalProperties": False, "required": ["primitive", "xyz"],
-           "properties": {**POSE_KEYS, "approach": {"type": "number", "minimum": 0},
+           "properties": {**POSE_KEYS, "approach": {"type": "number", "minimum": 0}, "absent_at": ABSENT_AT,
                           "primitive": {"type": "string", "pattern": "^[A-Za-z0-9_-]+$"}}}
 ELSE_REGION = {
     "type": "object", "additionalProperties": False, "required": ["samples", "region"],
@@ -152,9 +155,12 @@ def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report
             report.add(("objects", name, "xyz"), f"{name} starts at Else at {point_text(pose.xyz)}, which is "
                        f"not {where}; add its pose to else_samples, so that the costmap reaches it")
     places.update(samples)
-    grasps = {name: Grasp(name, pose_of(spec), float(spec.get("approach", 0.05)))
+    grasps = {name: Grasp(name, pose_of(spec), float(spec.get("approach", 0.05)),
+                          absent_at=_absent_at(spec, ("grasps", name), places, report))
               for name, spec in data["grasps"].items()}
-    contacts = {name: Contact(name, pose_of(spec), float(spec.get("approach", 0.05)), spec["primitive"])
+    contacts = {name: Contact(name, pose_of(spec), float(spec.get("approach", 0.05)),
+                              absent_at=_absent_at(spec, ("contacts", name), places, report),
+                              primitive=spec["primitive"])
                 for name, spec in (data.get("contacts") or {}).items()}
     costs = {key: float(value) for key, value in (data.get("costs") or {}).items()
              if key not in ("per_radian", "grab", "drop")}
@@ -181,6 +187,19 @@ def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report
     return Geometry(robot=robot, obstacles=obstacles, shapes=shapes, places=places, grasps=grasps,
                     initial=initial, per_radian=float(data.get("costs", {}).get("per_radian", 1.0)),
                     planner=planner, contacts=contacts, primitive_costs=costs)
+
+
+def _absent_at(spec: dict[str, Any], where: tuple, places: dict[str, Pose], report: Report) -> frozenset[str]:
+    """A grasp's or contact's `absent_at`: places (locations or Else
+    samples) where it has no anchor by declaration (semantics §5)."""
+    found = []
+    for i, place in enumerate(spec.get("absent_at", [])):
+        if place in places:
+            found.append(place)
+        else:
+            report.add(where + ("absent_at", i), f"{place!r} is no place of the scene; expected a location or "
+                       f"an Else sample: {', '.join(places)}")
+    return frozenset(found)
 
 
 def else_places(data: dict[str, Any], locations: dict[str, Pose], initial: dict[str, Pose],

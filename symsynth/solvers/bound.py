@@ -133,12 +133,12 @@ class LowerBound:
             best = INF
             for g in aims:
                 T = anchors_at(x, g)
-                starts = [scene.anchors] + [anchors_at(y, h) for y in places for h in scene.preimages
+                starts = [scene.present_anchors] + [anchors_at(y, h) for y in places for h in scene.preimages
                                             if not (y == x and y != ELSE and h == g)]
                 best = min(best, min(motion(EMPTY, S, T) for S in starts))
             self.transit[x] = best
         # the first transit when the robot may be anywhere (hand empty, ee = Else)
-        self.from_anywhere = {x: min(motion(EMPTY, scene.anchors, anchors_at(x, g)) for g in grasps)
+        self.from_anywhere = {x: min(motion(EMPTY, scene.present_anchors, anchors_at(x, g)) for g in grasps)
                               for x in places}
         # carrying o from place x to location l: the cheapest chain of
         # transfers, with free changes of grasp at locations (a drop and a

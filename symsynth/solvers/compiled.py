@@ -167,7 +167,7 @@ class Tables:
             for j, e in enumerate(E):
                 self.anchor_at[m, f, j] = aidx[f"{e}/{a}"]
             self.anchor_count[m, f] = len(E)
-        self.home_starts = np.array([aidx[a] for a in scene.anchors], np.int64)
+        self.home_starts = np.array([aidx[a] for a in scene.present_anchors], np.int64)  # semantics §5
         free_bit = {x: i for i, x in enumerate(list(L) + list(E))}
         self.samples_mask = np.int64(sum(1 << free_bit[e] for e in E))
         modes = {EMPTY: 0}

@@ -249,15 +249,16 @@ def _keep(arena: Arena, objects: Iterable[str] = (), grip: bool = False, ee: boo
 
 def _empty_starts(arena: Arena) -> dict[str, Function]:
     """s -> [s in S(v)] for an empty hand: from ee = Else every anchor (and
-    home); from ee = (o', a') the anchors of o' with a' (a grasp or a
-    contact)."""
+    home) but the absent ones (semantics §5); from ee = (o', a') the
+    anchors of o' with a' (a grasp or a contact)."""
     enc, scene = arena.enc, arena.scene
     anywhere = enc.ee_is(ELSE)
+    present = set(scene.present_anchors)
     starts = {HOME: anywhere}
     for x in scene.locations + scene.else_samples:
         where = x if x in scene.locations else ELSE
         for a in scene.preimages:
-            cond = anywhere
+            cond = anywhere if f"{x}/{a}" in present else arena.bdd.false
             for o in scene.object_names:
                 cond |= enc.ee_is((o, a)) & enc.at_is(o, where)
             starts[f"{x}/{a}"] = cond
