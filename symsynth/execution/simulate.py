@@ -387,6 +387,7 @@ class _Episode:
         done = plugin.execute(self.world, move, rule.path)
         measured = done.radians * geometry.per_radian + geometry.primitive_costs.get(plugin.name, plugin.fixed_cost)
         self._follow(done.path, caption, measured)
+        self.anchor = anchors(self.scene, move.location, move.grasp)[0]  # the hand ends at l'/a (§4b)
         if done.touched:
             self._diverge("contact", f"{move.action}: the slide penetrates {', '.join(sorted(done.touched))}", index)
         return Step("robot", move.action, observe(self.scene, self.world), move.cost, measured, done.radians,
