@@ -47,6 +47,7 @@ def test_the_block_is_pulled_out_before_it_is_grasped(cache, capsys):
 def test_unrealizable_without_the_contact(cache, capsys):
     """The top grasp has no anchor under the board (the costmap says so), so
     without the pull no action reaches the block, with or without a human."""
+    assert run(capsys, "costmap", str(SHELF), "--json")["absent"] == ["under/top"]
     scene = load_scene(SHELF)
     costmap = obtain_costmap(scene, "recursive", None, progress=False).costmap
     assert costmap.absent == {"under/top"} and costmap.slide_rules("far", "under", "out")

@@ -98,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
         "scene": scene.name, "method": got.method, "planner": got.planner, "seed": got.seed,
         "cached": got.cached, "file": None if written is None else str(written),
         "motions": len(got.costmap.motions), "slides": len(got.costmap.slides),
-        "rules": sum(1 for _ in got.costmap.all_rules()),
+        "rules": sum(1 for _ in got.costmap.all_rules()), "absent": sorted(got.costmap.absent),
     }
     if got.stats is not None:
         summary |= {"seconds": {k: round(v, 3) for k, v in got.stats.seconds.items()},
@@ -111,6 +111,8 @@ def run(args: argparse.Namespace) -> int:
     slides = f"{summary['slides']} slide{'s' * (summary['slides'] != 1)}, " if summary["slides"] else ""
     print(f"costmap    {scene.name}: {summary['motions']} motions, {slides}{summary['rules']} rules "
           f"({got.method}, planner {got.planner}, seed {got.seed}; {origin})")
+    if got.costmap.absent:
+        print(f"absent     {', '.join(summary['absent'])} (declared by the scene: no robot configuration)")
     if got.stats is not None:
         s = got.stats
         phases = ", ".join(f"{k} {v:.2f}" for k, v in s.seconds.items())
