@@ -19,6 +19,10 @@ that planner (`Costmap.provenance`), and `building_planner` holds to it.
 the `Planner` protocol does not have, and a check that all paths through an
 anchor use one configuration there, since the robot's motions chain at
 anchors.)
+
+Anchors a scene declares absent (`absent_at`, semantics §5) have no
+configuration and no rule: loading the costmap against the scene already
+checked that its `absent` list is the scene's and that no rule touches one.
 """
 
 from __future__ import annotations
