@@ -172,3 +172,74 @@ def test_sorting_family_classes_by_colour():
     reduced = solve_explicit(scene)
     assert reduced.units == plain.units == solve_forward(scene).units
     assert reduced.states < plain.states
+
+
+# --- declared classes (`interchangeable:` in a scene file) -------------------
+
+def declared(scene, *classes):
+    import dataclasses
+    return dataclasses.replace(scene, declared_classes=tuple(tuple(c) for c in classes))
+
+
+def test_a_declared_class_is_used_and_gives_the_plain_value():
+    """Declaring {a, b} of three alike blocks: only that class is reduced
+    (a, b, c all alike otherwise), and the value is the unreduced one."""
+    motions = {(f"{o}/top", f"l{i}/top", f"l{j}/top"): 2 for o in "abc" for i in range(1, 4)
+               for j in range(1, 4) if i != j} | {k: v for k, v in MOTIONS.items() if k[0] == "empty"}
+    scene = make_scene(dict(zip("abc", ("l1", "l2", "Else"))), ["l1", "l2", "l3"], motions,
+                       task="F(at(block, l3))", tags={o: ["block"] for o in "abc"})
+    formula = parse_ltlf(scene.task)
+    assert names(scene, interchangeable(scene, formula)) == [["a", "b", "c"]]
+    only_ab = declared(scene, ["b", "a"])
+    assert names(only_ab, interchangeable(only_ab, formula)) == [["a", "b"]]
+    plain = solve_explicit(scene, symmetric=False).units
+    for solver in (solve_explicit, solve_forward, solve_compiled):
+        solution = solver(only_ab)
+        assert solution.units == plain and solution.stats["interchangeable"] == "{a, b}"
+
+
+def test_declaring_no_class_switches_the_reduction_off():
+    scene = declared(three("F(at(block, l3))"))
+    assert interchangeable(scene, parse_ltlf(scene.task)) == ()
+    assert "interchangeable" not in solve_explicit(scene).stats
+
+
+@pytest.mark.parametrize("task, members, reason", [
+    ("F(at(a, l3))", ["a", "b"], "the task names 'a', which a carries and b does not"),
+    ("F(at(block, l3))", ["a", "c"], "the costmap's motions holding them differ (mode a/top against c/top"),
+])
+def test_a_declared_class_the_game_tells_apart_is_refused(task, members, reason):
+    """Objects c (a dearer carry) and a, or a named by the task: declaring
+    them alike would solve another game; the declaration is refused with
+    what tells them apart."""
+    from symsynth.errors import InputError
+
+    scene = declared(three(task), members)
+    with pytest.raises(InputError, match="interchangeable.0: a and [bc] are not interchangeable") as error:
+        solve_explicit(scene)
+    assert reason in str(error.value)
+
+
+def test_declared_classes_in_a_scene_file(tmp_path, capsys):
+    """Unknown names and an object in two classes are scene errors (line and
+    key path); a class the task tells apart is refused by solve (exit 2)."""
+    from symsynth.cli import main
+
+    toy = (tmp_path / "toy.yaml")
+    from pathlib import Path
+
+    text = Path("scenes/toy.yaml").read_text()
+    (tmp_path / "toy.costmap.json").write_text(Path("scenes/toy.costmap.json").read_text())
+    toy.write_text(text + "interchangeable:\n  - [b, w]\n  - [w, x]\n")
+    assert main(["solve", str(toy)]) == 2
+    err = capsys.readouterr().err
+    lines = text.count("\n")
+    assert f"toy.yaml:{lines + 3}: interchangeable.1.0: 'w' is already in class 0" in err
+    assert f"toy.yaml:{lines + 3}: interchangeable.1.1: unknown object 'x'" in err
+    assert "Traceback" not in err
+    toy.write_text(text + "interchangeable:\n  - [b, w]\n")
+    assert main(["solve", str(toy)]) == 2
+    err = capsys.readouterr().err
+    assert f"toy.yaml:{lines + 2}: interchangeable.0: b and w are not interchangeable: the task names " \
+           "'black', which b carries and w does not" in err
+    assert "Traceback" not in err

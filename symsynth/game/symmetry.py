@@ -35,6 +35,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Hashable, Iterator, Mapping
 
+from symsynth.errors import InputError
 from symsynth.game.abstraction import Move, State, initial_state, legal_human_moves, legal_robot_moves
 from symsynth.game.solution import Position, Solution, Step
 from symsynth.logic import ast
@@ -42,8 +43,37 @@ from symsynth.scene.model import Scene
 
 
 def interchangeable(scene: Scene, formula: ast.Formula) -> tuple[tuple[int, ...], ...]:
-    """The classes of interchangeable objects (module doc) with at least two
-    members, each as object indices in increasing order."""
+    """The classes of interchangeable objects with at least two members, each
+    as object indices in increasing order: the scene's declared classes
+    (`interchangeable:`, each checked: a declaration the game can tell apart
+    is refused, never trusted), else the classes found (module doc)."""
+    if scene.declared_classes is None:
+        return detected(scene, formula)
+    index = {o: i for i, o in enumerate(scene.object_names)}
+    keys = _keys(scene, formula)
+    wheres = scene.declared_where or tuple(f"interchangeable.{i}" for i in range(len(scene.declared_classes)))
+    for members, where in zip(scene.declared_classes, wheres):
+        first = members[0]
+        for other in members[1:]:
+            if keys[other] != keys[first]:
+                raise InputError(f"{where}: {first} and {other} are not interchangeable: "
+                                 f"{_apart(keys[first], keys[other], first, other)}; solving them as one "
+                                 "would give another game's value")
+    return tuple(tuple(sorted(index[o] for o in members)) for members in scene.declared_classes)
+
+
+def detected(scene: Scene, formula: ast.Formula) -> tuple[tuple[int, ...], ...]:
+    """The classes of objects the game cannot tell apart (module doc)."""
+    keys = _keys(scene, formula)
+    groups: dict[Hashable, list[int]] = {}
+    for i, name in enumerate(scene.object_names):
+        groups.setdefault(keys[name], []).append(i)
+    return tuple(tuple(members) for members in groups.values() if len(members) > 1)
+
+
+def _keys(scene: Scene, formula: ast.Formula) -> dict[str, tuple]:
+    """Object -> what the game reads of it: (the task's tags it carries, its
+    costmap rows of mode o/g, its shape).  Equal keys: interchangeable."""
     tags = sorted({a.args[0] for a in ast.atoms(formula) if a.name in ("at", "holding") and a.args})
     names = scene.object_names
     modes = {f"{o}/{g}": (o, g) for o in names for g in scene.grasps}
@@ -54,11 +84,22 @@ def interchangeable(scene: Scene, formula: ast.Formula) -> tuple[tuple[int, ...]
                 o, g = modes[mode]
                 rows[o].add((g, s, t, frozenset(rules)))
     shapes = _shapes(scene)
-    groups: dict[Hashable, list[int]] = {}
-    for i, spec in enumerate(scene.objects):
-        key = (tuple(t in spec.tags for t in tags), frozenset(rows[spec.name]), shapes.get(spec.name))
-        groups.setdefault(key, []).append(i)
-    return tuple(tuple(members) for members in groups.values() if len(members) > 1)
+    return {spec.name: (tuple((t, t in spec.tags) for t in tags), frozenset(rows[spec.name]),
+                        shapes.get(spec.name)) for spec in scene.objects}
+
+
+def _apart(a: tuple, b: tuple, first: str, other: str) -> str:
+    """What tells two objects apart, from their `_keys`."""
+    for (tag, has_a), (_, has_b) in zip(a[0], b[0]):
+        if has_a != has_b:
+            return f"the task names {tag!r}, which {first if has_a else other} carries and " \
+                   f"{other if has_a else first} does not"
+    if a[1] != b[1]:
+        differ = sorted({(g, s, t) for g, s, t, _ in a[1] ^ b[1]})
+        g, s, t = differ[0]
+        return (f"the costmap's motions holding them differ (mode {first}/{g} against {other}/{g}, "
+                f"{s} -> {t}{f', and {len(differ) - 1} more' if len(differ) > 1 else ''})")
+    return f"their shapes differ ({a[2]} against {b[2]})"
 
 
 def _shapes(scene: Scene) -> dict[str, str]:

@@ -60,6 +60,8 @@ SCHEMA: dict[str, Any] = {
                   "properties": {"k": {"type": "integer", "minimum": 0}}},
         "task": {"type": "string"},
         "costmap": {"type": ["string", "object"]},
+        "interchangeable": {"type": "array", "items": {"type": "array", "items": NAME,
+                                                       "minItems": 2, "uniqueItems": True}},
     },
 }
 
@@ -160,13 +162,14 @@ def scene_from_data(data: Any, source: Path | None = None,
         elif at != ELSE:
             standing[at] = name
         objects.append(ObjectSpec(name, frozenset(spec.get("tags", ())) | {name}, at))
+    declared, where = _declared_classes(data, objects, report)
     primitives = data.get("costs", data.get("primitives", {}))
     scene = Scene(
         name=data["name"], objects=tuple(objects), locations=locations,
         else_samples=else_samples, grasps=grasps, contacts=contacts,
         grab_cost=float(primitives.get("grab", 5)), drop_cost=float(primitives.get("drop", 5)),
         k=int(data.get("human", {}).get("k", 0)), task=data.get("task"), source=source,
-        geometry=geometry,
+        geometry=geometry, declared_classes=declared, declared_where=where,
     )
     if scene.task is not None:
         formula = _check_task(scene, scene.task, report)
@@ -183,6 +186,31 @@ def scene_from_data(data: Any, source: Path | None = None,
     report.raise_if_any()
     checks.raise_if_any()
     return dataclasses.replace(scene, costmap=loaded)
+
+
+def _declared_classes(data: dict, objects: list[ObjectSpec], report: Report
+                      ) -> tuple[tuple[tuple[str, ...], ...] | None, tuple[str, ...]]:
+    """The classes of `interchangeable:` (None when the key is absent) and
+    where each was written.  Names and overlaps are checked here; whether the
+    game really cannot tell a class's members apart needs the task and the
+    costmap, and game/symmetry.py checks it before any solver relies on it."""
+    if "interchangeable" not in data:
+        return None, ()
+    names = {o.name for o in objects}
+    seen: dict[str, int] = {}
+    where = []
+    for i, members in enumerate(data["interchangeable"]):
+        path = ("interchangeable", i)
+        line = line_of(report.lines, path)
+        where.append(f"{report.source}:{line}: interchangeable.{i}" if line else
+                     f"{report.source}: interchangeable.{i}")
+        for j, name in enumerate(members):
+            if name not in names:
+                report.add(path + (j,), f"unknown object {name!r}; expected one of {', '.join(sorted(names))}")
+            elif name in seen and seen[name] != i:
+                report.add(path + (j,), f"{name!r} is already in class {seen[name]}: an object belongs to one class")
+            seen.setdefault(name, i)
+    return tuple(tuple(c) for c in data["interchangeable"]), tuple(where)
 
 
 def _check_primitives(data: dict, report: Report) -> None:

@@ -44,6 +44,11 @@ class Scene:
     k: int = 0
     task: str | None = None
     costmap: Costmap | None = None
+    #: Classes of interchangeable objects the scene declares (`interchangeable:`),
+    #: None to let the solvers find them (game/symmetry.py checks a declaration).
+    declared_classes: tuple[tuple[str, ...], ...] | None = None
+    #: `file:line: interchangeable.i` of each declared class, for messages
+    declared_where: tuple[str, ...] = field(default=(), compare=False)
     source: Path | None = field(default=None, compare=False)
     geometry: Geometry | None = field(default=None, compare=False)  # physical scenes only
     #: The task as the loader parsed it, (text, formula): `game.solution.task_formula`
