@@ -193,7 +193,7 @@ def test_a_declared_class_is_used_and_gives_the_plain_value():
     only_ab = declared(scene, ["b", "a"])
     assert names(only_ab, interchangeable(only_ab, formula)) == [["a", "b"]]
     plain = solve_explicit(scene, symmetric=False).units
-    for solver in (solve_explicit, solve_forward, solve_compiled):
+    for solver in (solve_explicit, solve_forward, solve_compiled, solve_symbolic):
         solution = solver(only_ab)
         assert solution.units == plain and solution.stats["interchangeable"] == "{a, b}"
 
