@@ -26,7 +26,7 @@ PACKAGES = {"symsynth": "symsynth", "planners": "symsynth_planners", "primitives
 def workspace(request, tmp_path_factory) -> Path:
     """A directory that outlives the run if pytest's cache is on (mypy's
     cache and the packages' links under their import names)."""
-    cache = request.config.cache
+    cache = getattr(request.config, "cache", None)  # none with -p no:cacheprovider
     return cache.mkdir("mypy") if cache is not None else tmp_path_factory.mktemp("mypy")
 
 

@@ -112,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"costmap    {scene.name}: {summary['motions']} motions, {slides}{summary['rules']} rules "
           f"({got.method}, planner {got.planner}, seed {got.seed}; {origin})")
     if got.costmap.absent:
-        print(f"absent     {', '.join(summary['absent'])} (declared by the scene: no robot configuration)")
+        print(f"absent     {', '.join(sorted(got.costmap.absent))} (declared by the scene: no robot configuration)")
     if got.stats is not None:
         s = got.stats
         phases = ", ".join(f"{k} {v:.2f}" for k, v in s.seconds.items())
