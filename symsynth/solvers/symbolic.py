@@ -33,8 +33,8 @@ from contextlib import contextmanager
 from tqdm import tqdm
 
 from symsynth.automata.bdd import Function, peak_nodes
-from symsynth.game.abstraction import (State, initial_state, legal_human_moves, legal_robot_moves,
-                                       letter)
+from symsynth.game.abstraction import (State, initial_state, legal_human_moves,
+                                       letter, robot_moves)
 from symsynth.game.graph import PASS
 from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
 from symsynth.game.symmetry import Symmetry, interchangeable
@@ -58,6 +58,8 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
     formula = task_formula(scene, formula)
     clock = time.perf_counter()
     classes = interchangeable(scene, formula) if symmetric else ()
+    arena: Arena
+    game: _Queries
     if classes:
         arena = ClassArena(scene, formula, k, resolution, classes)
         game = _ClassQueries(arena)
@@ -266,7 +268,7 @@ class _ClassQueries(_Queries):
 
     def robot_moves(self, v: State) -> list[tuple[str, State, int]]:
         units = self.arena.units
-        return sorted(((m.action, m.after, units(m.cost)) for m in legal_robot_moves(self.arena.scene, v)),
+        return sorted(((action, after, units(cost)) for action, after, cost in robot_moves(self.arena.scene, v)),
                       key=lambda m: m[0])
 
     def human_moves(self, v: State) -> list[tuple[str, State]]:

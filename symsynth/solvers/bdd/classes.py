@@ -149,18 +149,23 @@ class ClassEncoding:
     def proposition(self, prop: Proposition, primed: bool = False) -> Function:
         """The orbits where a task proposition (semantics §3) holds."""
         bdd = self.bdd
+        where = HAND if prop.kind == "holding" else prop.location
+        if where is None:  # at, occupied and free name a location
+            raise ValueError(f"{prop.key} names no location")
         if prop.kind == "occupied":
-            return self.occupied(prop.location, primed)
+            return self.occupied(where, primed)
         if prop.kind == "free":
-            return ~self.occupied(prop.location, primed)
+            return ~self.occupied(where, primed)
+        if prop.tag is None:  # at and holding name a tag
+            raise ValueError(f"{prop.key} names no tag")
         result = bdd.false
         for c in self._tagged(prop.tag):
             if prop.kind == "holding":
                 result |= self.hand_is(c, primed)
-            elif prop.location == ELSE:
+            elif where == ELSE:
                 result |= self.else_count_at_least(c, 1, primed)
             else:
-                result |= self.loc_is(prop.location, c, primed)
+                result |= self.loc_is(where, c, primed)
         return result
 
     # -- invariants ------------------------------------------------------------
@@ -210,9 +215,9 @@ class ClassEncoding:
                 hand = kind[i] + 1
             elif where != ELSE:
                 loc[where] = kind[i] + 1
-        ee = v.ee
-        if isinstance(ee, tuple):
-            o, a = ee
+        ee: str | tuple = v.ee
+        if isinstance(v.ee, tuple):
+            o, a = v.ee
             i = names.index(o)
             ee = (ELSE, kind[i], a) if v.at[i] == ELSE else (v.at[i], a)
         return loc, hand, self.grip_values.index(v.grip), self.ee_values.index(ee)
@@ -237,12 +242,17 @@ class ClassEncoding:
 class ClassArena(Arena):
     """`Arena` on the class encoding: the same fixpoint reads it unchanged."""
 
+    # Another encoding behind the interface the fixpoint reads (bits,
+    # propositions, well_formed); the per-object relations of `Arena` are
+    # all overridden here, so none of them meets a ClassEncoding.
+    enc: ClassEncoding  # type: ignore[assignment]
+
     def __init__(self, scene: Scene, formula: ast.Formula, k: int, resolution: float,
                  classes: Sequence[Sequence[int]]):
         self.kinds = kinds_of(scene, classes)
         super().__init__(scene, formula, k, resolution)
 
-    def _declare_state(self) -> ClassEncoding:
+    def _declare_state(self) -> ClassEncoding:  # type: ignore[override]
         return ClassEncoding.declare(self.bdd, self.scene, self.kinds)
 
     def _robot_relations(self) -> dict[str, Function]:
