@@ -59,6 +59,7 @@ from collections.abc import Hashable, Iterator, Mapping
 
 import numpy as np
 from numba import njit, types
+from numba.core.typing import signature
 
 from symsynth.errors import InputError
 from symsynth.game.abstraction import (State, action_name, costmap_of, initial_state, legal_human_moves,
@@ -70,7 +71,7 @@ from symsynth.game.symmetry import Symmetry
 from symsynth.automata import compile_ltlf
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, Scene
-from symsynth.scene.propositions import interpret_all
+from symsynth.scene.propositions import Proposition, interpret_all
 
 INF = np.int64(1 << 60)
 MAX_ATOMS = 16
@@ -113,6 +114,8 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
     top = int(graph.hval[0])
     result = None if top >= INF else top
     realizable = verdict(result, resolution, budget)
+    principal: tuple[Step, ...]
+    counter: tuple[Step, ...] | None
     if result is None:
         principal, counter = (), graph.counter_play(0)
         strategy: Mapping = {}
@@ -176,7 +179,8 @@ class Tables:
                 modes[f"{o}/{a}"] = 1 + i * len(F) + f
         self.rule_start = np.zeros((len(modes), A, A), np.int64)
         self.rule_count = np.zeros((len(modes), A, A), np.int64)
-        free_list, unit_list = [], []
+        free_list: list[int] = []  # each rule's free places, as bits
+        unit_list: list[int | np.int64] = []  # each rule's cost in units (INF: none)
         costmap = costmap_of(scene)
         for (mode, s, t), rules in costmap.motions.items():
             if mode not in modes or s not in aidx or t not in aidx:
@@ -213,14 +217,13 @@ class Tables:
         self.atom_mask = np.array([sum(1 << i for i, spec in enumerate(scene.objects)
                                        if p.tag is not None and p.tag in spec.tags)
                                    for p in props.values()] or [0], np.int64)
-        self.atom_place = np.array([self.place_of[HAND if p.kind == "holding" else p.location]
-                                    for p in props.values()] or [0], np.int64)
+        self.atom_place = np.array([self.place_of[_atom_place(p)] for p in props.values()] or [0], np.int64)
         # the letter as table reads: the at/holding/occupied atoms object i makes true at place
         # p, and the free atoms an object at p makes false (a letter is n lookups)
         self.atom_at = np.zeros((n, m + 2), np.int64)
         self.free_at = np.zeros(m + 2, np.int64)
         for j, p in enumerate(props.values()):
-            place = self.place_of[HAND if p.kind == "holding" else p.location]
+            place = self.place_of[_atom_place(p)]
             if p.kind == "free":
                 self.free_at[place] |= 1 << j
             for i, spec in enumerate(scene.objects):
@@ -290,8 +293,9 @@ class Tables:
         at = tuple(self.place_names[(x >> (i * self.pb)) & pmask] for i in range(self.n))
         ee = (x >> (self.n * self.pb)) & ((1 << self.eb) - 1)
         grip = (x >> (self.n * self.pb + self.eb)) & ((1 << self.gb) - 1)
+        eev: str | tuple[str, str]
         if ee == 0:
-            eev: object = ELSE
+            eev = ELSE
         elif ee <= self.m:
             eev = self.place_names[ee - 1]
         else:
@@ -461,7 +465,7 @@ class CompiledStrategy(Mapping):
 
     def __iter__(self) -> Iterator[Position]:
         g = self._graph
-        return iter([g.position(i) for i in np.flatnonzero(g.rval < INF)])
+        return iter([g.position(int(i)) for i in np.flatnonzero(g.rval < INF)])
 
     def __len__(self) -> int:
         return int(np.count_nonzero(self._graph.rval < INF))
@@ -807,7 +811,7 @@ def _assign(y, i, d, m, F, pb, eshift, emask, fb, fmask, rank_place):
 
 
 if sys.platform.startswith("linux"):
-    _madvise = types.ExternalFunction("madvise", types.int32(types.uintp, types.uintp, types.int32))
+    _madvise = types.ExternalFunction("madvise", signature(types.int32, types.uintp, types.uintp, types.int32))
     MADV_HUGEPAGE = 14
 
     @njit(cache=True)
@@ -818,7 +822,7 @@ if sys.platform.startswith("linux"):
         start = (a.ctypes.data + 4095) & ~4095
         end = (a.ctypes.data + a.size * a.itemsize) & ~4095
         if end > start:
-            _madvise(start, end - start, MADV_HUGEPAGE)
+            _madvise(start, end - start, MADV_HUGEPAGE)  # type: ignore[call-overload]  # numba: callable in njit code only
 else:
     @njit(cache=True)
     def _huge(a):
@@ -1214,3 +1218,12 @@ def _solve_layer(a, b, C, hflag, r_off, r_tgt, r_units, h_off, h_tgt, rval, hval
                             used += 1
                             pending += 1
         d += 1
+
+
+def _atom_place(p: Proposition) -> str:
+    """Where an atom looks: the hand for holding(X), else its location."""
+    if p.kind == "holding":
+        return HAND
+    if p.location is None:
+        raise ValueError(f"{p.key} names no location")
+    return p.location
