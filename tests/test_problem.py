@@ -80,6 +80,21 @@ def test_a_simulated_problem_parses_its_task_once(line_file, parsed):
     assert simulation.runs[0].completed and simulation.runs[0].cost <= simulation.bound + 1e-6
 
 
+def test_a_simulated_problem_compiles_its_dfa_once(line_file, monkeypatch):
+    """Solving with the explicit solver, exploring the strategy for the
+    adversary and simulating read one DFA of the problem's task (before:
+    one compilation each, 3 in all)."""
+    from symsynth.automata import shared
+
+    compiled = []
+    real = shared.compile_ltlf
+    monkeypatch.setattr(shared, "compile_ltlf", lambda formula: compiled.append(formula) or real(formula))
+    problem = load_problem(line_file)
+    simulation = simulate(problem, "adversarial", seed=1, solver="explicit")
+    assert compiled == [problem.formula]
+    assert simulation.positions and simulation.ok and simulation.runs[0].completed
+
+
 def test_a_strategy_files_task_is_parsed_once(line_file, tmp_path, parsed):
     """With a strategy file, its task is parsed when its header is checked,
     and certifying it before the runs reads that formula (before: 3 parses

@@ -92,7 +92,7 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
     """Solve the run's cell and measure it (in this process)."""
     import dataclasses
 
-    from symsynth.automata import compile_ltlf
+    from symsynth.automata.shared import dfa_of
     from symsynth.planning.build import obtain_costmap
     from symsynth.problem import solve, with_task
     from symsynth.scene import load_scene
@@ -122,7 +122,7 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
             row |= {"roadmaps": s.roadmaps, "roadmap_vertices": s.vertices, "roadmap_edges": s.edges,
                     "edge_checks": s.edges, "graph_searches": s.motions, "planner_workers": s.workers}
     problem = with_task(scene, None)  # the task as the scene loader parsed it
-    row["dfa_states"] = compile_ltlf(problem.formula).num_states  # the DFA every solver composes with the game
+    row["dfa_states"] = dfa_of(problem.formula).num_states  # the DFA every solver composes with the game
     clock = time.perf_counter()
     solution = solve(problem, run["solver"], k=run["k"], budget=run["budget"], resolution=run["resolution"])
     row["seconds_synthesis"] = time.perf_counter() - clock

@@ -16,7 +16,8 @@ from typing import NamedTuple
 
 from tqdm import tqdm
 
-from symsynth.automata import SymbolicDFA, compile_ltlf
+from symsynth.automata import SymbolicDFA
+from symsynth.automata.shared import dfa_of
 from symsynth.automata.symbolic import State as DFAState
 from symsynth.game.abstraction import State, costmap_of, human_moves, letter, quantize, robot_moves
 from symsynth.game.symmetry import Symmetry
@@ -55,7 +56,7 @@ class GameGraph:
         #: (`game.symmetry`); None when all objects are distinct
         self.symmetry = Symmetry.of(scene, formula) if symmetric else None
         self.props = interpret_all(formula, scene)
-        self.dfa: SymbolicDFA = compile_ltlf(formula)
+        self.dfa: SymbolicDFA = dfa_of(formula)
         self.resolution = resolution
         self._steps: dict[tuple[DFAState, frozenset[str]], DFAState] = {}
         self._accepting: dict[DFAState, bool] = {}

@@ -48,7 +48,7 @@ from tqdm import tqdm
 from symsynth.errors import InputError, SymsynthError
 from symsynth.files import write_atomic
 from symsynth.game.abstraction import State, initial_state, robot_moves, state_json
-from symsynth.automata import compile_ltlf
+from symsynth.automata.shared import dfa_of
 from symsynth.game.graph import GameGraph, Node
 from symsynth.scene.propositions import interpret_all
 from symsynth.game.solution import Position, Solution
@@ -245,7 +245,7 @@ def check_header(scene: Scene, table: StrategyFile) -> ast.Formula:
     except SymsynthError as error:
         problems.append(f"its task does not fit the scene: {error}")
     else:
-        dfa = compile_ltlf(formula)
+        dfa = dfa_of(formula)  # the formula the strategy is then certified and played with
         if tuple(dfa.bits) != table.dfa_bits or tuple(dfa.initial) != table.dfa_initial:
             problems.append("its DFA (dfa.bits, dfa.initial) is not the one its task compiles to")
     if problems:

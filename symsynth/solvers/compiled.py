@@ -68,7 +68,7 @@ from symsynth.game.graph import PASS
 from symsynth.game.solution import (Position, Solution, Step, check_parameters, task_formula, verdict,
                                     won_at_start)
 from symsynth.game.symmetry import Symmetry
-from symsynth.automata import compile_ltlf
+from symsynth.automata.shared import dfa_of
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, Scene
 from symsynth.scene.propositions import Proposition, interpret_all
@@ -231,7 +231,7 @@ class Tables:
                                             and p.tag in spec.tags):
                     self.atom_at[i, place] |= 1 << j
         self.free_all = np.int64(sum(1 << j for j, p in enumerate(props.values()) if p.kind == "free"))
-        self.dfa = compile_ltlf(formula)
+        self.dfa = dfa_of(formula)
         self._dfa_table()
         self.qbits = _bits(len(self.dfa_states))
 
