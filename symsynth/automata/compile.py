@@ -111,15 +111,16 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
         raise InputError(f"{source}: the DFA's {len(components)} parts need {bits} state bits together; "
                          f"symsynth composes at most {MAX_STATE_BITS} (2^{MAX_STATE_BITS} states)")
     own = bdd is None
-    if own:  # dynamic reordering while the product is built and minimized
+    if bdd is None:  # dynamic reordering while the product is built and minimized
         bdd = new_manager(reordering=len(components) > 1)
+    manager = bdd
     index = {id(c): i for i, c in enumerate(components)}
     combine = None if acceptance is None else (lambda accs: _evaluate(acceptance, accs, index, bdd))
     dfa = product(bdd, atom_keys, components, prefix=prefix, combine=combine)
     if len(components) > 1:
         dfa = dfa.minimize()
     if own:
-        bdd.configure(reordering=False)  # a stable order for whoever uses the DFA
+        manager.configure(reordering=False)  # a stable order for whoever uses the DFA
     return dfa
 
 
@@ -159,8 +160,8 @@ class Composer:
         self._propositional, self._bounded = propositional, bounded
         self._merged: dict[int, tuple[ast.Formula, list[ast.Formula]]] = {}
         # post-order over the skeleton: (op or None, children, results so far)
-        stack: list[tuple[str | None, list, list, ast.Formula]] = []
-        result: Result | None = None
+        stack: list[tuple[str, list, list, ast.Formula]] = []
+        result: Result
         node = formula
         while True:
             shape = self.shape(node)
@@ -203,7 +204,7 @@ class Composer:
         if shape is None or shape[0] not in ("and", "or"):
             return shape
         op = shape[0]
-        operands: dict[ast.Formula, None] = {}
+        unique: dict[ast.Formula, None] = {}  # the operands in order, each once
         todo = list(reversed(shape[1]))
         while todo:
             f = todo.pop()
@@ -211,8 +212,8 @@ class Composer:
             if inner is not None and inner[0] == op:
                 todo.extend(reversed(inner[1]))
             else:
-                operands.setdefault(f, None)
-        operands = list(operands)
+                unique.setdefault(f, None)
+        operands = list(unique)
         if op == "and":
             invariants = [f.arg for f in operands if isinstance(f, ast.Always) and id(f.arg) in self._bounded]
             if len(invariants) > 1:
