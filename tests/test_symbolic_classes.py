@@ -22,7 +22,7 @@ import math
 import pytest
 
 from support.gamegen import alike_scene
-from support.games import make_scene, well_formed_states, worst_case_of
+from support.games import ALIKE_MOTIONS, make_scene, well_formed_states, worst_case_of
 from symsynth.game.abstraction import (State, initial_state, legal_human_moves, legal_robot_moves,
                                        letter, quantize)
 from symsynth.game.graph import GameGraph
@@ -138,15 +138,7 @@ def test_value_checks_are_not_vacuous():
     assert encodings.count("classes") >= 24 and 8 <= sum(finite) <= 30
 
 
-# Two blocks with the same rows, a third with a dearer carry (as in test_symmetry.py).
-MOTIONS = {
-    ("empty", "home", "l1/top"): 3, ("empty", "home", "l2/top"): 4, ("empty", "home", "l3/top"): 5,
-    ("empty", "l1/top", "l2/top"): 1, ("empty", "l2/top", "l1/top"): 1,
-    ("empty", "l1/top", "l3/top"): 2, ("empty", "l3/top", "l1/top"): 2,
-    ("empty", "l2/top", "l3/top"): 1, ("empty", "l3/top", "l2/top"): 1,
-    **{(f"{o}/top", f"l{i}/top", f"l{j}/top"): (7 if o == "c" else 2)
-       for o in "abc" for i in range(1, 4) for j in range(1, 4) if i != j},
-}
+MOTIONS = ALIKE_MOTIONS  # a and b alike, c with a dearer carry
 
 
 def test_strategy_names_the_real_object():

@@ -26,17 +26,9 @@ from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers.forward import solve_forward
 from symsynth.solvers.symbolic import solve_symbolic
 from support.gamegen import alike_scene
-from support.games import make_scene, worst_case_of
+from support.games import ALIKE_MOTIONS, make_scene, worst_case_of
 
-# Two blocks with the same rows (PICK-like), a third with a dearer carry.
-MOTIONS = {
-    ("empty", "home", "l1/top"): 3, ("empty", "home", "l2/top"): 4, ("empty", "home", "l3/top"): 5,
-    ("empty", "l1/top", "l2/top"): 1, ("empty", "l2/top", "l1/top"): 1,
-    ("empty", "l1/top", "l3/top"): 2, ("empty", "l3/top", "l1/top"): 2,
-    ("empty", "l2/top", "l3/top"): 1, ("empty", "l3/top", "l2/top"): 1,
-    **{(f"{o}/top", f"l{i}/top", f"l{j}/top"): (7 if o == "c" else 2)
-       for o in "abc" for i in range(1, 4) for j in range(1, 4) if i != j},
-}
+MOTIONS = ALIKE_MOTIONS  # a and b alike, c with a dearer carry
 
 
 def three(task, tags=None):

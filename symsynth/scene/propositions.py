@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 from symsynth.errors import InputError
 from symsynth.logic import ast
-from symsynth.scene.model import ELSE, Scene
+from symsynth.scene.model import ELSE, HAND, Scene
 
 
 @dataclass(frozen=True)
@@ -27,6 +27,23 @@ class Proposition:
     def key(self) -> str:
         args = [a for a in (self.tag, self.location) if a is not None]
         return f"{self.kind}({', '.join(args)})"
+
+    @property
+    def place(self) -> str:
+        """Where the atom looks: the hand for holding(X), else its location
+        (at, occupied and free name one)."""
+        if self.kind == "holding":
+            return HAND
+        if self.location is None:
+            raise ValueError(f"{self.key} names no location")
+        return self.location
+
+    @property
+    def named_tag(self) -> str:
+        """The tag at(X, l) and holding(X) name."""
+        if self.tag is None:
+            raise ValueError(f"{self.key} names no tag")
+        return self.tag
 
 
 _ARITY = {"at": 2, "holding": 1, "occupied": 1, "free": 1}

@@ -71,7 +71,7 @@ from symsynth.game.symmetry import Symmetry
 from symsynth.automata.shared import dfa_of
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, Scene
-from symsynth.scene.propositions import Proposition, interpret_all
+from symsynth.scene.propositions import interpret_all
 
 INF = np.int64(1 << 60)
 MAX_ATOMS = 16
@@ -217,13 +217,13 @@ class Tables:
         self.atom_mask = np.array([sum(1 << i for i, spec in enumerate(scene.objects)
                                        if p.tag is not None and p.tag in spec.tags)
                                    for p in props.values()] or [0], np.int64)
-        self.atom_place = np.array([self.place_of[_atom_place(p)] for p in props.values()] or [0], np.int64)
+        self.atom_place = np.array([self.place_of[p.place] for p in props.values()] or [0], np.int64)
         # the letter as table reads: the at/holding/occupied atoms object i makes true at place
         # p, and the free atoms an object at p makes false (a letter is n lookups)
         self.atom_at = np.zeros((n, m + 2), np.int64)
         self.free_at = np.zeros(m + 2, np.int64)
         for j, p in enumerate(props.values()):
-            place = self.place_of[_atom_place(p)]
+            place = self.place_of[p.place]
             if p.kind == "free":
                 self.free_at[place] |= 1 << j
             for i, spec in enumerate(scene.objects):
@@ -1218,12 +1218,3 @@ def _solve_layer(a, b, C, hflag, r_off, r_tgt, r_units, h_off, h_tgt, rval, hval
                             used += 1
                             pending += 1
         d += 1
-
-
-def _atom_place(p: Proposition) -> str:
-    """Where an atom looks: the hand for holding(X), else its location."""
-    if p.kind == "holding":
-        return HAND
-    if p.location is None:
-        raise ValueError(f"{p.key} names no location")
-    return p.location

@@ -216,3 +216,15 @@ def horizon_value(scene, formula, k, units=None):
         if new == x:
             return x[start]
         x = new
+
+
+#: Motions over l1..l3 with one grasp `top` for objects a, b, c: a and b have
+#: the same rows (interchangeable), c's carries cost more.
+ALIKE_MOTIONS = {
+    ("empty", "home", "l1/top"): 3, ("empty", "home", "l2/top"): 4, ("empty", "home", "l3/top"): 5,
+    ("empty", "l1/top", "l2/top"): 1, ("empty", "l2/top", "l1/top"): 1,
+    ("empty", "l1/top", "l3/top"): 2, ("empty", "l3/top", "l1/top"): 2,
+    ("empty", "l2/top", "l3/top"): 1, ("empty", "l3/top", "l2/top"): 1,
+    **{(f"{o}/top", f"l{i}/top", f"l{j}/top"): (7 if o == "c" else 2)
+       for o in "abc" for i in range(1, 4) for j in range(1, 4) if i != j},
+}

@@ -149,17 +149,13 @@ class ClassEncoding:
     def proposition(self, prop: Proposition, primed: bool = False) -> Function:
         """The orbits where a task proposition (semantics §3) holds."""
         bdd = self.bdd
-        where = HAND if prop.kind == "holding" else prop.location
-        if where is None:  # at, occupied and free name a location
-            raise ValueError(f"{prop.key} names no location")
+        where = prop.place
         if prop.kind == "occupied":
             return self.occupied(where, primed)
         if prop.kind == "free":
             return ~self.occupied(where, primed)
-        if prop.tag is None:  # at and holding name a tag
-            raise ValueError(f"{prop.key} names no tag")
         result = bdd.false
-        for c in self._tagged(prop.tag):
+        for c in self._tagged(prop.named_tag):
             if prop.kind == "holding":
                 result |= self.hand_is(c, primed)
             elif where == ELSE:

@@ -73,17 +73,13 @@ class StateEncoding:
     def proposition(self, prop: Proposition, primed: bool = False) -> Function:
         """The set of states where a task proposition (semantics §3) holds."""
         bdd = self.bdd
-        where = HAND if prop.kind == "holding" else prop.location
-        if where is None:  # at, occupied and free name a location
-            raise ValueError(f"{prop.key} names no location")
+        where = prop.place
         if prop.kind == "occupied":
             return self.occupied(where, primed)
         if prop.kind == "free":
             return ~self.occupied(where, primed)
-        if prop.tag is None:  # at and holding name a tag
-            raise ValueError(f"{prop.key} names no tag")
         result = bdd.false
-        for o in self.scene.tagged(prop.tag):
+        for o in self.scene.tagged(prop.named_tag):
             result |= self.at_is(o, where, primed)
         return result
 
