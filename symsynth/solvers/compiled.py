@@ -55,7 +55,7 @@ from __future__ import annotations
 import math
 import sys
 import time
-from collections.abc import Hashable, Iterator, Mapping
+from collections.abc import Iterator, Mapping
 
 import numpy as np
 from numba import njit, types
