@@ -106,12 +106,15 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
     seconds["explore"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
-    keys, hflag, r_tgt, h_tgt = explored[0], explored[1], explored[5], explored[9]
-    if max(len(keys), len(r_tgt), len(h_tgt)) >= 1 << 31:
-        raise TooLarge("the compiled solver holds fewer than 2^31 nodes and moves of each player; "
-                       f"this game has {len(keys)} nodes, {len(r_tgt)} robot and {len(h_tgt)} human moves")
-    graph = Graph(tables, explored, _solve(*explored[:7], *explored[8:]))
-    top = int(graph.hval[0])
+    keys, hflag, r_tgt, human_moves = explored[0], explored[1], explored[5], int(explored[7])
+    if max(len(keys), len(r_tgt)) >= 1 << 31:
+        raise TooLarge("the compiled solver holds fewer than 2^31 nodes and robot moves; "
+                       f"this game has {len(keys)} nodes and {len(r_tgt)} robot moves")
+    rval, choice, top, missing = _solve(*explored[:7], *tables.human_args())
+    if missing:
+        raise RuntimeError(f"internal error: {missing} human moves left the explored nodes")
+    graph = Graph(tables, explored[:7], rval, choice)
+    top = int(top)
     result = None if top >= INF else top
     realizable = verdict(result, resolution, budget)
     principal: tuple[Step, ...]
@@ -125,7 +128,7 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
         strategy = CompiledStrategy(graph)
     seconds["solve"] = time.perf_counter() - clock
     humans = int(np.count_nonzero(hflag))
-    stats = {"edges": len(r_tgt) + len(h_tgt) + humans, "robot_moves": len(r_tgt), "human_moves": len(h_tgt)}
+    stats = {"edges": len(r_tgt) + human_moves + humans, "robot_moves": len(r_tgt), "human_moves": human_moves}
     solution = Solution(None if result is None else result * resolution, result, resolution, budget,
                         realizable, k, len(keys) + humans, seconds, strategy, principal, counter,
                         scene.object_names, stats)
@@ -205,6 +208,15 @@ class Tables:
         self.is_grasp = np.array([a in scene.grasps for a in F] or [False], np.bool_)
         self.grab_units = quantize(scene.grab_cost, resolution) if math.isfinite(scene.grab_cost) else INF
         self.drop_units = quantize(scene.drop_cost, resolution) if math.isfinite(scene.drop_cost) else INF
+        # a robot move is stored as its target (32 bits) and units << code_bits | code (32 bits)
+        self.code_bits = (_code(KIND_SLIDE, n, len(F), m + 1, n, len(F), m)).bit_length()
+        units = [int(u) for u in (*unit_list, self.grab_units, self.drop_units) if u < INF]
+        self.max_units = max(units, default=0)
+        if self.max_units >= 1 << (31 - self.code_bits):
+            raise TooLarge(f"the compiled solver stores a robot move's cost in {31 - self.code_bits} bits "
+                           f"(below {1 << (31 - self.code_bits)} units of resolution {resolution}); this "
+                           f"scene has a move of {self.max_units} units; use a coarser --resolution or "
+                           "--solver explicit")
 
         # atoms and the DFA table
         props = interpret_all(formula, scene)
@@ -322,7 +334,21 @@ class Tables:
                 self.slide_start, self.slide_count, self.is_grasp, np.int64(self.grab_units),
                 np.int64(self.drop_units), self.atom_at, self.free_at, self.free_all,
                 self.trans, self.accepting, self.class_members,
-                self.class_offsets, self.place_rank, self.rank_place)
+                self.class_offsets, self.place_rank, self.rank_place, self.code_bits)
+
+    def human_args(self) -> tuple:
+        """What `_solve` needs to generate the human's moves again."""
+        return (self.code_bits, self.n, self.m, self.F, self.pb, self.eb, self.gb, self.qbits,
+                self.atom_at, self.free_at, self.free_all, self.trans, self.accepting,
+                self.class_members, self.class_offsets, self.place_rank, self.rank_place)
+
+    def units(self, move: int) -> int:
+        """The cost in units of a robot move stored as `r_move`."""
+        return int(move) >> self.code_bits
+
+    def code(self, move: int) -> int:
+        """The action code of a robot move stored as `r_move`."""
+        return int(move) & ((1 << self.code_bits) - 1)
 
     def action(self, code: int) -> str:
         """The name of the move an edge's code stands for."""
@@ -350,6 +376,10 @@ def _check_width(tables: Tables, k: int) -> None:
     if bits > 62:
         raise TooLarge(f"the compiled solver packs a position into 62 bits; this game needs {bits} "
                          "(objects, places, DFA states, k); use --solver explicit")
+    moves = 4 * (tables.n * (tables.F + tables.m + 2) + tables.m + 2)  # the kernels' bound per node
+    if moves >= 1 << 15:
+        raise TooLarge(f"the compiled solver stores a chosen move in 16 bits, fewer than {1 << 15} "
+                       f"moves per position; this scene may have up to {moves}; use --solver explicit")
 
 
 # -- the graph, read back ------------------------------------------------------------------
@@ -361,10 +391,10 @@ class Graph:
     the human-turn position at the same (v, q, h) (its pass leads to the
     robot's); h is the node's layer."""
 
-    def __init__(self, tables: Tables, explored: tuple, values: tuple):
-        (self.keys, self.hflag, self.lo, self.hi, self.r_off, self.r_tgt, self.r_units, self.r_code,
-         self.h_off, self.h_tgt) = explored
-        self.rval, self.hval, self.choice = values
+    def __init__(self, tables: Tables, explored: tuple, rval: np.ndarray, choice: np.ndarray):
+        self.keys, self.hflag, self.lo, self.hi, self.r_off, self.r_tgt, self.r_move = explored
+        self.rval = rval
+        self.choice = choice  # the chosen robot move, relative to r_off (-1: none)
         self.tables = tables
         self._sorted: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
@@ -390,12 +420,16 @@ class Graph:
     def robot_edges(self, i: int) -> range:
         return range(int(self.r_off[i]), int(self.r_off[i + 1]))
 
+    def chosen(self, i: int) -> int:
+        """The robot move (an index into r_*) the strategy takes at node i."""
+        return int(self.r_off[i]) + int(self.choice[i])
+
     def _robot_step(self, i: int, e: int) -> tuple[Step, int]:
         t = self.tables
         v = self.position(i)[0]
-        name = t.action(self.r_code[e])
+        name = t.action(t.code(self.r_move[e]))
         after = next(mv.after for mv in legal_robot_moves(t.scene, v) if mv.action == name)
-        return Step("robot", name, int(self.r_units[e]) * t.resolution, after), int(self.r_tgt[e])
+        return Step("robot", name, t.units(self.r_move[e]) * t.resolution, after), int(self.r_tgt[e])
 
     def replies(self, i: int) -> list[tuple[Step | None, int, int]]:
         """The human's replies at node i's human turn: (step, its node (-1: the
@@ -424,7 +458,7 @@ class Graph:
                 if j < 0:
                     break
                 i = j
-            step, i = self._robot_step(i, int(self.choice[i]))
+            step, i = self._robot_step(i, self.chosen(i))
             play.append(step)
             if i < 0:
                 break
@@ -441,7 +475,7 @@ class Graph:
             edges = list(self.robot_edges(i))
             if not edges:
                 break
-            step, i = self._robot_step(i, min(edges, key=lambda x: int(self.r_units[x])))
+            step, i = self._robot_step(i, min(edges, key=lambda x: self.tables.units(self.r_move[x])))
             play.append(step)
             if i < 0:
                 raise RuntimeError("internal error: the counter play reached a win")
@@ -461,7 +495,7 @@ class CompiledStrategy(Mapping):
         i = None if qi is None or not 0 <= h <= t.k else g.index(t.pack(v), qi, h)
         if i is None or g.rval[i] >= INF:
             raise KeyError(position)
-        return t.action(g.r_code[int(g.choice[i])])
+        return t.action(t.code(g.r_move[g.chosen(i)]))
 
     def __iter__(self) -> Iterator[Position]:
         g = self._graph
@@ -885,7 +919,7 @@ def _targets(mv_after, nm, canonical, q, n, m, F, pb, eb, qbits, class_members, 
 
 
 @njit(cache=True)
-def _room_nodes(keys, hflag, r_off, h_off, count, room):
+def _room_nodes(keys, hflag, r_off, count, room):
     """The per-node arrays, grown when `room` more nodes would not fit."""
     if count + room > len(keys):
         size = 2 * (count + room)
@@ -893,17 +927,16 @@ def _room_nodes(keys, hflag, r_off, h_off, count, room):
         hflag = _grow(hflag, size)
         hflag[count:] = 0
         r_off = _grow(r_off, size + 1)
-        h_off = _grow(h_off, size + 1)
-    return keys, hflag, r_off, h_off
+    return keys, hflag, r_off
 
 
 @njit(cache=True)
-def _robot_layer(st, lo, room, keys, hflag, r_off, r_tgt, r_units, r_code, table, bits,
+def _robot_layer(st, lo, room, keys, hflag, r_off, r_tgt, r_move, table, bits,
                  n, m, F, pb, eb, gb, qbits, anchor_at, anchor_count, home_starts, samples_mask,
                  rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
                  grab_units, drop_units, atom_at, free_at, free_all, trans, accepting,
                  class_members, class_offsets, place_rank, rank_place, at, free, S, T, desc,
-                 mv_after, mv_units, mv_code):
+                 mv_after, mv_units, mv_code, code_bits):
     """Breadth-first through the robot moves of the layer whose nodes start at
     `lo`, from node st[0], while the arrays have room for one more node's
     moves; st (i, count, ne, ...) is updated.  (The arrays are never
@@ -932,8 +965,7 @@ def _robot_layer(st, lo, room, keys, hflag, r_off, r_tgt, r_units, r_code, table
                     count += 1
                 hflag[j] = 1
             r_tgt[ne] = j
-            r_units[ne] = mv_units[e]
-            r_code[ne] = mv_code[e]
+            r_move[ne] = (mv_units[e] << code_bits) | mv_code[e]
             ne += 1
         r_off[i + 1] = ne
         i += 1
@@ -941,16 +973,17 @@ def _robot_layer(st, lo, room, keys, hflag, r_off, r_tgt, r_units, r_code, table
 
 
 @njit(cache=True)
-def _human_layer(st, lo, end, room, keys, hflag, h_off, h_tgt, table, bits,
+def _human_layer(st, lo, end, room, keys, hflag, table, bits,
                  n, m, F, pb, eb, gb, qbits, atom_at, free_at, free_all, trans, accepting,
                  obj_class, obj_pos, class_members, class_offsets, place_rank, rank_place, desc, mv_after):
     """The human's moves from the human turns of nodes st[0]..end into the
     layer whose nodes start at `lo` (added there when new), while the arrays
-    have room for one more node's moves; st (i, count, ..., nh) is updated."""
+    have room for one more node's moves; st (i, count, ..., nh) is updated.
+    The moves are counted, not stored: `_solve` generates them again."""
     qmask = (1 << qbits) - 1
     i, count, nh, sink = st[0], st[1], st[3], st[5]
     while i < end:
-        if count + room > len(keys) or nh + room > len(h_tgt) or 2 * (count + room - lo) > len(table):
+        if count + room > len(keys) or 2 * (count + room - lo) > len(table):
             break
         if hflag[i]:
             key = keys[i]
@@ -962,15 +995,12 @@ def _human_layer(st, lo, end, room, keys, hflag, h_off, h_tgt, table, bits,
                              table, bits)
             for e in range(nm):
                 w = mv_after[e]
-                j = -1
                 if w >= 0:
                     j = _probe(table, bits, w, count)
                     if j == count:
                         keys[count] = w
                         count += 1
-                h_tgt[nh] = j
-                nh += 1
-        h_off[i + 1] = nh
+            nh += nm
         i += 1
     st[0], st[1], st[3], st[5] = i, count, nh, sink
 
@@ -979,7 +1009,7 @@ def _human_layer(st, lo, end, room, keys, hflag, h_off, h_tgt, table, bits,
 def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_starts, samples_mask,
              rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
              grab_units, drop_units, atom_at, free_at, free_all, trans, accepting,
-             class_members, class_offsets, place_rank, rank_place):
+             class_members, class_offsets, place_rank, rank_place, code_bits):
     """Every node the start (the human's turn at key `start`, h = k) reaches,
     layer by layer from h = k down to 0.
 
@@ -989,17 +1019,14 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
     layer above reached by human moves, and the start); then the human turns
     of layer h reach, by their moves, the seeds of layer h - 1.  Returns the
     keys, hflag, the layers' index ranges lo[h]..hi[h], the robot moves in CSR
-    form (r_off; target node, -1 for a win; units; action code) and the human
-    moves (h_off; target node in layer h - 1, -1 for a win)."""
-    qmask = (1 << qbits) - 1
+    form (r_off; r_tgt: target node, -1 for a win; r_move: units << code_bits |
+    action code) and the number of human moves (generated, not stored: about
+    80% of all moves)."""
     keys = np.empty(1 << 16, np.int64)
     hflag = np.zeros(1 << 16, np.uint8)
     r_off = np.zeros((1 << 16) + 1, np.int64)
-    h_off = np.zeros((1 << 16) + 1, np.int64)
     r_tgt = np.empty(1 << 18, np.int32)
-    r_units = np.empty(1 << 18, np.int32)
-    r_code = np.empty(1 << 18, np.int32)
-    h_tgt = np.empty(1 << 18, np.int32)
+    r_move = np.empty(1 << 18, np.int32)
     lo = np.zeros(k + 1, np.int64)
     hi = np.zeros(k + 1, np.int64)
     at = np.empty(n, np.int64)
@@ -1029,27 +1056,24 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
         # layer h: closed under robot moves from its seeds
         st[0] = lo[h]
         while True:
-            _robot_layer(st, lo[h], room, keys, hflag, r_off, r_tgt, r_units, r_code, table, bits,
+            _robot_layer(st, lo[h], room, keys, hflag, r_off, r_tgt, r_move, table, bits,
                          n, m, F, pb, eb, gb, qbits, anchor_at, anchor_count, home_starts, samples_mask,
                          rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
                          grab_units, drop_units, atom_at, free_at, free_all, trans, accepting,
                          class_members, class_offsets, place_rank, rank_place, at, free, S, T, desc,
-                         mv_after, mv_units, mv_code)
+                         mv_after, mv_units, mv_code, code_bits)
             if st[0] == st[1]:
                 break
-            keys, hflag, r_off, h_off = _room_nodes(keys, hflag, r_off, h_off, st[1], room)
-            if st[2] + room > len(r_tgt):  # 1.5x: the edge arrays are most of the memory
+            keys, hflag, r_off = _room_nodes(keys, hflag, r_off, st[1], room)
+            if st[2] + room > len(r_tgt):  # 1.5x: the move arrays are most of the memory
                 size = st[2] + st[2] // 2 + room
                 r_tgt = _grow(r_tgt, size)
-                r_units = _grow(r_units, size)
-                r_code = _grow(r_code, size)
+                r_move = _grow(r_move, size)
             if 2 * (st[1] + room - lo[h]) > len(table):
                 bits += 1
                 table = _rehash(keys, lo[h], st[1], bits)
         hi[h] = st[1]
         if h == 0:
-            for i in range(lo[h], hi[h]):
-                h_off[i + 1] = st[3]
             break
         # the human's moves from layer h: the seeds of layer h - 1
         lo[h - 1] = st[1]
@@ -1057,86 +1081,133 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
         table = _table(bits)
         st[0] = lo[h]
         while True:
-            _human_layer(st, lo[h - 1], hi[h], room, keys, hflag, h_off, h_tgt, table, bits,
+            _human_layer(st, lo[h - 1], hi[h], room, keys, hflag, table, bits,
                          n, m, F, pb, eb, gb, qbits, atom_at, free_at, free_all, trans, accepting,
                          obj_class, obj_pos, class_members, class_offsets, place_rank, rank_place, desc,
                          mv_after)
             if st[0] == hi[h]:
                 break
-            keys, hflag, r_off, h_off = _room_nodes(keys, hflag, r_off, h_off, st[1], room)
-            if st[3] + room > len(h_tgt):
-                h_tgt = _grow(h_tgt, st[3] + st[3] // 2 + room)
+            keys, hflag, r_off = _room_nodes(keys, hflag, r_off, st[1], room)
             if 2 * (st[1] + room - lo[h - 1]) > len(table):
                 bits += 1
                 table = _rehash(keys, lo[h - 1], st[1], bits)
-    count, ne, nh = st[1], st[2], st[3]
-    N = count
-    # views, not copies: a copy of the edge arrays would hold them twice at the peak
-    return (keys[:N], hflag[:N], lo, hi, r_off[:N + 1], r_tgt[:ne], r_units[:ne], r_code[:ne],
-            h_off[:N + 1], h_tgt[:nh])
+    N, ne, nh = st[1], st[2], st[3]
+    # views, not copies: a copy of the move arrays would hold them twice at the peak
+    return keys[:N], hflag[:N], lo, hi, r_off[:N + 1], r_tgt[:ne], r_move[:ne], nh
 
 
 @njit(cache=True)
-def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_units, h_off, h_tgt):
-    """The value of every node's robot turn (rval) and human turn (hval; INF
-    where the human's turn was not reached or is lost) and the robot's chosen
-    move (an index into r_*), layer by layer from h = 0 up.
+def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, code_bits, n, m, F, pb, eb, gb, qbits, atom_at,
+           free_at, free_all, trans, accepting, class_members, class_offsets, place_rank, rank_place):
+    """The value of every node's robot turn (rval) and the robot's chosen move
+    (choice, relative to r_off[i]; -1: none), layer by layer from h = 0 up;
+    also the value of the start's human turn (node 0; INF: lost) and the
+    number of human moves that found no node (0 unless there is a bug).
 
     The human's moves from layer h lead into layer h - 1, solved already, so
-    each human turn's best move is a number K known before layer h is solved:
-    hval = max(K, rval), rval = min over robot moves of units + hval of the
-    target.  In the layer that is Dijkstra's algorithm for min-cost
-    reachability games (solvers/explicit.py) on the robot moves alone, with a
-    bucket queue (Dial's: costs are small integers, so the human turns waiting
-    to settle are kept in a ring of max-cost + 1 buckets) and the human turns
-    whose K dominates released in order of K."""
+    each human turn's best move is a number K known before layer h is solved.
+    The moves were not stored: they are generated again here and looked up in
+    a hash table of layer h - 1 built from its keys (one table alive at a
+    time, and freed before the layer is solved).  Then `_solve_layer`."""
     N = len(keys)
     rval = np.empty(N, np.int64)  # read at random by the human moves of the layer above
     _huge(rval)
     rval[:] = INF
-    hval = np.full(N, INF, np.int64)
-    choice = np.full(N, -1, np.int64)
+    choice = np.full(N, -1, np.int16)
     C = 1
-    for e in range(len(r_units)):
-        if r_units[e] + 1 > C:
-            C = r_units[e] + 1
-    # scratch for the largest layer: nodes, and the robot moves inside it
-    most_nodes, most_moves = 1, 1
+    for e in range(len(r_move)):
+        if (r_move[e] >> code_bits) + 1 > C:
+            C = (r_move[e] >> code_bits) + 1
+    top = INF
+    missing = 0
+    obj_class = np.full(n, -1, np.int64)  # each object's class and place in it
+    obj_pos = np.zeros(n, np.int64)
+    for c in range(len(class_offsets) - 1):
+        for r in range(class_offsets[c], class_offsets[c + 1]):
+            obj_class[class_members[r]] = c
+            obj_pos[class_members[r]] = r - class_offsets[c]
+    desc = np.empty(n, np.int64)
+    mv_after = np.empty(4 * (n * (F + m + 2) + m + 2), np.int64)
     for h in range(len(lo)):
-        most_nodes = max(most_nodes, hi[h] - lo[h])
-        most_moves = max(most_moves, r_off[hi[h]] - r_off[lo[h]])
-    K = np.empty(most_nodes, np.int64)
-    indeg = np.empty(most_nodes + 1, np.int64)
-    fill = np.empty(most_nodes, np.int64)
-    waiting = np.empty(most_nodes, np.int64)
-    pred = np.empty(most_moves, np.int32)
-    psrc = np.empty(most_moves, np.int32)
-    head = np.empty(C, np.int64)
-    # ring entries: one per human turn at the start, then at most one per relaxation
-    entry_node = np.empty(most_nodes + most_moves, np.int32)
-    entry_dist = np.empty(most_nodes + most_moves, np.int64)
-    entry_next = np.empty(most_nodes + most_moves, np.int64)
-    for h in range(len(lo)):
-        _solve_layer(lo[h], hi[h], C, hflag, r_off, r_tgt, r_units, h_off, h_tgt, rval, hval, choice,
+        a, b = lo[h], hi[h]
+        size = b - a
+        K = np.empty(size, np.int64)  # the human's best move into layer h - 1 (-1: none)
+        K[:] = -1
+        if h > 0:
+            bits = 17
+            while (1 << bits) < 2 * (hi[h - 1] - lo[h - 1]):
+                bits += 1
+            table = _rehash(keys, lo[h - 1], hi[h - 1], bits)
+            missing += _human_values(a, b, keys, hflag, rval, K, table, bits, n, m, F, pb, eb, gb, qbits,
+                                     atom_at, free_at, free_all, trans, accepting, obj_class, obj_pos,
+                                     class_members, class_offsets, place_rank, rank_place, desc, mv_after)
+            table = _table(1)  # freed before the layer's scratch is taken
+        moves = r_off[b] - r_off[a]
+        hval = np.full(size, INF, np.int64)
+        indeg = np.empty(size + 1, np.int64)
+        fill = np.empty(size, np.int64)
+        waiting = np.empty(size, np.int64)
+        pred = np.empty(moves, np.int32)
+        psrc = np.empty(moves, np.int32)
+        head = np.empty(C, np.int64)
+        # ring entries: one per human turn at the start, then at most one per relaxation
+        # (untouched pages of these cost no memory)
+        entry_node = np.empty(size + moves, np.int32)
+        entry_dist = np.empty(size + moves, np.int64)
+        entry_next = np.empty(size + moves, np.int64)
+        _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, choice,
                      K, indeg, fill, waiting, pred, psrc, head, entry_node, entry_dist, entry_next)
-    return rval, hval, choice
+        if a == 0:
+            top = hval[0]
+    return rval, choice, top, missing
 
 
 @njit(cache=True)
-def _solve_layer(a, b, C, hflag, r_off, r_tgt, r_units, h_off, h_tgt, rval, hval, choice,
-                 K, indeg, fill, waiting, pred, psrc, head, entry_node, entry_dist, entry_next):
-    """Layer a..b of `_solve`, the layers below it solved (the rest are scratch
-    arrays, never reassigned in here: numba then counts no references)."""
-    size = b - a
-    # K: the human's best move into layer h - 1 (-1: none)
+def _human_values(a, b, keys, hflag, rval, K, table, bits, n, m, F, pb, eb, gb, qbits, atom_at, free_at,
+                  free_all, trans, accepting, obj_class, obj_pos, class_members, class_offsets, place_rank,
+                  rank_place, desc, mv_after):
+    """K[i - a] for the human turns i of nodes a..b: the largest value among
+    the human's moves (0 for a move that wins, rval of the node in layer
+    h - 1 that `table` holds otherwise), -1 with no move.  Returns how many
+    moves found no node in the table."""
+    qmask = (1 << qbits) - 1
+    missing = 0
     for i in range(a, b):
+        if not hflag[i]:
+            continue
+        key = keys[i]
+        nm = _human_moves(key >> qbits, n, m, F, pb, eb, gb, mv_after, obj_class, obj_pos,
+                          class_members, class_offsets, place_rank, rank_place, desc)
+        _targets(mv_after, nm, True, key & qmask, n, m, F, pb, eb, qbits, class_members, class_offsets,
+                 place_rank, rank_place, desc, atom_at, free_at, free_all, trans, accepting, table, bits)
         best = -1
-        for e in range(h_off[i], h_off[i + 1]):
-            t = h_tgt[e]
-            v = 0 if t < 0 else rval[t]
+        for e in range(nm):
+            w = mv_after[e]
+            v = 0
+            if w >= 0:
+                j = _find(table, bits, w)
+                if j < 0:
+                    missing += 1
+                    continue
+                v = rval[j]
             if v > best:
                 best = v
         K[i - a] = best
+    return missing
+
+
+@njit(cache=True)
+def _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, choice,
+                 K, indeg, fill, waiting, pred, psrc, head, entry_node, entry_dist, entry_next):
+    """Layer a..b of `_solve`, the layers below it solved and K known: hval
+    (relative to a) = max(K, rval), rval = min over robot moves of units +
+    hval of the target.  Dijkstra's algorithm for min-cost reachability games
+    (solvers/explicit.py) on the robot moves alone, with a bucket queue
+    (Dial's: costs are small integers, so the human turns waiting to settle
+    are kept in a ring of max-cost + 1 buckets) and the human turns whose K
+    dominates released in order of K.  (The arrays are scratch, never
+    reassigned in here: numba then counts no references.)"""
+    size = b - a
     # the robot moves into each node of the layer, grouped by target
     ea, eb = r_off[a], r_off[b]
     indeg[:size + 1] = 0
@@ -1157,9 +1228,9 @@ def _solve_layer(a, b, C, hflag, r_off, r_tgt, r_units, h_off, h_tgt, rval, hval
     # moves that win
     for i in range(a, b):
         for e in range(r_off[i], r_off[i + 1]):
-            if r_tgt[e] < 0 and r_units[e] < rval[i]:
-                rval[i] = r_units[e]
-                choice[i] = e
+            if r_tgt[e] < 0 and (r_move[e] >> code_bits) < rval[i]:
+                rval[i] = r_move[e] >> code_bits
+                choice[i] = e - r_off[i]
     head[:] = -1
     used = 0
     pending = 0
@@ -1189,7 +1260,7 @@ def _solve_layer(a, b, C, hflag, r_off, r_tgt, r_units, h_off, h_tgt, rval, hval
             if wp < nw and K[released[wp] - a] <= d:
                 j = released[wp]
                 wp += 1
-                if hval[j] < INF or rval[j] > K[j - a]:
+                if hval[j - a] < INF or rval[j] > K[j - a]:
                     continue
             else:
                 x = head[d % C]
@@ -1198,17 +1269,17 @@ def _solve_layer(a, b, C, hflag, r_off, r_tgt, r_units, h_off, h_tgt, rval, hval
                 head[d % C] = entry_next[x]
                 pending -= 1
                 j = entry_node[x] + a
-                if hval[j] < INF or entry_dist[x] != max(K[j - a], rval[j]):
+                if hval[j - a] < INF or entry_dist[x] != max(K[j - a], rval[j]):
                     continue  # settled already, or a stale entry
-            hval[j] = d
+            hval[j - a] = d
             for p in range(indeg[j - a], indeg[j - a + 1]):
                 e = pred[p] + ea
                 i = psrc[p] + a
-                cand = d + r_units[e]
+                cand = d + (r_move[e] >> code_bits)
                 if cand < rval[i]:
                     rval[i] = cand
-                    choice[i] = e
-                    if hflag[i] and hval[i] >= INF and K[i - a] < INF:
+                    choice[i] = e - r_off[i]
+                    if hflag[i] and hval[i - a] >= INF and K[i - a] < INF:
                         key = max(K[i - a], cand)
                         if key < d + C:
                             entry_node[used] = i - a
