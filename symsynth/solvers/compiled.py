@@ -1144,11 +1144,10 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, code_bits, n, m, F, pb, eb
             table = _table(1)  # freed before the layer's scratch is taken
         moves = r_off[b] - r_off[a]
         hval = np.full(size, INF, np.int64)
-        indeg = np.empty(size + 1, np.int64)
-        fill = np.empty(size, np.int64)
-        waiting = np.empty(size, np.int64)
+        indeg = np.empty(size + 1, np.int32)  # fewer than 2^31 robot moves (solve_compiled)
+        fill = np.empty(size, np.int32)
+        waiting = np.empty(size, np.int32)
         pred = np.empty(moves, np.int32)
-        psrc = np.empty(moves, np.int32)
         head = np.empty(C, np.int64)
         # ring entries: one per human turn at the start, then at most one per relaxation
         # (untouched pages of these cost no memory)
@@ -1156,7 +1155,7 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, code_bits, n, m, F, pb, eb
         entry_dist = np.empty(size + moves, np.int64)
         entry_next = np.empty(size + moves, np.int64)
         _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, choice,
-                     K, indeg, fill, waiting, pred, psrc, head, entry_node, entry_dist, entry_next)
+                     K, indeg, fill, waiting, pred, head, entry_node, entry_dist, entry_next)
         if a == 0:
             top = hval[0]
     return rval, choice, top, missing
@@ -1197,8 +1196,37 @@ def _human_values(a, b, keys, hflag, rval, K, table, bits, n, m, F, pb, eb, gb, 
 
 
 @njit(cache=True)
+def _by_k(a, b, hflag, K, nodes, out):
+    """The human turns i in a..b with 0 <= K[i - a] < INF into out, ordered by
+    K then by i (a counting sort when K's range is small, a stable sort
+    otherwise; `nodes` is scratch); their count."""
+    nw = 0
+    top = 0
+    for i in range(a, b):
+        if hflag[i] and 0 <= K[i - a] < INF:
+            nodes[nw] = i
+            nw += 1
+            top = max(top, K[i - a])
+    if top < 4 * nw + (1 << 16):
+        start = np.zeros(top + 2, np.int64)
+        for r in range(nw):
+            start[K[nodes[r] - a] + 1] += 1
+        for v in range(top + 1):
+            start[v + 1] += start[v]
+        for r in range(nw):
+            v = K[nodes[r] - a]
+            out[start[v]] = nodes[r]
+            start[v] += 1
+    else:
+        order = np.argsort(K[nodes[:nw] - a], kind="mergesort")
+        for r in range(nw):
+            out[r] = nodes[order[r]]
+    return nw
+
+
+@njit(cache=True)
 def _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, choice,
-                 K, indeg, fill, waiting, pred, psrc, head, entry_node, entry_dist, entry_next):
+                 K, indeg, fill, waiting, pred, head, entry_node, entry_dist, entry_next):
     """Layer a..b of `_solve`, the layers below it solved and K known: hval
     (relative to a) = max(K, rval), rval = min over robot moves of units +
     hval of the target.  Dijkstra's algorithm for min-cost reachability games
@@ -1222,8 +1250,7 @@ def _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, ch
         for e in range(r_off[i], r_off[i + 1]):
             t = r_tgt[e]
             if t >= 0:
-                pred[fill[t - a]] = e - ea  # the move, relative to ea
-                psrc[fill[t - a]] = i - a  # its source, relative to a
+                pred[fill[t - a]] = i - a  # the move's source, relative to a (its moves say which)
                 fill[t - a] += 1
     # moves that win
     for i in range(a, b):
@@ -1234,14 +1261,9 @@ def _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, ch
     head[:] = -1
     used = 0
     pending = 0
-    # human turns whose K (finite) may come to dominate, in order of K
-    nw = 0
-    for i in range(a, b):
-        if hflag[i] and 0 <= K[i - a] < INF:
-            waiting[nw] = i
-            nw += 1
-    order = np.argsort(K[waiting[:nw] - a], kind="mergesort")
-    released = waiting[:nw][order]
+    # human turns whose K (finite) may come to dominate, in order of K (then of node)
+    nw = _by_k(a, b, hflag, K, waiting, fill)
+    released = fill
     for i in range(a, b):  # the rest start in the ring
         if hflag[i] and K[i - a] < INF and rval[i] < INF and rval[i] > K[i - a]:
             entry_node[used] = i - a
@@ -1273,19 +1295,23 @@ def _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, ch
                     continue  # settled already, or a stale entry
             hval[j - a] = d
             for p in range(indeg[j - a], indeg[j - a + 1]):
-                e = pred[p] + ea
-                i = psrc[p] + a
-                cand = d + (r_move[e] >> code_bits)
-                if cand < rval[i]:
-                    rval[i] = cand
-                    choice[i] = e - r_off[i]
-                    if hflag[i] and hval[i - a] >= INF and K[i - a] < INF:
-                        key = max(K[i - a], cand)
-                        if key < d + C:
-                            entry_node[used] = i - a
-                            entry_dist[used] = key
-                            entry_next[used] = head[key % C]
-                            head[key % C] = used
-                            used += 1
-                            pending += 1
+                if p > indeg[j - a] and pred[p] == pred[p - 1]:
+                    continue  # this source's moves into j are relaxed already
+                i = pred[p] + a
+                for e in range(r_off[i], r_off[i + 1]):  # in order, as the moves were listed
+                    if r_tgt[e] != j:
+                        continue
+                    cand = d + (r_move[e] >> code_bits)
+                    if cand < rval[i]:
+                        rval[i] = cand
+                        choice[i] = e - r_off[i]
+                        if hflag[i] and hval[i - a] >= INF and K[i - a] < INF:
+                            key = max(K[i - a], cand)
+                            if key < d + C:
+                                entry_node[used] = i - a
+                                entry_dist[used] = key
+                                entry_next[used] = head[key % C]
+                                head[key % C] = used
+                                used += 1
+                                pending += 1
         d += 1
