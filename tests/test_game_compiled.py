@@ -16,7 +16,7 @@ from symsynth.logic import parse_ltlf
 from symsynth.solvers.compiled import Tables, _explore, _human_moves, solve_compiled
 from symsynth.solvers.explicit import solve_explicit
 from support.gamegen import alike_scene, random_scene
-from support.games import make_scene, worst_case_of
+from support.games import PICK, make_scene, worst_case_of
 
 
 @pytest.mark.parametrize("chunk", range(4))
@@ -58,6 +58,20 @@ def test_too_many_atoms_is_an_input_error():
     scene = make_scene({f"o{i}": "Else" for i in range(17)}, ["l1"], motions, task=f"F({atoms})")
     with pytest.raises(InputError, match="at most 16 atoms"):
         solve_compiled(scene)
+
+
+def test_a_move_too_costly_for_the_packing_is_an_input_error():
+    """A robot move is stored as units << code_bits | code in 31 bits: one
+    block, two locations and one grasp need code_bits = 7 (the largest code,
+    a slide of object 1 with frame 1 to place 3: ((4 * 2 + 1) * 2 + 1) * 4 + 3
+    = 79), so 2^24 units is the first cost refused; `explicit` solves it."""
+    def scene(cost):
+        motions = {**{key: 7 for key in PICK}, ("b/top", "l1/top", "l2/top"): cost}
+        return make_scene({"b": "l1"}, ["l1", "l2"], motions, else_samples=["e1"], task="F(at(b, l2))")
+    assert solve_compiled(scene((1 << 24) - 1 - 10)).units == solve_explicit(scene((1 << 24) - 1 - 10)).units
+    with pytest.raises(InputError, match="a move of 16777216 units"):
+        solve_compiled(scene(1 << 24))
+    assert solve_explicit(scene(1 << 24)).units is not None
 
 
 @pytest.mark.parametrize("seed", range(30))

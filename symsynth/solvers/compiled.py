@@ -1137,17 +1137,21 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, code_bits, n, m, F, pb, eb
             bits = 17
             while (1 << bits) < 2 * (hi[h - 1] - lo[h - 1]):
                 bits += 1
-            table = _rehash(keys, lo[h - 1], hi[h - 1], bits)
-            missing += _human_values(a, b, keys, hflag, rval, K, table, bits, n, m, F, pb, eb, gb, qbits,
+            table = _table(bits)  # layer h - 1's keys with their values
+            for r in range(lo[h - 1], hi[h - 1]):
+                _insert(table, bits, keys[r], rval[r])
+            missing += _human_values(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits,
                                      atom_at, free_at, free_all, trans, accepting, obj_class, obj_pos,
                                      class_members, class_offsets, place_rank, rank_place, desc, mv_after)
             table = _table(1)  # freed before the layer's scratch is taken
+            missing &= (1 << 32) - 1
         moves = r_off[b] - r_off[a]
         hval = np.full(size, INF, np.int64)
         indeg = np.empty(size + 1, np.int32)  # fewer than 2^31 robot moves (solve_compiled)
         fill = np.empty(size, np.int32)
         waiting = np.empty(size, np.int32)
         pred = np.empty(moves, np.int32)
+        psrc = np.empty(moves, np.int32)
         head = np.empty(C, np.int64)
         # ring entries: one per human turn at the start, then at most one per relaxation
         # (untouched pages of these cost no memory)
@@ -1155,44 +1159,46 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, code_bits, n, m, F, pb, eb
         entry_dist = np.empty(size + moves, np.int64)
         entry_next = np.empty(size + moves, np.int64)
         _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, choice,
-                     K, indeg, fill, waiting, pred, head, entry_node, entry_dist, entry_next)
+                     K, indeg, fill, waiting, pred, psrc, head, entry_node, entry_dist, entry_next)
         if a == 0:
             top = hval[0]
     return rval, choice, top, missing
 
 
 @njit(cache=True)
-def _human_values(a, b, keys, hflag, rval, K, table, bits, n, m, F, pb, eb, gb, qbits, atom_at, free_at,
+def _human_values(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits, atom_at, free_at,
                   free_all, trans, accepting, obj_class, obj_pos, class_members, class_offsets, place_rank,
                   rank_place, desc, mv_after):
     """K[i - a] for the human turns i of nodes a..b: the largest value among
-    the human's moves (0 for a move that wins, rval of the node in layer
-    h - 1 that `table` holds otherwise), -1 with no move.  Returns how many
-    moves found no node in the table."""
+    the human's moves (0 for a move that wins, the value `table` holds with
+    the key of its node in layer h - 1 otherwise: one random read per move),
+    -1 with no move.  Returns how many moves found no node in the table (in
+    the low 32 bits; the rest keeps the batched first reads alive)."""
     qmask = (1 << qbits) - 1
     missing = 0
+    sink = 0
     for i in range(a, b):
         if not hflag[i]:
             continue
         key = keys[i]
         nm = _human_moves(key >> qbits, n, m, F, pb, eb, gb, mv_after, obj_class, obj_pos,
                           class_members, class_offsets, place_rank, rank_place, desc)
-        _targets(mv_after, nm, True, key & qmask, n, m, F, pb, eb, qbits, class_members, class_offsets,
-                 place_rank, rank_place, desc, atom_at, free_at, free_all, trans, accepting, table, bits)
+        sink ^= _targets(mv_after, nm, True, key & qmask, n, m, F, pb, eb, qbits, class_members,
+                         class_offsets, place_rank, rank_place, desc, atom_at, free_at, free_all, trans,
+                         accepting, table, bits)
         best = -1
         for e in range(nm):
             w = mv_after[e]
             v = 0
             if w >= 0:
-                j = _find(table, bits, w)
-                if j < 0:
+                v = _find(table, bits, w)
+                if v < 0:
                     missing += 1
                     continue
-                v = rval[j]
             if v > best:
                 best = v
         K[i - a] = best
-    return missing
+    return missing | ((sink & 1) << 40)
 
 
 @njit(cache=True)
@@ -1226,7 +1232,7 @@ def _by_k(a, b, hflag, K, nodes, out):
 
 @njit(cache=True)
 def _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, choice,
-                 K, indeg, fill, waiting, pred, head, entry_node, entry_dist, entry_next):
+                 K, indeg, fill, waiting, pred, psrc, head, entry_node, entry_dist, entry_next):
     """Layer a..b of `_solve`, the layers below it solved and K known: hval
     (relative to a) = max(K, rval), rval = min over robot moves of units +
     hval of the target.  Dijkstra's algorithm for min-cost reachability games
@@ -1250,7 +1256,8 @@ def _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, ch
         for e in range(r_off[i], r_off[i + 1]):
             t = r_tgt[e]
             if t >= 0:
-                pred[fill[t - a]] = i - a  # the move's source, relative to a (its moves say which)
+                pred[fill[t - a]] = e - ea  # the move, relative to ea
+                psrc[fill[t - a]] = i - a  # its source, relative to a
                 fill[t - a] += 1
     # moves that win
     for i in range(a, b):
@@ -1295,23 +1302,19 @@ def _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, ch
                     continue  # settled already, or a stale entry
             hval[j - a] = d
             for p in range(indeg[j - a], indeg[j - a + 1]):
-                if p > indeg[j - a] and pred[p] == pred[p - 1]:
-                    continue  # this source's moves into j are relaxed already
-                i = pred[p] + a
-                for e in range(r_off[i], r_off[i + 1]):  # in order, as the moves were listed
-                    if r_tgt[e] != j:
-                        continue
-                    cand = d + (r_move[e] >> code_bits)
-                    if cand < rval[i]:
-                        rval[i] = cand
-                        choice[i] = e - r_off[i]
-                        if hflag[i] and hval[i - a] >= INF and K[i - a] < INF:
-                            key = max(K[i - a], cand)
-                            if key < d + C:
-                                entry_node[used] = i - a
-                                entry_dist[used] = key
-                                entry_next[used] = head[key % C]
-                                head[key % C] = used
-                                used += 1
-                                pending += 1
+                e = pred[p] + ea
+                i = psrc[p] + a
+                cand = d + (r_move[e] >> code_bits)
+                if cand < rval[i]:
+                    rval[i] = cand
+                    choice[i] = e - r_off[i]
+                    if hflag[i] and hval[i - a] >= INF and K[i - a] < INF:
+                        key = max(K[i - a], cand)
+                        if key < d + C:
+                            entry_node[used] = i - a
+                            entry_dist[used] = key
+                            entry_next[used] = head[key % C]
+                            head[key % C] = used
+                            used += 1
+                            pending += 1
         d += 1
