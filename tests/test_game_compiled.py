@@ -13,6 +13,7 @@ from symsynth.game.abstraction import initial_state
 from symsynth.game.solution import task_formula
 from symsynth.game.symmetry import Symmetry
 from symsynth.logic import parse_ltlf
+from symsynth.solvers import compiled
 from symsynth.solvers.compiled import Tables, _explore, _human_moves, solve_compiled
 from symsynth.solvers.explicit import solve_explicit
 from support.gamegen import alike_scene, random_scene
@@ -34,6 +35,28 @@ def test_same_positions_and_value_as_the_explicit_solver(chunk):
             assert worst_case_of(scene, compiled, parse_ltlf(scene.task)) == compiled.units
             assert sum(s.cost for s in compiled.principal_play) == pytest.approx(compiled.cost_bound)
     assert kinds["finite"] >= 15 and kinds["infinite"] >= 10, kinds
+
+
+@pytest.mark.parametrize("kept", [0, 40])
+def test_human_moves_generated_again_when_too_many_to_keep(kept, monkeypatch):
+    """Past `HUMAN_MOVES_KEPT` human moves (none, or dropped after 40 once the
+    exploration is under way) the solver generates them again and looks
+    their values up in a rebuilt table: still the explicit solver's value and
+    positions, and a strategy that wins within it."""
+    monkeypatch.setattr(compiled, "HUMAN_MOVES_KEPT", kept)
+    checked = past = 0
+    for seed in range(40):
+        scene = random_scene(3000 + seed, positive=seed % 2 == 0, contacts=seed % 3 == 0) if seed % 2 else \
+            alike_scene(seed, contacts=seed % 4 == 0)
+        k, symmetric = (1 + seed % 3, False) if seed % 2 else (None, True)
+        got = solve_compiled(scene, k=k, symmetric=symmetric)
+        explicit = solve_explicit(scene, k=k, symmetric=symmetric)
+        assert (got.units, got.states) == (explicit.units, explicit.states), seed
+        if got.units is not None:
+            assert worst_case_of(scene, got, parse_ltlf(scene.task)) == got.units
+            checked += 1
+        past += got.stats.get("human_moves", 0) > kept
+    assert past >= 15 and checked >= 10, (past, checked)  # the path ran, on games with a finite value too
 
 
 @pytest.mark.parametrize("seed", range(30))

@@ -75,6 +75,10 @@ from symsynth.scene.propositions import interpret_all
 
 INF = np.int64(1 << 60)
 MAX_ATOMS = 16
+#: The human's moves are kept (4 bytes each) while there are at most this many (2 GiB); a
+#: larger game drops them and generates them again when solving (twice their exploring work:
+#: sorting 8 x 12, 332 M human moves, solves in 10 s CPU with them kept, 23 s without)
+HUMAN_MOVES_KEPT = 1 << 29
 
 
 class TooLarge(InputError):
@@ -110,7 +114,7 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
     if max(len(keys), len(r_tgt)) >= 1 << 31:
         raise TooLarge("the compiled solver holds fewer than 2^31 nodes and robot moves; "
                        f"this game has {len(keys)} nodes and {len(r_tgt)} robot moves")
-    rval, choice, top, missing = _solve(*explored[:7], *tables.human_args())
+    rval, choice, top, missing = _solve(*explored[:7], *explored[8:], *tables.human_args())
     if missing:
         raise RuntimeError(f"internal error: {missing} human moves left the explored nodes")
     graph = Graph(tables, explored[:7], rval, choice)
@@ -334,7 +338,7 @@ class Tables:
                 self.slide_start, self.slide_count, self.is_grasp, np.int64(self.grab_units),
                 np.int64(self.drop_units), self.atom_at, self.free_at, self.free_all,
                 self.trans, self.accepting, self.class_members,
-                self.class_offsets, self.place_rank, self.rank_place, self.code_bits)
+                self.class_offsets, self.place_rank, self.rank_place, self.code_bits, HUMAN_MOVES_KEPT)
 
     def human_args(self) -> tuple:
         """What `_solve` needs to generate the human's moves again."""
@@ -919,15 +923,18 @@ def _targets(mv_after, nm, canonical, q, n, m, F, pb, eb, qbits, class_members, 
 
 
 @njit(cache=True)
-def _room_nodes(keys, hflag, r_off, count, room):
-    """The per-node arrays, grown when `room` more nodes would not fit."""
+def _room_nodes(keys, hflag, r_off, h_off, count, room, store):
+    """The per-node arrays, grown when `room` more nodes would not fit (h_off
+    while the human moves are stored)."""
     if count + room > len(keys):
         size = 2 * (count + room)
         keys = _grow(keys, size)
         hflag = _grow(hflag, size)
         hflag[count:] = 0
         r_off = _grow(r_off, size + 1)
-    return keys, hflag, r_off
+        if store:
+            h_off = _grow(h_off, size + 1)
+    return keys, hflag, r_off, h_off
 
 
 @njit(cache=True)
@@ -973,17 +980,19 @@ def _robot_layer(st, lo, room, keys, hflag, r_off, r_tgt, r_move, table, bits,
 
 
 @njit(cache=True)
-def _human_layer(st, lo, end, room, keys, hflag, table, bits,
+def _human_layer(st, lo, end, room, keys, hflag, h_off, h_tgt, table, bits,
                  n, m, F, pb, eb, gb, qbits, atom_at, free_at, free_all, trans, accepting,
                  obj_class, obj_pos, class_members, class_offsets, place_rank, rank_place, desc, mv_after):
     """The human's moves from the human turns of nodes st[0]..end into the
     layer whose nodes start at `lo` (added there when new), while the arrays
-    have room for one more node's moves; st (i, count, ..., nh) is updated.
-    The moves are counted, not stored: `_solve` generates them again."""
+    have room for one more node's moves; st (i, count, ..., nh, store) is
+    updated.  The moves are counted, and stored (h_off, h_tgt: their target
+    nodes, -1 for a win) while st[4] says so."""
     qmask = (1 << qbits) - 1
-    i, count, nh, sink = st[0], st[1], st[3], st[5]
+    i, count, nh, store, sink = st[0], st[1], st[3], st[4], st[5]
     while i < end:
-        if count + room > len(keys) or 2 * (count + room - lo) > len(table):
+        if (count + room > len(keys) or 2 * (count + room - lo) > len(table)
+                or (store and nh + room > len(h_tgt))):
             break
         if hflag[i]:
             key = keys[i]
@@ -995,12 +1004,17 @@ def _human_layer(st, lo, end, room, keys, hflag, table, bits,
                              table, bits)
             for e in range(nm):
                 w = mv_after[e]
+                j = -1
                 if w >= 0:
                     j = _probe(table, bits, w, count)
                     if j == count:
                         keys[count] = w
                         count += 1
+                if store:
+                    h_tgt[nh + e] = j
             nh += nm
+        if store:
+            h_off[i + 1] = nh
         i += 1
     st[0], st[1], st[3], st[5] = i, count, nh, sink
 
@@ -1009,7 +1023,7 @@ def _human_layer(st, lo, end, room, keys, hflag, table, bits,
 def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_starts, samples_mask,
              rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
              grab_units, drop_units, atom_at, free_at, free_all, trans, accepting,
-             class_members, class_offsets, place_rank, rank_place, code_bits):
+             class_members, class_offsets, place_rank, rank_place, code_bits, human_cap):
     """Every node the start (the human's turn at key `start`, h = k) reaches,
     layer by layer from h = k down to 0.
 
@@ -1020,11 +1034,15 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
     of layer h reach, by their moves, the seeds of layer h - 1.  Returns the
     keys, hflag, the layers' index ranges lo[h]..hi[h], the robot moves in CSR
     form (r_off; r_tgt: target node, -1 for a win; r_move: units << code_bits |
-    action code) and the number of human moves (generated, not stored: about
-    80% of all moves)."""
+    action code), the number of human moves and, when there are at most
+    `human_cap` of them (about 80% of all moves), the human moves in CSR form
+    (h_off; h_tgt: target node in layer h - 1, -1 for a win); else h_off and
+    h_tgt are empty and `_solve` generates the moves again."""
     keys = np.empty(1 << 16, np.int64)
     hflag = np.zeros(1 << 16, np.uint8)
     r_off = np.zeros((1 << 16) + 1, np.int64)
+    h_off = np.zeros((1 << 16) + 1, np.int64)
+    h_tgt = np.empty(min(1 << 18, human_cap), np.int32)
     r_tgt = np.empty(1 << 18, np.int32)
     r_move = np.empty(1 << 18, np.int32)
     lo = np.zeros(k + 1, np.int64)
@@ -1050,8 +1068,9 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
             obj_class[class_members[r]] = c
             obj_pos[class_members[r]] = r - class_offsets[c]
     room = len(mv_after)  # the most moves a node can have
-    st = np.zeros(6, np.int64)  # i, count, ne, nh, (unused), sink: the inner loops' state
+    st = np.zeros(6, np.int64)  # i, count, ne, nh, store, sink: the inner loops' state
     st[1] = count
+    st[4] = 1
     for h in range(k, -1, -1):
         # layer h: closed under robot moves from its seeds
         st[0] = lo[h]
@@ -1064,7 +1083,7 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
                          mv_after, mv_units, mv_code, code_bits)
             if st[0] == st[1]:
                 break
-            keys, hflag, r_off = _room_nodes(keys, hflag, r_off, st[1], room)
+            keys, hflag, r_off, h_off = _room_nodes(keys, hflag, r_off, h_off, st[1], room, st[4])
             if st[2] + room > len(r_tgt):  # 1.5x: the move arrays are most of the memory
                 size = st[2] + st[2] // 2 + room
                 r_tgt = _grow(r_tgt, size)
@@ -1074,6 +1093,9 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
                 table = _rehash(keys, lo[h], st[1], bits)
         hi[h] = st[1]
         if h == 0:
+            if st[4]:
+                for i in range(lo[h], hi[h]):
+                    h_off[i + 1] = st[3]
             break
         # the human's moves from layer h: the seeds of layer h - 1
         lo[h - 1] = st[1]
@@ -1081,34 +1103,44 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
         table = _table(bits)
         st[0] = lo[h]
         while True:
-            _human_layer(st, lo[h - 1], hi[h], room, keys, hflag, table, bits,
+            _human_layer(st, lo[h - 1], hi[h], room, keys, hflag, h_off, h_tgt, table, bits,
                          n, m, F, pb, eb, gb, qbits, atom_at, free_at, free_all, trans, accepting,
                          obj_class, obj_pos, class_members, class_offsets, place_rank, rank_place, desc,
                          mv_after)
             if st[0] == hi[h]:
                 break
-            keys, hflag, r_off = _room_nodes(keys, hflag, r_off, st[1], room)
+            keys, hflag, r_off, h_off = _room_nodes(keys, hflag, r_off, h_off, st[1], room, st[4])
+            if st[4] and st[3] + room > len(h_tgt):
+                if st[3] + room > human_cap:  # too many to keep: generated again when solving
+                    st[4] = 0
+                    h_off = np.zeros(1, np.int64)
+                    h_tgt = np.empty(0, np.int32)
+                else:
+                    h_tgt = _grow(h_tgt, min(human_cap, st[3] + st[3] // 2 + room))
             if 2 * (st[1] + room - lo[h - 1]) > len(table):
                 bits += 1
                 table = _rehash(keys, lo[h - 1], st[1], bits)
     N, ne, nh = st[1], st[2], st[3]
     # views, not copies: a copy of the move arrays would hold them twice at the peak
-    return keys[:N], hflag[:N], lo, hi, r_off[:N + 1], r_tgt[:ne], r_move[:ne], nh
+    if st[4]:
+        h_off, h_tgt = h_off[:N + 1], h_tgt[:nh]
+    return keys[:N], hflag[:N], lo, hi, r_off[:N + 1], r_tgt[:ne], r_move[:ne], nh, h_off, h_tgt
 
 
 @njit(cache=True)
-def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, code_bits, n, m, F, pb, eb, gb, qbits, atom_at,
-           free_at, free_all, trans, accepting, class_members, class_offsets, place_rank, rank_place):
+def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n, m, F, pb, eb, gb, qbits,
+           atom_at, free_at, free_all, trans, accepting, class_members, class_offsets, place_rank, rank_place):
     """The value of every node's robot turn (rval) and the robot's chosen move
     (choice, relative to r_off[i]; -1: none), layer by layer from h = 0 up;
     also the value of the start's human turn (node 0; INF: lost) and the
     number of human moves that found no node (0 unless there is a bug).
 
     The human's moves from layer h lead into layer h - 1, solved already, so
-    each human turn's best move is a number K known before layer h is solved.
-    The moves were not stored: they are generated again here and looked up in
-    a hash table of layer h - 1 built from its keys (one table alive at a
-    time, and freed before the layer is solved).  Then `_solve_layer`."""
+    each human turn's best move is a number K known before layer h is solved:
+    from the stored moves (h_off, h_tgt) when `_explore` kept them, else the
+    moves are generated again and looked up in a hash table of layer h - 1
+    built from its keys with their values (one table alive at a time, freed
+    before the layer is solved).  Then `_solve_layer`."""
     N = len(keys)
     rval = np.empty(N, np.int64)  # read at random by the human moves of the layer above
     _huge(rval)
@@ -1133,7 +1165,16 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, code_bits, n, m, F, pb, eb
         size = b - a
         K = np.empty(size, np.int64)  # the human's best move into layer h - 1 (-1: none)
         K[:] = -1
-        if h > 0:
+        if h > 0 and len(h_off) == N + 1:
+            for i in range(a, b):
+                best = -1
+                for e in range(h_off[i], h_off[i + 1]):
+                    t = h_tgt[e]
+                    v = 0 if t < 0 else rval[t]
+                    if v > best:
+                        best = v
+                K[i - a] = best
+        elif h > 0:
             bits = 17
             while (1 << bits) < 2 * (hi[h - 1] - lo[h - 1]):
                 bits += 1
