@@ -36,7 +36,12 @@ h, the human's moves left:
   h - 1, solved already, so each human turn's best reply K is a number before
   layer h is solved; there the value of a human turn is max(K, the robot
   turn's value) and Dijkstra's algorithm runs on the robot moves alone.
-  Human moves are kept as 32-bit targets only (no costs, no reverse edges).
+- a robot move is kept in 8 bytes: its target node, and its cost in units
+  shifted above its action's code (refused, naming the limit, when a cost
+  does not fit); human moves as 32-bit targets only, and only while there
+  are at most `HUMAN_MOVES_KEPT` of them: past that they are dropped and
+  `_solve` generates them again, looking their values up in a hash table
+  of the layer below rebuilt from its keys (one table alive at a time).
 
 The moves are generated in the kernel from docs/game-semantics.md §4-§5 as
 `game/abstraction.py` writes them; the tests hold the two to the same value
@@ -46,8 +51,9 @@ never reassigned (growth happens between calls): numba then emits no
 reference counting inside them.
 
 Scenes the packing cannot hold (more than 62 bits per position, more than
-16 task atoms) raise `TooLarge` (an `InputError`) naming the limit; `--solver explicit`
-solves them.
+16 task atoms, a move's cost beyond its 32-bit packing, more than 2^15 moves
+per position, 2^31 nodes or robot moves) raise `TooLarge` (an `InputError`)
+naming the limit; `--solver explicit` solves them.
 """
 
 from __future__ import annotations
