@@ -14,7 +14,7 @@ from symsynth.game.solution import task_formula
 from symsynth.game.symmetry import Symmetry
 from symsynth.logic import parse_ltlf
 from symsynth.solvers import compiled
-from symsynth.solvers.compiled import Tables, _explore, _human_moves, solve_compiled
+from symsynth.solvers.compiled import Tables, _explore, _human_moves, _letter, solve_compiled
 from symsynth.solvers.explicit import solve_explicit
 from support.gamegen import alike_scene, random_scene
 from support.games import PICK, make_scene, worst_case_of
@@ -102,7 +102,8 @@ def test_human_moves_come_out_canonical(seed):
     """The kernel's human moves at a canonical state shift one member's key to
     its place in the class instead of sorting: at every explored human turn,
     each move equals `_canon` of the same move made without classes (the
-    plain move, sorted afresh)."""
+    plain move, sorted afresh), and its letter, computed per moved object,
+    equals the one `_letter` reads off the canonical state object by object."""
     scene = alike_scene(seed, contacts=seed % 2 == 0)
     formula = task_formula(scene, None)
     t = Tables(scene, formula, 1.0, Symmetry.of(scene, formula), 2)
@@ -116,16 +117,20 @@ def test_human_moves_come_out_canonical(seed):
             obj_class[t.class_members[r]], obj_pos[t.class_members[r]] = c, r - t.class_offsets[c]
     size = 4 * (n * (t.F + t.m + 2) + t.m + 2)
     fast, plain, scratch = np.empty(size, np.int64), np.empty(size, np.int64), np.empty(n, np.int64)
+    letters = np.empty(size, np.int64)
     checked = 0
     for key in keys[hflag == 1]:
         x = np.int64(int(key) >> t.qbits)
         assert t.canon(int(x)) == int(x)
         args = (x, n, t.m, t.F, t.pb, t.eb, t.gb)
         count = _human_moves(*args, fast, obj_class, obj_pos, t.class_members, t.class_offsets,
-                             t.place_rank, t.rank_place, scratch)
+                             t.place_rank, t.rank_place, scratch, letters, t.atom_at, t.free_at, t.free_all)
         assert _human_moves(*args, plain, np.full(n, -1, np.int64), obj_pos, t.class_members,
-                            t.class_offsets, t.place_rank, t.rank_place, scratch) == count
+                            t.class_offsets, t.place_rank, t.rank_place, scratch, np.empty(size, np.int64),
+                            t.atom_at, t.free_at, t.free_all) == count
         for e in range(count):
             assert fast[e] == t.canon(int(plain[e])), (seed, t.unpack(int(x)), t.unpack(int(plain[e])))
+            # the letter computed per moved object is the canonical state's, read object by object
+            assert letters[e] == _letter(fast[e], n, t.pb, t.atom_at, t.free_at, t.free_all)
             checked += 1
     assert checked > 0 or classes == 0

@@ -780,10 +780,17 @@ def _fbits(F):
 
 @njit(cache=True)
 def _human_moves(x, n, m, F, pb, eb, gb, mv_after, obj_class, obj_pos, class_members, class_offsets,
-                 place_rank, rank_place, dd):
+                 place_rank, rank_place, dd, letters, atom_at, free_at, free_all):
     """The human's moves at packed state x (§5: one object not in the hand to a
     free location, not the one the gripper is aligned over, or to Else) into
-    mv_after, canonical when x is (below); their count.
+    mv_after, canonical when x is (below), and the task's letter after each
+    into letters; their count.
+
+    The letter is the one of the move before canonicalizing: the other
+    objects' atoms, OR-ed once per moved object, and the moved object's at
+    its new place (2 table reads a move instead of n).  Canonicalizing
+    permutes objects of one class, whose atoms are the same (the premise of
+    the reduction), so it is the canonical state's letter too.
 
     x canonical: in each class the members' sort keys (place rank, frame
     aimed at) ascend in member order.  A move changes one member's key, so
@@ -814,9 +821,17 @@ def _human_moves(x, n, m, F, pb, eb, gb, mv_after, obj_class, obj_pos, class_mem
             continue
         aimed = o == holder
         c = obj_class[o]
+        others = 0  # the atoms the other objects make true, and the free atoms they make false
+        gone = 0
+        for j in range(n):
+            if j != o:
+                pj = (x >> (j * pb)) & pmask
+                others |= atom_at[j, pj]
+                gone |= free_at[pj]
         for t in range(m + 1):
             if t < m and (occupied >> t & 1 or t == aligned):
                 continue
+            letters[nm] = others | atom_at[o, t] | (free_all & ~(gone | free_at[t]))
             y = (x & ~(pmask << (o * pb))) | (t << (o * pb))
             if aimed:
                 y &= ~(emask << eshift)
@@ -910,16 +925,19 @@ def _rehash(keys, lo, count, bits):
 
 @njit(cache=True)
 def _targets(mv_after, nm, canonical, q, n, m, F, pb, eb, qbits, class_members, class_offsets, place_rank,
-             rank_place, desc, atom_at, free_at, free_all, trans, accepting, table, bits):
+             rank_place, desc, atom_at, free_at, free_all, trans, accepting, table, bits, letters):
     """The keys of the nodes the moves mv_after[:nm] lead to, in place (-1:
-    the task is won; `canonical`: the states are canonical already).  Then each key's first slot in the hash table is read,
+    the task is won; `canonical`: the states are canonical already, with
+    their letters in `letters`).  Then each key's first slot in the hash table is read,
     all at once, so that the cache misses overlap; returns what was read, that
     the reads stay."""
     for e in range(nm):
         w = mv_after[e]
-        if not canonical:
+        if canonical:
+            q2 = trans[q, letters[e]]
+        else:
             w = _canon(w, n, m, F, pb, eb, class_members, class_offsets, place_rank, rank_place, desc)
-        q2 = trans[q, _letter(w, n, pb, atom_at, free_at, free_all)]
+            q2 = trans[q, _letter(w, n, pb, atom_at, free_at, free_all)]
         mv_after[e] = -1 if accepting[q2] else w << qbits | q2
     seen = 0
     for e in range(nm):
@@ -967,7 +985,7 @@ def _robot_layer(st, lo, room, keys, hflag, r_off, r_tgt, r_move, table, bits,
                           mv_code)
         sink ^= _targets(mv_after, nm, False, q, n, m, F, pb, eb, qbits, class_members, class_offsets,
                          place_rank, rank_place, desc, atom_at, free_at, free_all, trans, accepting,
-                         table, bits)
+                         table, bits, mv_units)
         for e in range(nm):
             w = mv_after[e]
             j = -1
@@ -988,7 +1006,8 @@ def _robot_layer(st, lo, room, keys, hflag, r_off, r_tgt, r_move, table, bits,
 @njit(cache=True)
 def _human_layer(st, lo, end, room, keys, hflag, h_off, h_tgt, table, bits,
                  n, m, F, pb, eb, gb, qbits, atom_at, free_at, free_all, trans, accepting,
-                 obj_class, obj_pos, class_members, class_offsets, place_rank, rank_place, desc, mv_after):
+                 obj_class, obj_pos, class_members, class_offsets, place_rank, rank_place, desc, mv_after,
+                 mv_letter):
     """The human's moves from the human turns of nodes st[0]..end into the
     layer whose nodes start at `lo` (added there when new), while the arrays
     have room for one more node's moves; st (i, count, ..., nh, store) is
@@ -1004,10 +1023,11 @@ def _human_layer(st, lo, end, room, keys, hflag, h_off, h_tgt, table, bits,
             key = keys[i]
             q = key & qmask
             nm = _human_moves(key >> qbits, n, m, F, pb, eb, gb, mv_after, obj_class, obj_pos,
-                              class_members, class_offsets, place_rank, rank_place, desc)
+                              class_members, class_offsets, place_rank, rank_place, desc, mv_letter, atom_at,
+                              free_at, free_all)
             sink ^= _targets(mv_after, nm, True, q, n, m, F, pb, eb, qbits, class_members, class_offsets,
                              place_rank, rank_place, desc, atom_at, free_at, free_all, trans, accepting,
-                             table, bits)
+                             table, bits, mv_letter)
             for e in range(nm):
                 w = mv_after[e]
                 j = -1
@@ -1061,6 +1081,7 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
     mv_after = np.empty(4 * (n * (F + m + 2) + m + 2), np.int64)
     mv_units = np.empty(len(mv_after), np.int64)
     mv_code = np.empty(len(mv_after), np.int64)
+    mv_letter = np.empty(len(mv_after), np.int64)
     bits = 17
     table = _table(bits)  # open addressing: (key, index), -1 empty
     keys[0] = start
@@ -1112,7 +1133,7 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
             _human_layer(st, lo[h - 1], hi[h], room, keys, hflag, h_off, h_tgt, table, bits,
                          n, m, F, pb, eb, gb, qbits, atom_at, free_at, free_all, trans, accepting,
                          obj_class, obj_pos, class_members, class_offsets, place_rank, rank_place, desc,
-                         mv_after)
+                         mv_after, mv_letter)
             if st[0] == hi[h]:
                 break
             keys, hflag, r_off, h_off = _room_nodes(keys, hflag, r_off, h_off, st[1], room, st[4])
@@ -1166,6 +1187,7 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
             obj_pos[class_members[r]] = r - class_offsets[c]
     desc = np.empty(n, np.int64)
     mv_after = np.empty(4 * (n * (F + m + 2) + m + 2), np.int64)
+    mv_letter = np.empty(len(mv_after), np.int64)
     for h in range(len(lo)):
         a, b = lo[h], hi[h]
         size = b - a
@@ -1189,7 +1211,8 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
                 _insert(table, bits, keys[r], rval[r])
             missing += _human_values(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits,
                                      atom_at, free_at, free_all, trans, accepting, obj_class, obj_pos,
-                                     class_members, class_offsets, place_rank, rank_place, desc, mv_after)
+                                     class_members, class_offsets, place_rank, rank_place, desc, mv_after,
+                                     mv_letter)
             table = _table(1)  # freed before the layer's scratch is taken
             missing &= (1 << 32) - 1
         moves = r_off[b] - r_off[a]
@@ -1215,7 +1238,7 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
 @njit(cache=True)
 def _human_values(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits, atom_at, free_at,
                   free_all, trans, accepting, obj_class, obj_pos, class_members, class_offsets, place_rank,
-                  rank_place, desc, mv_after):
+                  rank_place, desc, mv_after, mv_letter):
     """K[i - a] for the human turns i of nodes a..b: the largest value among
     the human's moves (0 for a move that wins, the value `table` holds with
     the key of its node in layer h - 1 otherwise: one random read per move),
@@ -1229,10 +1252,11 @@ def _human_values(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits,
             continue
         key = keys[i]
         nm = _human_moves(key >> qbits, n, m, F, pb, eb, gb, mv_after, obj_class, obj_pos,
-                          class_members, class_offsets, place_rank, rank_place, desc)
+                          class_members, class_offsets, place_rank, rank_place, desc, mv_letter, atom_at,
+                          free_at, free_all)
         sink ^= _targets(mv_after, nm, True, key & qmask, n, m, F, pb, eb, qbits, class_members,
                          class_offsets, place_rank, rank_place, desc, atom_at, free_at, free_all, trans,
-                         accepting, table, bits)
+                         accepting, table, bits, mv_letter)
         best = -1
         for e in range(nm):
             w = mv_after[e]
