@@ -60,6 +60,10 @@ ROOT = HERE.parent
 DEFAULT_OUT = HERE / "results" / "game.md"
 SIZES = [(1, 2), (2, 3), (2, 4), (3, 4), (3, 5), (4, 6), (5, 7), (6, 8), (7, 10), (8, 12)]
 QUICK_SIZES = [(1, 2), (2, 3), (2, 4), (3, 4)]
+#: NAME:variant -> the solver's options: `plain` without the reduction by
+#: interchangeable objects, `reachable` (symbolic only) the attractor on the
+#: positions a play from the start reaches
+VARIANTS = {"plain": {"symmetric": False}, "reachable": {"reachable_only": True}}
 TARGET_SPEEDUP = 10.0
 TARGET_SIZE = (8, 12, 3)
 TARGET_SECONDS = 60.0
@@ -88,8 +92,8 @@ def worker(solver: str, n: int, m: int, k: int, seed: int, out: str, colours: in
         result["build_s"] = time.perf_counter() - clock
         name, _, variant = solver.partition(":")
         solve = SOLVERS[name]
-        if variant == "plain":  # the solver without the reduction by interchangeable objects
-            solve = functools.partial(solve, symmetric=False)
+        if variant:
+            solve = functools.partial(solve, **VARIANTS[variant])
         result["base_kb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
         clock = time.perf_counter()
         solution = solve(scene)
@@ -450,10 +454,13 @@ def main(argv=None):
         p.error("--sizes and --solvers must each name at least one")
 
     from symsynth.solvers import SOLVERS
-    unknown = [s for s in solvers if s.partition(":")[0] not in SOLVERS or s.partition(":")[2] not in ("", "plain")]
+    unknown = [s for s in solvers if s.partition(":")[0] not in SOLVERS
+               or s.partition(":")[2] not in ("", *VARIANTS)
+               or s.partition(":")[2] == "reachable" and s.partition(":")[0] != "symbolic"]
     if unknown:
         p.error(f"unknown solver(s) {', '.join(unknown)}; registered: {', '.join(SOLVERS)} "
-                "(NAME:plain: without the reduction by interchangeable objects)")
+                "(NAME:plain: without the reduction by interchangeable objects; "
+                "symbolic:reachable: the attractor on the positions a play reaches)")
     runnable = solvers
     limits: dict[str, tuple[int, int]] = {}
     for item in args.limit:

@@ -42,18 +42,23 @@ from symsynth.logic import ast
 from symsynth.scene.model import ELSE, HAND, Scene
 from symsynth.solvers.bdd.arena import Arena
 from symsynth.solvers.bdd.classes import ClassArena
-from symsynth.solvers.bdd.fixpoint import Attractor, attractor
+from symsynth.solvers.bdd.fixpoint import Attractor, attractor, reachable
 
 Q = tuple[bool, ...]
 
 
 def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
                    k: int | None = None, budget: float | None = None,
-                   resolution: float = 1.0, symmetric: bool = True) -> Solution:
+                   resolution: float = 1.0, symmetric: bool = True,
+                   reachable_only: bool = False) -> Solution:
     """E_p, a strategy and plays for `formula` (default: the scene's task)
     against a human with `k` moves (default: the scene's k).  With
     `symmetric` and interchangeable objects in the scene (`game.symmetry`),
-    on the class encoding (`bdd.classes`); else each object's place in bits."""
+    on the class encoding (`bdd.classes`); else each object's place in bits.
+    With `reachable_only`, the attractors solve only the positions a play
+    from the start can reach (`bdd.fixpoint.reachable`): the strategy and
+    the values are those of every other solver there, and undefined (the
+    strategy raises KeyError) elsewhere."""
     k = check_parameters(scene, k, resolution)
     formula = task_formula(scene, formula)
     clock = time.perf_counter()
@@ -79,9 +84,16 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
     if game.accepting(q0):
         return _solution(arena, 0, budget, seconds, stats, None, (), None)
 
+    within = None
+    if reachable_only:
+        clock = time.perf_counter()
+        within = reachable(arena, arena.bdd.cube(game._values(v0, q0)))
+        seconds["reachable"] = time.perf_counter() - clock
+        nvars = len(arena.state_bits) + len(arena.dfa.bits)
+        stats["reachable_positions"] = sum(int(arena.bdd.count(u, nvars=nvars)) for u in within)
     clock = time.perf_counter()
     with _rounds("qualitative attractor") as bar:
-        qualitative = attractor(arena, with_costs=False, progress=bar,
+        qualitative = attractor(arena, with_costs=False, progress=bar, within=within,
                                 stop=lambda x: game.contains(x, start))
     seconds["qualitative"] = time.perf_counter() - clock
     stats["qualitative_iterations"] = sum(qualitative.rounds)
@@ -97,7 +109,7 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
     del qualitative
     clock = time.perf_counter()
     with _rounds("cost-bounded attractor") as bar:
-        quantitative = attractor(arena, with_costs=True, progress=bar)
+        quantitative = attractor(arena, with_costs=True, progress=bar, within=within)
     seconds["attractor"] = time.perf_counter() - clock
     stats["iterations"] = sum(quantitative.rounds)
     stats.update({f"seconds_{key}": value for key, value in quantitative.seconds.items()})

@@ -50,6 +50,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from symsynth.automata.bdd import Function, and_exists
+from symsynth.automata.symbolic import prime
 from symsynth.solvers.bdd.arena import Arena
 
 
@@ -79,11 +80,62 @@ class Attractor:
         return sum(self.rounds)
 
 
+def reachable(arena: Arena, start: Function) -> list[Function]:
+    """The positions (v, q) of each layer h = 0..k that a play from `start`
+    (a human-turn position of layer k, over (v, q)) reaches, at either
+    turn.  The human turns of layer h are the start (h = k) and what a
+    robot move leads to; the robot turns, the human turns passed and what
+    a human move out of a human turn of layer h + 1 leads to.  A play ends
+    when the task is done: accepting positions are reached, not left.
+
+    Restricted to these (`attractor`'s `within`), the attractor computes
+    the same values at every robot turn and every human turn reached: a
+    value reads the moves out of its position only, and those lead to
+    positions reached.  (At a robot turn reached, X, a human-turn set, may
+    be wrong; nothing reads it there.)
+    """
+    bdd = arena.bdd
+    primed_q = {b: prime(b) for b in arena.dfa.bits}
+    # q' = D(q, v'): the DFA reads the state a move leads to
+    reads = bdd.true
+    for b, d in arena.dfa_next.items():
+        reads &= bdd.apply("<=>", bdd.var(primed_q[b]), d)
+    robot = bdd.false
+    for rel in arena.robot.values():
+        robot |= bdd.exist(set(arena.c.bits), rel)  # \E c: T_fam(v, v', c)
+    robot &= reads  # ... /\ q' = D(q, v')
+    human = arena.human & reads  # H(v, v') /\ q' = D(q, v')
+    current = set(arena.state_bits) | set(arena.dfa.bits)
+    back = {p: b for b, p in zip(arena.state_bits, arena.next_bits)}
+    back.update({p: b for b, p in primed_q.items()})
+    live = ~arena.accepting
+
+    def image(relation: Function, u: Function) -> Function:
+        # (\E v, q: relation(v, q, v', q') /\ u(v, q) /\ ~Acc(q))[v, q := v', q']
+        return bdd.let(back, and_exists(bdd, relation, u & live, current))
+
+    layers: list[Function] = []
+    seeds = bdd.false  # robot turns after a human move from the layer above
+    for h in range(arena.k, -1, -1):
+        first = start if h == arena.k else bdd.false
+        reached = frontier = first | seeds
+        while frontier != bdd.false:
+            frontier = image(robot, frontier) & ~reached
+            reached |= frontier
+        layers.append(reached)
+        human_turns = first | image(robot, reached)
+        seeds = image(human, human_turns)
+    return layers[::-1]
+
+
 def attractor(arena: Arena, *, with_costs: bool,
               stop: Callable[[Function], bool] | None = None,
-              progress: Callable[[int], None] | None = None) -> Attractor:
+              progress: Callable[[int], None] | None = None,
+              within: list[Function] | None = None) -> Attractor:
     """Iterate to the least fixpoint, or until `stop(X)` holds for X of the
-    top layer h = k (the lower layers are then final).
+    top layer h = k (the lower layers are then final).  With `within` (a
+    set over (v, q) per layer h, closed under the moves out of its
+    non-accepting positions: `reachable`), every set is kept inside it.
 
     The robot step works on the frontier X_i \\ X_{i-1} only: the image
     distributes over union, so R_{i+1} = R_i \\/ pre(X_i \\ X_{i-1}) exactly,
@@ -103,8 +155,7 @@ def attractor(arena: Arena, *, with_costs: bool,
         relations = [bdd.exist(set(arena.c.bits), rel) for rel in arena.robot.values()]
         hidden = moved
         affordable = bdd.true
-    wf = arena.enc.well_formed()
-    acc = arena.accepting & wf  # Acc(q), on well-formed states
+    well_formed = arena.enc.well_formed()
     seconds = {"compose": 0.0, "image": 0.0, "human": 0.0}
 
     per_layer: list[tuple[list[Function], list[Function]]] = []
@@ -112,6 +163,9 @@ def attractor(arena: Arena, *, with_costs: bool,
     stopped = False
     done = 0
     for h in range(arena.k + 1):
+        # well-formed, and reached in layer h when restricted
+        wf = well_formed if within is None else well_formed & within[h]
+        acc = arena.accepting & wf  # Acc(q), on well-formed states
         clock = time.perf_counter()
         if below is None:
             safe = wf  # h = 0: the human has no move
