@@ -5,4 +5,12 @@ from symsynth.automata.compile import compile_ltlf
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.symbolic import SymbolicDFA
 
-__all__ = ["compile_ltlf", "ExplicitDFA", "SymbolicDFA"]
+#: How `compile_ltlf` numbers a DFA's states (the codes of its state bits).
+#: Files that store DFA states (strategy files) record it; a reader refuses a
+#: file whose numbering is not this one with that reason.  Bump it with any
+#: change to the compiler that renumbers the states of some formula's DFA
+#: (tests/test_dfa_numbering.py notices one).  1: per-conjunct progression;
+#: 2: composition over the whole Boolean structure.
+NUMBERING = 2
+
+__all__ = ["compile_ltlf", "ExplicitDFA", "NUMBERING", "SymbolicDFA"]

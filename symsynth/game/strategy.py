@@ -9,7 +9,7 @@ each with the robot's action there::
      "scene": "pick", "task": "F(at(b, l2))", "k": 1,
      "resolution": 1.0, "units": 34, "cost_bound": 34.0,
      "objects": ["b"],
-     "dfa": {"bits": ["#q0_0", "#q0_1"], "initial": [0, 0]},
+     "dfa": {"bits": ["#q0_0", "#q0_1"], "initial": [0, 0], "numbering": 2},
      "positions": [
       {"at": {"b": "l1"}, "grip": null, "ee": "Else", "q": [0, 1], "h": 1,
        "action": "transit(b,top)", "budget": 34.0},
@@ -22,7 +22,9 @@ each with the robot's action there::
 - `dfa.bits` names the state bits of `compile_ltlf(task)` in order and
   `dfa.initial` is its initial state; a position's `q` is the DFA state
   after the trace so far, one 0/1 per bit.  A reader compiles the task and
-  compares the bits before it trusts `q`.
+  compares the bits before it trusts `q`.  `dfa.numbering` is the version
+  of the compiler's state numbering (`symsynth.automata.NUMBERING`) the
+  codes come from; a file without it predates the field (numbering 1).
 - `grip` is a grasp or null (hand empty); `ee` is "Else", a location, or
   `[object, grasp]`; `h` is the number of human moves left.
 - `budget` is the most the strategy can still spend, in costmap units, from
@@ -48,6 +50,7 @@ from tqdm import tqdm
 from symsynth.errors import InputError, SymsynthError
 from symsynth.files import write_atomic
 from symsynth.game.abstraction import State, initial_state, robot_moves, state_json
+from symsynth.automata import NUMBERING
 from symsynth.automata.shared import dfa_of
 from symsynth.game.graph import GameGraph, Node
 from symsynth.scene.propositions import interpret_all
@@ -201,6 +204,7 @@ class StrategyFile:
     dfa_initial: tuple[bool, ...]
     positions: Mapping[Position, str]
     budgets: Mapping[Position, float | None]  # see the module docstring
+    dfa_numbering: int = NUMBERING
 
     def lookup(self, state: State, q: tuple[bool | int, ...], h: int) -> str:
         """The action at a position; `q` may be bools or 0/1."""
@@ -235,6 +239,11 @@ def check_header(scene: Scene, table: StrategyFile) -> ast.Formula:
     """What a strategy file says of its game, against the scene: the same
     objects, a task that fits the scene, and the DFA that task compiles to.
     Returns the task's formula; every problem is in one `InputError`."""
+    if table.dfa_numbering != NUMBERING:
+        raise InputError(f"its DFA states are numbered by symsynth's DFA numbering {table.dfa_numbering} "
+                         f"(dfa.numbering{'' if table.dfa_numbering != 1 else ' absent'}); this symsynth numbers "
+                         f"them by numbering {NUMBERING}, so its q codes mean other states here: "
+                         "solve again to write the strategy anew")
     problems = []
     if table.objects != scene.object_names:
         problems.append(f"its objects {', '.join(table.objects)} are not the scene's "
@@ -309,7 +318,8 @@ def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: 
         "format": FORMAT, "scene": table.scene, "task": table.task, "k": table.k,
         "resolution": table.resolution, "units": table.units, "cost_bound": table.cost_bound,
         "objects": list(table.objects),
-        "dfa": {"bits": list(table.dfa_bits), "initial": [int(b) for b in table.dfa_initial]},
+        "dfa": {"bits": list(table.dfa_bits), "initial": [int(b) for b in table.dfa_initial],
+                "numbering": table.dfa_numbering},
     }
     entries = [_position_json(p, action, table.budgets[p], table.objects)
                for p, action in table.positions.items()]
@@ -342,7 +352,8 @@ SCHEMA: dict[str, Any] = {
         "units": _COUNT, "cost_bound": _AMOUNT,
         "objects": {"type": "array", "items": _NAME, "uniqueItems": True},
         "dfa": {"type": "object", "required": ["bits", "initial"],
-                "properties": {"bits": {"type": "array", "items": _NAME}, "initial": _BITS}},
+                "properties": {"bits": {"type": "array", "items": _NAME}, "initial": _BITS,
+                               "numbering": {"type": "integer", "minimum": 1}}},
         "positions": {"type": "array", "items": {
             "type": "object", "required": ["at", "grip", "ee", "q", "h", "action", "budget"],
             "properties": {
@@ -382,7 +393,7 @@ def read_strategy(path: str | Path) -> StrategyFile:
         scene=data["scene"], task=data["task"], k=data["k"], resolution=float(data["resolution"]),
         units=data["units"], cost_bound=data["cost_bound"], objects=objects,
         dfa_bits=tuple(data["dfa"]["bits"]), dfa_initial=tuple(bool(b) for b in data["dfa"]["initial"]),
-        positions=positions, budgets=budgets)
+        positions=positions, budgets=budgets, dfa_numbering=data["dfa"].get("numbering", 1))
 
 
 def _meaning_problems(data: dict[str, Any]) -> list[str]:
