@@ -7,14 +7,17 @@ costmap format, the scene's `absent_at` and the builder carry the list."""
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import random
 
 import pytest
+import yaml
 
 from support.gamegen import random_scene
 from support.games import bound_holds_everywhere, worst_case_of
 from support.planar import PlanarPlanner, planar_scene
+from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.game.abstraction import initial_state, starts
 from symsynth.game.solution import task_formula
@@ -223,3 +226,19 @@ def test_absent_at_names_places():
     assert scene.geometry.absent == {"l1/top"}
     with pytest.raises(InputError, match=r"grasps\.top\.absent_at\.0.*'l7' is no place of the scene"):
         scene_from_data(yaml.safe_load(PHYSICAL % "l7"))
+
+
+def test_solve_reports_the_absent_anchors(tmp_path, capsys):
+    """`symsynth solve` names the anchors the costmap declares absent, in
+    text and JSON, so a reader of E_p knows which motions do not exist;
+    a scene without any prints no such line."""
+    for absent, expected in ((["l1/top"], ["l1/top"]), (None, None)):
+        path = tmp_path / "shelf.yaml"
+        path.write_text(yaml.safe_dump(shelf("F(at(b, l2))", absent=absent)))
+        assert main(["solve", str(path)]) == 0
+        lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("absent")]
+        assert lines == ([] if expected is None else [lines[0]])
+        if expected is not None:
+            assert lines[0].split()[1].rstrip(":") == "l1/top"
+        assert main(["solve", "--json", str(path)]) == 0
+        assert json.loads(capsys.readouterr().out).get("absent") == expected

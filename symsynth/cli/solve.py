@@ -94,6 +94,8 @@ def run(args: argparse.Namespace) -> int:
     written = None if args.output is None else write_strategy(args.output, scene, task, solution)
     if args.json:
         out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver}
+        if scene.costmap is not None and scene.costmap.absent:
+            out["absent"] = sorted(scene.costmap.absent)
         if obtained is not None:
             out["costmap"] = costmap_json(obtained)
         if written is not None:
@@ -135,6 +137,9 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
     r = solution.resolution
     print(f"scene      {scene.name}{where}")
     print(f"task       {task.strip()}")
+    if scene.costmap is not None and scene.costmap.absent:
+        print(f"absent     {', '.join(sorted(scene.costmap.absent))}: anchors with no robot configuration "
+              "(the costmap's `absent`); no motion goes to or from them")
     print(f"human      k = {solution.k} move{'s' if solution.k != 1 else ''}, human first")
     if "solved_with_k" in solution.stats:
         print(f"           {_horizon(solution)}")
