@@ -18,10 +18,10 @@ import pytest
 from support.gamegen import random_scene
 from symsynth.automata import compile_ltlf
 from symsynth.errors import InputError
-from symsynth.game.abstraction import State, initial_state, letter
+from symsynth.game.abstraction import State, initial_state, letter, state_problems
 from symsynth.scene.propositions import interpret_all
 from symsynth.solvers import SOLVERS
-from symsynth.game.strategy import (FORMAT, InconsistentStrategy, MissingPosition, read_strategy,
+from symsynth.game.strategy import (FORMAT, InconsistentStrategy, certify, MissingPosition, read_strategy,
                                     reachable_positions, strategy_table, worst_units, write_strategy)
 from symsynth.logic import parse_ltlf
 from symsynth.scene import scene_from_data
@@ -283,3 +283,43 @@ def test_lookup(tmp_path):
     nowhere = State(("l2",), None, "Else")
     with pytest.raises(MissingPosition, match=r"at: b=l2 \| grip=none \| ee=Else"):
         file.lookup(nowhere, q, h)
+
+
+# -- certifying positions that are no state ------------------------------------
+
+@pytest.mark.parametrize("at, grip, ee, expected", [
+    ({"b": "Hand"}, None, "l1", "b is in the hand but grip is none"),
+    ({"b": "l1"}, "top", "Else", "grip is 'top' but the hand is empty"),
+    ({"b": "Hand"}, "side", "l1", "grip 'side' is not a grasp of the scene (top)"),
+    ({"b": "l9"}, None, "Else", "b is at 'l9', which is no location, Else or Hand"),
+    ({"b": "Hand"}, "top", ["b", "top"], "holding b, ee must be Else or a location"),
+    ({"b": "l1"}, None, "l2", "with the hand empty, ee must be Else or [object, grasp or contact]"),
+    ({"b": "l1"}, None, ["c", "top"], "with the hand empty, ee must be Else or [object, grasp or contact]"),
+])
+def test_certify_refuses_a_position_that_is_no_state(tmp_path, valid, at, grip, ee, expected):
+    """A file may list any JSON the schema admits; certify checks each
+    position against semantics §2 before it asks for the robot's moves
+    there (found by the fuzz test: a held object without a grasp was a
+    ValueError traceback)."""
+    valid["positions"][0].update(at=at, grip=grip, ee=ee)
+    path = tmp_path / "forged.json"
+    path.write_text(json.dumps(valid))
+    with pytest.raises(InputError, match="not a state of the scene") as error:
+        certify(pick(1), read_strategy(path))
+    assert expected in str(error.value)
+
+
+def test_two_objects_in_one_place_are_no_state():
+    scene = clear()
+    assert state_problems(scene, State(("l1", "l1"), None, "Else")) == ["a and b are both at l1"]
+    assert state_problems(scene, State(("Hand", "Hand"), "top", "Else")) == ["a and b are both at Hand"]
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_every_position_a_solver_reaches_is_a_state(seed):
+    """No false refusals: the states of every position a strategy reaches
+    (and the initial one) are well formed."""
+    scene = random_scene(seed)
+    solution = SOLVERS["explicit"](scene)
+    positions = reachable_positions(scene, scene.task, solution)
+    assert all(state_problems(scene, v) == [] for v, _, _ in [*positions, (initial_state(scene), 0, 0)])

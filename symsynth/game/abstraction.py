@@ -66,6 +66,33 @@ def state_json(v: State, objects: tuple[str, ...]) -> dict[str, object]:
             "ee": list(v.ee) if isinstance(v.ee, tuple) else v.ee}
 
 
+def state_problems(scene: Scene, v: State) -> list[str]:
+    """Why `v` is not a well-formed state of `scene` (semantics §2), empty
+    when it is one: for states that come from outside (a file)."""
+    names, places = scene.object_names, set(scene.locations) | {ELSE, HAND}
+    problems = [f"{o} is at {p!r}, which is no location, Else or Hand"
+                for o, p in zip(names, v.at) if p not in places]
+    for place in [*scene.locations, HAND]:
+        there = [o for o, p in zip(names, v.at) if p == place]
+        if len(there) > 1:
+            problems.append(f"{' and '.join(there)} are both at {place}")
+    held = [o for o, p in zip(names, v.at) if p == HAND]
+    if held and v.grip is None:
+        problems.append(f"{held[0]} is in the hand but grip is none")
+    elif not held and v.grip is not None:
+        problems.append(f"grip is {v.grip!r} but the hand is empty")
+    elif v.grip is not None and v.grip not in scene.grasps:
+        problems.append(f"grip {v.grip!r} is not a grasp of the scene ({', '.join(scene.grasps)})")
+    if held and v.ee != ELSE and v.ee not in scene.locations:
+        problems.append(f"holding {held[0]}, ee must be Else or a location, not {v.ee!r}")
+    if not held and v.ee != ELSE:
+        if not (isinstance(v.ee, tuple) and len(v.ee) == 2 and v.ee[0] in names
+                and v.ee[1] in scene.preimages):
+            problems.append(f"with the hand empty, ee must be Else or [object, grasp or contact], "
+                            f"not {v.ee!r}")
+    return problems
+
+
 def initial_state(scene: Scene) -> State:
     """Objects where the scene puts them, hand empty, robot at home."""
     return State(tuple(o.at for o in scene.objects), None, ELSE)

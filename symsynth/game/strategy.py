@@ -49,7 +49,7 @@ from tqdm import tqdm
 
 from symsynth.errors import InputError, SymsynthError
 from symsynth.files import write_atomic
-from symsynth.game.abstraction import State, initial_state, robot_moves, state_json
+from symsynth.game.abstraction import State, initial_state, robot_moves, state_json, state_problems
 from symsynth.automata import NUMBERING
 from symsynth.automata.shared import dfa_of
 from symsynth.game.graph import GameGraph, Node
@@ -275,6 +275,9 @@ def certify(scene: Scene, table: StrategyFile, formula: ast.Formula | None = Non
         formula = check_header(scene, table)
     robot = {}
     for (v, q, h), action in table.positions.items():
+        if problems := state_problems(scene, v):
+            raise InputError(f"it lists {format_position((v, q, h), table.objects)}, not a state of the "
+                             f"scene: {'; '.join(problems)}")
         if v not in robot:
             robot[v] = {a for a, _, _ in robot_moves(scene, v)}
         if action not in robot[v]:
