@@ -79,8 +79,8 @@ def test_auto_picks_by_time_limit_size_and_task():
     scene = random_scene(3)
     assert choose(scene, parse_ltlf("F(at(block, l1))"), time_limit=1.0)[0] == "forward"
     assert choose(scene, parse_ltlf("F(at(block, l1))"))[0] == "compiled"
-    assert choose(scene, parse_ltlf("F(at(block, l1))"), compiled=False)[0] == "forward"
-    assert choose(scene, parse_ltlf("F(at(block, l1) & F(at(block, l2)))"), compiled=False)[0] == "symbolic"
+    assert choose(scene, parse_ltlf("F(at(block, l1))"), refused={"compiled"})[0] == "forward"
+    assert choose(scene, parse_ltlf("F(at(block, l1) & F(at(block, l2)))"), refused={"compiled"})[0] == "symbolic"
 
 
 def test_auto_falls_back_when_the_compiled_solver_cannot_hold_the_game():

@@ -101,6 +101,12 @@ class Solution:
                 "state": state_json(step.state, self.objects)}
 
 
+class OutOfReach(InputError):
+    """A game this solver cannot hold (its packing, its integers, its
+    stack); the message names the limit.  `--solver auto` then tries the
+    next solver; asked for by name, it is the user's error message."""
+
+
 def won_at_start(scene: Scene, k: int, resolution: float, budget: float | None,
                  seconds: Mapping[str, float]) -> Solution:
     """The solution when ρ(v0) alone is accepted: E_p = 0, nothing to play."""

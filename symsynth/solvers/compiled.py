@@ -52,7 +52,7 @@ reference counting inside them.
 
 Scenes the packing cannot hold (more than 62 bits per position, more than
 16 task atoms, a move's cost beyond its 32-bit packing, more than 2^15 moves
-per position, 2^31 nodes or robot moves) raise `TooLarge` (an `InputError`)
+per position, 2^31 nodes or robot moves) raise `TooLarge` (an `OutOfReach`, an `InputError`)
 naming the limit; `--solver explicit` solves them.
 """
 
@@ -67,12 +67,11 @@ import numpy as np
 from numba import njit, types
 from numba.core.typing import signature
 
-from symsynth.errors import InputError
 from symsynth.game.abstraction import (State, action_name, costmap_of, initial_state, legal_human_moves,
                                        legal_robot_moves, quantize)
 from symsynth.game.graph import PASS
-from symsynth.game.solution import (Position, Solution, Step, check_parameters, task_formula, verdict,
-                                    won_at_start)
+from symsynth.game.solution import (OutOfReach, Position, Solution, Step, check_parameters, task_formula,
+                                    verdict, won_at_start)
 from symsynth.game.symmetry import Symmetry
 from symsynth.automata.shared import dfa_of
 from symsynth.logic import ast
@@ -85,9 +84,12 @@ MAX_ATOMS = 16
 #: larger game drops them and generates them again when solving (twice their exploring work:
 #: sorting 8 x 12, 332 M human moves, solves in 10 s CPU with them kept, 23 s without)
 HUMAN_MOVES_KEPT = 1 << 29
+#: The most units one move may cost: the kernels add costs in 64-bit integers
+#: with INF = 2^60, so sums of up to 2^20 moves stay exact below INF.
+MAX_MOVE_UNITS = 1 << 40
 
 
-class TooLarge(InputError):
+class TooLarge(OutOfReach):
     """The game does not fit the compiled solver's packing or tables."""
 
 
@@ -272,6 +274,10 @@ class Tables:
         cells = [(quantize(r.cost, resolution=self.resolution) if math.isfinite(r.cost) else INF,
                   sum(1 << free_bit[x] for x in r.free if x in free_bit)) for r in rules]
         for units, free in sorted(cells, key=lambda cell: cell[0]):
+            if units != INF and units > MAX_MOVE_UNITS:
+                raise TooLarge(f"a move costs {units} units of resolution {self.resolution:g}; the compiled "
+                               f"solver adds costs in 64-bit integers and takes at most 2^40 units a move; "
+                               "use --solver explicit (or a coarser --resolution)")
             free_list.append(free)
             unit_list.append(units)
 

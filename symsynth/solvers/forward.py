@@ -72,8 +72,8 @@ from symsynth.game.abstraction import State, initial_state
 from symsynth.solvers.bound import LowerBound
 from symsynth.game.graph import PASS, GameGraph, Node
 from symsynth.game.strategy import guaranteed_units
-from symsynth.game.solution import (Position, Solution, Step, check_parameters, task_formula, verdict,
-                                   won_at_start)
+from symsynth.game.solution import (OutOfReach, Position, Solution, Step, check_parameters, task_formula,
+                                   verdict, won_at_start)
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
 
@@ -701,6 +701,14 @@ def _deep(function, *args):
         threading.stack_size(size)
         sys.setrecursionlimit(limit)
     ok, value = out[0]
+    if isinstance(value, RecursionError):
+        # The search recurses once per move of a play within the budget: a
+        # budget of many cheapest moves (E_p over the cheapest move's units
+        # beyond DEPTH) is more than its stack holds.
+        raise OutOfReach(f"the forward search recursed deeper than its {DEPTH:,} frames: plays within "
+                         "the budget can be that many moves long (E_p is that many times the cheapest "
+                         "move, in units of --resolution); use --solver explicit or symbolic, or a "
+                         "coarser --resolution") from None
     if not ok:
         raise value
     return value
