@@ -212,6 +212,30 @@ def test_random_formulas(capsys, tokens):
         assert json.loads(out)["cost_bound"] == explicit.cost_bound
 
 
+SYNTH_TOKENS = ["F", "G", "X", "X[!]", "WX", "!", "&&", "||", "->", "<->", "U", "R", "(", ")", "true",
+                "false", "a", "b", "c", "d", "at(a, l)", "", "\u00e9", "\n", ";", "p_1"]
+PART_LINES = [".inputs: a", ".outputs: b", ".inputs: a b", ".outputs: c d", ".inputs:", ".outputs:",
+              ".inputs: a\t c", "inputs: a", ".outputs b", ".inputs: a a", ".outputs: a", ".other: x",
+              "# a comment", "", "   ", ".inputs: \u00e9", ".outputs: p_1 at(a, l)", "\x00"]
+
+
+@cases(60)
+@given(tokens=st.lists(st.sampled_from(SYNTH_TOKENS), min_size=0, max_size=20),
+       part=st.lists(st.sampled_from(PART_LINES), min_size=0, max_size=5),
+       flags=st.lists(st.sampled_from(["--env-first", "--agent-first", "--next=weak", "--next=strong",
+                                       "--strategy=bdd", "--strategy=machine"]), max_size=2))
+def test_synth_on_random_specs_and_partitions(tmp_path_factory, capsys, tokens, part, flags):
+    """`synth` on random formulas and partition files: a verdict (SYNTCOMP's
+    10 or 20) or a clear message (2), never a traceback."""
+    folder = tmp_path_factory.mktemp("synth")
+    (folder / "s.ltlf").write_text(" ".join(tokens))
+    (folder / "s.part").write_text("\n".join(part))
+    code, out, _ = run_cli(capsys, ["synth", str(folder / "s.ltlf"), "--part", str(folder / "s.part"),
+                                    *flags, "-o", str(folder / "out.json")], allowed=(10, 20, 2))
+    if code in (10, 20):
+        assert out.splitlines()[0] == ("REALIZABLE" if code == 10 else "UNREALIZABLE")
+
+
 @pytest.fixture(scope="module")
 def toy_strategy(tmp_path_factory) -> dict:
     path = tmp_path_factory.mktemp("strategy") / "toy.strategy.json"
