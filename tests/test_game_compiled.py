@@ -5,6 +5,7 @@ scenes with and without contacts and with interchangeable objects."""
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 import pytest
 
@@ -57,6 +58,37 @@ def test_human_moves_generated_again_when_too_many_to_keep(kept, monkeypatch):
             checked += 1
         past += got.stats.get("human_moves", 0) > kept
     assert past >= 15 and checked >= 10, (past, checked)  # the path ran, on games with a finite value too
+
+
+def test_two_threads_and_small_batches(monkeypatch):
+    """The human moves generated on two of numba's threads (when it has two),
+    in batches of 3 nodes (so that a batch's targets are found in the table,
+    added by an earlier node of the batch, or new), their values taken in
+    parallel when they are not kept: the explicit solver's value and
+    positions, and the strategy the solver picks on one thread."""
+    threads = numba.get_num_threads()
+    checked = 0
+    try:
+        for seed in range(24):
+            scene = random_scene(3100 + seed, positive=seed % 2 == 0, contacts=seed % 3 == 0) if seed % 2 else \
+                alike_scene(50 + seed, contacts=seed % 4 == 0)
+            k, symmetric = (1 + seed % 3, False) if seed % 2 else (None, True)
+            numba.set_num_threads(1)
+            monkeypatch.setattr(compiled, "BATCH", 1 << 13)
+            one = solve_compiled(scene, k=k, symmetric=symmetric)
+            numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+            monkeypatch.setattr(compiled, "BATCH", 3)
+            monkeypatch.setattr(compiled, "HUMAN_MOVES_KEPT", 0 if seed % 4 < 2 else 1 << 29)
+            got = solve_compiled(scene, k=k, symmetric=symmetric)
+            explicit = solve_explicit(scene, k=k, symmetric=symmetric)
+            assert (got.units, got.states) == (explicit.units, explicit.states), seed
+            assert dict(got.strategy) == dict(one.strategy), seed
+            if got.units is not None:
+                assert worst_case_of(scene, got, parse_ltlf(scene.task)) == got.units
+                checked += 1
+    finally:
+        numba.set_num_threads(threads)
+    assert checked >= 6, checked
 
 
 @pytest.mark.parametrize("seed", range(30))

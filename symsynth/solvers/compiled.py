@@ -59,12 +59,14 @@ naming the limit; `--solver explicit` solves them.
 from __future__ import annotations
 
 import math
+import os
 import sys
 import time
 from collections.abc import Iterator, Mapping
 
+import numba
 import numpy as np
-from numba import njit, types
+from numba import njit, prange, types
 from numba.core.typing import signature
 
 from symsynth.game.abstraction import (State, action_name, costmap_of, initial_state, legal_human_moves,
@@ -78,8 +80,17 @@ from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, Scene
 from symsynth.scene.propositions import interpret_all
 
+# The human moves' values are taken on numba's threads (NUMBA_NUM_THREADS, default one per
+# core).  Its OpenMP layer from GNU is not safe across fork (the bench and `symsynth.parallel`
+# fork): "forksafe" takes TBB when installed, else numba's own workqueue.
+if "NUMBA_THREADING_LAYER" not in os.environ:
+    numba.config.THREADING_LAYER = "forksafe"
+
 INF = np.int64(1 << 60)
 MAX_ATOMS = 16
+#: The human moves of this many nodes are generated at once, in parallel, before their
+#: targets are added to the layer below in order (a buffer of BATCH x the most moves a node has)
+BATCH = 8192
 #: The human's moves are kept (4 bytes each) while there are at most this many (2 GiB); a
 #: larger game drops them and generates them again when solving (twice their exploring work:
 #: sorting 8 x 12, 332 M human moves, solves in 10 s CPU with them kept, 23 s without)
@@ -350,7 +361,7 @@ class Tables:
                 self.slide_start, self.slide_count, self.is_grasp, np.int64(self.grab_units),
                 np.int64(self.drop_units), self.atom_at, self.free_at, self.free_all,
                 self.trans, self.accepting, self.class_members,
-                self.class_offsets, self.place_rank, self.rank_place, self.code_bits, HUMAN_MOVES_KEPT)
+                self.class_offsets, self.place_rank, self.rank_place, self.code_bits, HUMAN_MOVES_KEPT, BATCH)
 
     def human_args(self) -> tuple:
         """What `_solve` needs to generate the human's moves again."""
@@ -1009,42 +1020,73 @@ def _robot_layer(st, lo, room, keys, hflag, r_off, r_tgt, r_move, table, bits,
     st[0], st[1], st[2], st[5] = i, count, ne, sink
 
 
+@njit(cache=True, parallel=True)
+def _human_batch(b0, b1, keys, hflag, out, cnt, room, table, bits, n, m, F, pb, eb, gb, qbits, atom_at,
+                 free_at, free_all, trans, accepting, obj_class, obj_pos, class_members, class_offsets,
+                 place_rank, rank_place):
+    """The human's moves from the human turns of nodes b0..b1, on numba's
+    threads (chunks of nodes, each with its own scratch): node i's moves in
+    out[(i - b0) * room:] and their count in cnt[i - b0] (low 32 bits), each
+    as -1 (the task is won), -2 - j (found as node j in `table`, only read in
+    here; a node's first slots are read at once, so that the misses
+    overlap) or the key of its node, not in the table when the batch began
+    (`_human_layer` probes those, in order, so the nodes are numbered as
+    a serial search numbers them)."""
+    size = b1 - b0
+    chunks = min(size, 64)
+    for c in prange(chunks):
+        desc = np.empty(n, np.int64)
+        letters = np.empty(room, np.int64)
+        for i in range(b0 + size * c // chunks, b0 + size * (c + 1) // chunks):
+            cnt[i - b0] = 0
+            if not hflag[i]:
+                continue
+            key = keys[i]
+            moves = out[(i - b0) * room:(i - b0 + 1) * room]
+            nm = _human_moves(key >> qbits, n, m, F, pb, eb, gb, moves, obj_class, obj_pos, class_members,
+                              class_offsets, place_rank, rank_place, desc, letters, atom_at, free_at, free_all)
+            sink = _targets(moves, nm, True, key & ((1 << qbits) - 1), n, m, F, pb, eb, qbits, class_members,
+                            class_offsets, place_rank, rank_place, desc, atom_at, free_at, free_all, trans,
+                            accepting, table, bits, letters)
+            for e in range(nm):
+                if moves[e] >= 0:
+                    j = _find(table, bits, moves[e])
+                    if j >= 0:
+                        moves[e] = -2 - j
+            cnt[i - b0] = nm | ((sink & 1) << 40)  # (keeps the first reads)
+
+
 @njit(cache=True)
-def _human_layer(st, lo, end, room, keys, hflag, h_off, h_tgt, table, bits,
-                 n, m, F, pb, eb, gb, qbits, atom_at, free_at, free_all, trans, accepting,
-                 obj_class, obj_pos, class_members, class_offsets, place_rank, rank_place, desc, mv_after,
-                 mv_letter):
-    """The human's moves from the human turns of nodes st[0]..end into the
-    layer whose nodes start at `lo` (added there when new), while the arrays
-    have room for one more node's moves; st (i, count, ..., nh, store) is
-    updated.  The moves are counted, and stored (h_off, h_tgt: their target
-    nodes, -1 for a win) while st[4] says so."""
-    qmask = (1 << qbits) - 1
+def _human_layer(st, lo, b0, b1, room, keys, h_off, h_tgt, table, bits, out, cnt):
+    """The moves `_human_batch` left in out for nodes st[0]..b1, into the
+    layer whose nodes start at `lo` (added there when new, in the order of
+    the nodes and their moves), while the arrays have room for one more
+    node's moves; st (i, count, ..., nh, store) is updated.  The moves are
+    counted, and stored (h_off, h_tgt: their target nodes, -1 for a win)
+    while st[4] says so."""
     i, count, nh, store, sink = st[0], st[1], st[3], st[4], st[5]
-    while i < end:
+    while i < b1:
         if (count + room > len(keys) or 2 * (count + room - lo) > len(table)
                 or (store and nh + room > len(h_tgt))):
             break
-        if hflag[i]:
-            key = keys[i]
-            q = key & qmask
-            nm = _human_moves(key >> qbits, n, m, F, pb, eb, gb, mv_after, obj_class, obj_pos,
-                              class_members, class_offsets, place_rank, rank_place, desc, mv_letter, atom_at,
-                              free_at, free_all)
-            sink ^= _targets(mv_after, nm, True, q, n, m, F, pb, eb, qbits, class_members, class_offsets,
-                             place_rank, rank_place, desc, atom_at, free_at, free_all, trans, accepting,
-                             table, bits, mv_letter)
-            for e in range(nm):
-                w = mv_after[e]
-                j = -1
-                if w >= 0:
-                    j = _probe(table, bits, w, count)
-                    if j == count:
-                        keys[count] = w
-                        count += 1
-                if store:
-                    h_tgt[nh + e] = j
-            nh += nm
+        base = (i - b0) * room
+        nm = cnt[i - b0] & ((1 << 32) - 1)
+        for e in range(nm):  # the first slots read at once, so that the cache misses overlap
+            if out[base + e] >= 0:
+                sink ^= table[_slot(out[base + e], bits), 0]
+        for e in range(nm):
+            w = out[base + e]
+            j = -1
+            if w >= 0:
+                j = _probe(table, bits, w, count)
+                if j == count:
+                    keys[count] = w
+                    count += 1
+            elif w < -1:
+                j = -2 - w
+            if store:
+                h_tgt[nh + e] = j
+        nh += nm
         if store:
             h_off[i + 1] = nh
         i += 1
@@ -1055,7 +1097,7 @@ def _human_layer(st, lo, end, room, keys, hflag, h_off, h_tgt, table, bits,
 def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_starts, samples_mask,
              rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
              grab_units, drop_units, atom_at, free_at, free_all, trans, accepting,
-             class_members, class_offsets, place_rank, rank_place, code_bits, human_cap):
+             class_members, class_offsets, place_rank, rank_place, code_bits, human_cap, batch):
     """Every node the start (the human's turn at key `start`, h = k) reaches,
     layer by layer from h = k down to 0.
 
@@ -1069,7 +1111,9 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
     action code), the number of human moves and, when there are at most
     `human_cap` of them (about 80% of all moves), the human moves in CSR form
     (h_off; h_tgt: target node in layer h - 1, -1 for a win); else h_off and
-    h_tgt are empty and `_solve` generates the moves again."""
+    h_tgt are empty and `_solve` generates the moves again.  The human's
+    moves of `batch` nodes at a time are generated on numba's threads
+    (`_human_batch`), then added in order (`_human_layer`)."""
     keys = np.empty(1 << 16, np.int64)
     hflag = np.zeros(1 << 16, np.uint8)
     r_off = np.zeros((1 << 16) + 1, np.int64)
@@ -1087,7 +1131,6 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
     mv_after = np.empty(4 * (n * (F + m + 2) + m + 2), np.int64)
     mv_units = np.empty(len(mv_after), np.int64)
     mv_code = np.empty(len(mv_after), np.int64)
-    mv_letter = np.empty(len(mv_after), np.int64)
     bits = 17
     table = _table(bits)  # open addressing: (key, index), -1 empty
     keys[0] = start
@@ -1101,6 +1144,9 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
             obj_class[class_members[r]] = c
             obj_pos[class_members[r]] = r - class_offsets[c]
     room = len(mv_after)  # the most moves a node can have
+    out = np.empty(batch * room, np.int64)  # a batch's human moves (_human_batch)
+    cnt = np.empty(batch, np.int64)
+    b0 = 0
     st = np.zeros(6, np.int64)  # i, count, ne, nh, store, sink: the inner loops' state
     st[1] = count
     st[4] = 1
@@ -1135,13 +1181,18 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
         bits = 17
         table = _table(bits)
         st[0] = lo[h]
+        b1 = lo[h]
         while True:
-            _human_layer(st, lo[h - 1], hi[h], room, keys, hflag, h_off, h_tgt, table, bits,
-                         n, m, F, pb, eb, gb, qbits, atom_at, free_at, free_all, trans, accepting,
-                         obj_class, obj_pos, class_members, class_offsets, place_rank, rank_place, desc,
-                         mv_after, mv_letter)
-            if st[0] == hi[h]:
-                break
+            if st[0] == b1:  # the next batch of nodes, their moves generated on numba's threads
+                if b1 == hi[h]:
+                    break
+                b0, b1 = b1, min(hi[h], b1 + batch)
+                _human_batch(b0, b1, keys, hflag, out, cnt, room, table, bits, n, m, F, pb, eb, gb, qbits,
+                             atom_at, free_at, free_all, trans, accepting, obj_class, obj_pos, class_members,
+                             class_offsets, place_rank, rank_place)
+            _human_layer(st, lo[h - 1], b0, b1, room, keys, h_off, h_tgt, table, bits, out, cnt)
+            if st[0] == b1:
+                continue
             keys, hflag, r_off, h_off = _room_nodes(keys, hflag, r_off, h_off, st[1], room, st[4])
             if st[4] and st[3] + room > len(h_tgt):
                 if st[3] + room > human_cap:  # too many to keep: generated again when solving
@@ -1191,9 +1242,7 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
         for r in range(class_offsets[c], class_offsets[c + 1]):
             obj_class[class_members[r]] = c
             obj_pos[class_members[r]] = r - class_offsets[c]
-    desc = np.empty(n, np.int64)
-    mv_after = np.empty(4 * (n * (F + m + 2) + m + 2), np.int64)
-    mv_letter = np.empty(len(mv_after), np.int64)
+    room = 4 * (n * (F + m + 2) + m + 2)  # the most moves a node can have
     for h in range(len(lo)):
         a, b = lo[h], hi[h]
         size = b - a
@@ -1215,10 +1264,9 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
             table = _table(bits)  # layer h - 1's keys with their values
             for r in range(lo[h - 1], hi[h - 1]):
                 _insert(table, bits, keys[r], rval[r])
-            missing += _human_values(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits,
-                                     atom_at, free_at, free_all, trans, accepting, obj_class, obj_pos,
-                                     class_members, class_offsets, place_rank, rank_place, desc, mv_after,
-                                     mv_letter)
+            missing += _human_values_par(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits,
+                                         atom_at, free_at, free_all, trans, accepting, obj_class, obj_pos,
+                                         class_members, class_offsets, place_rank, rank_place, room)
             table = _table(1)  # freed before the layer's scratch is taken
             missing &= (1 << 32) - 1
         moves = r_off[b] - r_off[a]
@@ -1241,11 +1289,32 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
     return rval, choice, top, missing
 
 
+@njit(cache=True, parallel=True)
+def _human_values_par(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits, atom_at, free_at,
+                      free_all, trans, accepting, obj_class, obj_pos, class_members, class_offsets,
+                      place_rank, rank_place, room):
+    """`_human_values` on the threads numba runs (`numba.set_num_threads`):
+    the nodes a..b in chunks, each with its own scratch; the table and the
+    layer below are only read, and each chunk writes its own part of K."""
+    chunks = min(b - a, 256)  # (numba's thread count read in here would stop caching)
+    missing = 0
+    for c in prange(chunks):
+        lo = a + (b - a) * c // chunks
+        hi = a + (b - a) * (c + 1) // chunks
+        desc = np.empty(n, np.int64)
+        mv_after = np.empty(room, np.int64)
+        mv_letter = np.empty(room, np.int64)
+        missing += _human_values(lo, hi, a, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits, atom_at,
+                                 free_at, free_all, trans, accepting, obj_class, obj_pos, class_members,
+                                 class_offsets, place_rank, rank_place, desc, mv_after, mv_letter)
+    return missing
+
+
 @njit(cache=True)
-def _human_values(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits, atom_at, free_at,
+def _human_values(a, b, base, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits, atom_at, free_at,
                   free_all, trans, accepting, obj_class, obj_pos, class_members, class_offsets, place_rank,
                   rank_place, desc, mv_after, mv_letter):
-    """K[i - a] for the human turns i of nodes a..b: the largest value among
+    """K[i - base] for the human turns i of nodes a..b: the largest value among
     the human's moves (0 for a move that wins, the value `table` holds with
     the key of its node in layer h - 1 otherwise: one random read per move),
     -1 with no move.  Returns how many moves found no node in the table (in
@@ -1274,7 +1343,7 @@ def _human_values(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits,
                     continue
             if v > best:
                 best = v
-        K[i - a] = best
+        K[i - base] = best
     return missing | ((sink & 1) << 40)
 
 
