@@ -978,42 +978,75 @@ def _room_nodes(keys, hflag, r_off, h_off, count, room, store):
     return keys, hflag, r_off, h_off
 
 
+@njit(cache=True, parallel=True)
+def _robot_batch(b0, b1, keys, out, mvb, cnt, room, table, bits, n, m, F, pb, eb, gb, qbits, anchor_at,
+                 anchor_count, home_starts, samples_mask, rule_start, rule_count, rule_free, rule_units,
+                 slide_start, slide_count, is_grasp, grab_units, drop_units, atom_at, free_at, free_all, trans,
+                 accepting, class_members, class_offsets, place_rank, rank_place, code_bits):
+    """The robot's moves from nodes b0..b1, on numba's threads, as
+    `_human_batch` leaves the human's: node i's targets in
+    out[(i - b0) * room:] (-1 a win, -2 - j found as node j, else the key of
+    a node not in the table when the batch began), each move's units <<
+    code_bits | code at the same place in mvb, their count in cnt[i - b0]."""
+    size = b1 - b0
+    chunks = min(size, 64)
+    for c in prange(chunks):
+        at = np.empty(n, np.int64)
+        free = np.empty(n, np.int64)
+        desc = np.empty(n, np.int64)
+        S = np.empty(len(home_starts) + anchor_at.shape[2], np.int64)
+        T = np.empty(anchor_at.shape[2], np.int64)
+        units = np.empty(room, np.int64)
+        codes = np.empty(room, np.int64)
+        for i in range(b0 + size * c // chunks, b0 + size * (c + 1) // chunks):
+            key = keys[i]
+            base = (i - b0) * room
+            moves = out[base:base + room]
+            nm = _robot_moves(key >> qbits, n, m, F, pb, eb, gb, anchor_at, anchor_count, home_starts,
+                              samples_mask, rule_start, rule_count, rule_free, rule_units, slide_start,
+                              slide_count, is_grasp, grab_units, drop_units, at, free, S, T, moves, units, codes)
+            sink = _targets(moves, nm, False, key & ((1 << qbits) - 1), n, m, F, pb, eb, qbits, class_members,
+                            class_offsets, place_rank, rank_place, desc, atom_at, free_at, free_all, trans,
+                            accepting, table, bits, units)
+            for e in range(nm):
+                mvb[base + e] = (units[e] << code_bits) | codes[e]
+                if moves[e] >= 0:
+                    j = _find(table, bits, moves[e])
+                    if j >= 0:
+                        moves[e] = -2 - j
+            cnt[i - b0] = nm | ((sink & 1) << 40)  # (keeps the first reads)
+
+
 @njit(cache=True)
-def _robot_layer(st, lo, room, keys, hflag, r_off, r_tgt, r_move, table, bits,
-                 n, m, F, pb, eb, gb, qbits, anchor_at, anchor_count, home_starts, samples_mask,
-                 rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
-                 grab_units, drop_units, atom_at, free_at, free_all, trans, accepting,
-                 class_members, class_offsets, place_rank, rank_place, at, free, S, T, desc,
-                 mv_after, mv_units, mv_code, code_bits):
+def _robot_layer(st, lo, b0, b1, room, keys, hflag, r_off, r_tgt, r_move, table, bits, out, mvb, cnt):
     """Breadth-first through the robot moves of the layer whose nodes start at
-    `lo`, from node st[0], while the arrays have room for one more node's
-    moves; st (i, count, ne, ...) is updated.  (The arrays are never
-    reassigned in here: numba then counts no references in the loop.)"""
-    qmask = (1 << qbits) - 1
+    `lo`: the moves `_robot_batch` left in out and mvb for nodes st[0]..b1,
+    their new targets added in order, while the arrays have room for one
+    more node's moves; st (i, count, ne, ...) is updated.  (The arrays are
+    never reassigned in here: numba then counts no references in the loop.)"""
     i, count, ne, sink = st[0], st[1], st[2], st[5]
-    while i < count:
+    while i < b1:
         if count + room > len(keys) or ne + room > len(r_tgt) or 2 * (count + room - lo) > len(table):
             break
-        key = keys[i]
-        q = key & qmask
-        nm = _robot_moves(key >> qbits, n, m, F, pb, eb, gb, anchor_at, anchor_count, home_starts,
-                          samples_mask, rule_start, rule_count, rule_free, rule_units, slide_start,
-                          slide_count, is_grasp, grab_units, drop_units, at, free, S, T, mv_after, mv_units,
-                          mv_code)
-        sink ^= _targets(mv_after, nm, False, q, n, m, F, pb, eb, qbits, class_members, class_offsets,
-                         place_rank, rank_place, desc, atom_at, free_at, free_all, trans, accepting,
-                         table, bits, mv_units)
+        base = (i - b0) * room
+        nm = cnt[i - b0] & ((1 << 32) - 1)
+        for e in range(nm):  # the first slots read at once, so that the cache misses overlap
+            if out[base + e] >= 0:
+                sink ^= table[_slot(out[base + e], bits), 0]
         for e in range(nm):
-            w = mv_after[e]
+            w = out[base + e]
             j = -1
             if w >= 0:
                 j = _probe(table, bits, w, count)
                 if j == count:
                     keys[count] = w
                     count += 1
+            elif w < -1:
+                j = -2 - w
+            if j >= 0:
                 hflag[j] = 1
             r_tgt[ne] = j
-            r_move[ne] = (mv_units[e] << code_bits) | mv_code[e]
+            r_move[ne] = mvb[base + e]
             ne += 1
         r_off[i + 1] = ne
         i += 1
@@ -1111,9 +1144,11 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
     action code), the number of human moves and, when there are at most
     `human_cap` of them (about 80% of all moves), the human moves in CSR form
     (h_off; h_tgt: target node in layer h - 1, -1 for a win); else h_off and
-    h_tgt are empty and `_solve` generates the moves again.  The human's
-    moves of `batch` nodes at a time are generated on numba's threads
-    (`_human_batch`), then added in order (`_human_layer`)."""
+    h_tgt are empty and `_solve` generates the moves again.  The moves of
+    `batch` nodes at a time are generated on numba's threads, and their
+    targets looked up in the layer's table (`_robot_batch`, `_human_batch`),
+    then the new targets added in order (`_robot_layer`, `_human_layer`): the
+    nodes are numbered as one thread numbers them."""
     keys = np.empty(1 << 16, np.int64)
     hflag = np.zeros(1 << 16, np.uint8)
     r_off = np.zeros((1 << 16) + 1, np.int64)
@@ -1123,14 +1158,6 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
     r_move = np.empty(1 << 18, np.int32)
     lo = np.zeros(k + 1, np.int64)
     hi = np.zeros(k + 1, np.int64)
-    at = np.empty(n, np.int64)
-    free = np.empty(n, np.int64)
-    desc = np.empty(n, np.int64)
-    S = np.empty(len(home_starts) + anchor_at.shape[2], np.int64)
-    T = np.empty(anchor_at.shape[2], np.int64)
-    mv_after = np.empty(4 * (n * (F + m + 2) + m + 2), np.int64)
-    mv_units = np.empty(len(mv_after), np.int64)
-    mv_code = np.empty(len(mv_after), np.int64)
     bits = 17
     table = _table(bits)  # open addressing: (key, index), -1 empty
     keys[0] = start
@@ -1143,8 +1170,9 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
         for r in range(class_offsets[c], class_offsets[c + 1]):
             obj_class[class_members[r]] = c
             obj_pos[class_members[r]] = r - class_offsets[c]
-    room = len(mv_after)  # the most moves a node can have
-    out = np.empty(batch * room, np.int64)  # a batch's human moves (_human_batch)
+    room = 4 * (n * (F + m + 2) + m + 2)  # the most moves a node can have
+    out = np.empty(batch * room, np.int64)  # a batch's moves (_robot_batch, _human_batch)
+    mvb = np.empty(batch * room, np.int64)
     cnt = np.empty(batch, np.int64)
     b0 = 0
     st = np.zeros(6, np.int64)  # i, count, ne, nh, store, sink: the inner loops' state
@@ -1153,15 +1181,20 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
     for h in range(k, -1, -1):
         # layer h: closed under robot moves from its seeds
         st[0] = lo[h]
+        b1 = lo[h]
         while True:
-            _robot_layer(st, lo[h], room, keys, hflag, r_off, r_tgt, r_move, table, bits,
-                         n, m, F, pb, eb, gb, qbits, anchor_at, anchor_count, home_starts, samples_mask,
-                         rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
-                         grab_units, drop_units, atom_at, free_at, free_all, trans, accepting,
-                         class_members, class_offsets, place_rank, rank_place, at, free, S, T, desc,
-                         mv_after, mv_units, mv_code, code_bits)
-            if st[0] == st[1]:
-                break
+            if st[0] == b1:  # the next batch of the layer's nodes, their moves generated on numba's threads
+                if b1 == st[1]:
+                    break
+                b0, b1 = b1, min(st[1], b1 + batch)
+                _robot_batch(b0, b1, keys, out, mvb, cnt, room, table, bits, n, m, F, pb, eb, gb, qbits,
+                             anchor_at, anchor_count, home_starts, samples_mask, rule_start, rule_count,
+                             rule_free, rule_units, slide_start, slide_count, is_grasp, grab_units, drop_units,
+                             atom_at, free_at, free_all, trans, accepting, class_members, class_offsets,
+                             place_rank, rank_place, code_bits)
+            _robot_layer(st, lo[h], b0, b1, room, keys, hflag, r_off, r_tgt, r_move, table, bits, out, mvb, cnt)
+            if st[0] == b1:
+                continue
             keys, hflag, r_off, h_off = _room_nodes(keys, hflag, r_off, h_off, st[1], room, st[4])
             if st[2] + room > len(r_tgt):  # 1.5x: the move arrays are most of the memory
                 size = st[2] + st[2] // 2 + room
