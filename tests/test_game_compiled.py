@@ -5,6 +5,8 @@ scenes with and without contacts and with interchangeable objects."""
 
 from __future__ import annotations
 
+import multiprocessing
+
 import numba
 import numpy as np
 import pytest
@@ -89,6 +91,33 @@ def test_two_threads_and_small_batches(monkeypatch):
     finally:
         numba.set_num_threads(threads)
     assert checked >= 6, checked
+
+
+def _solve_in_child(scene, k, out):
+    numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+    out.put(solve_compiled(scene, k=k, symmetric=False).units)
+
+
+@pytest.mark.filterwarnings("ignore:This process .* is multi-threaded:DeprecationWarning")
+def test_solving_in_a_forked_child_after_the_parent(monkeypatch):
+    """The bench and `symsynth.parallel` fork: a child forked after the
+    parent ran the parallel kernels solves too (GNU OpenMP, numba's default
+    layer here, terminates such a child), and gets the explicit solver's value."""
+    monkeypatch.setattr(compiled, "HUMAN_MOVES_KEPT", 0)  # the parallel values of the human moves, too
+    scene, k = random_scene(3003, positive=False, contacts=False), 3
+    threads = numba.get_num_threads()
+    numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+    try:
+        here = solve_compiled(scene, k=k, symmetric=False).units
+    finally:
+        numba.set_num_threads(threads)
+    context = multiprocessing.get_context("fork")
+    out = context.Queue()
+    child = context.Process(target=_solve_in_child, args=(scene, k, out))
+    child.start()
+    child.join(120)
+    assert child.exitcode == 0
+    assert out.get(timeout=10) == here == solve_explicit(scene, k=k, symmetric=False).units
 
 
 @pytest.mark.parametrize("seed", range(30))
