@@ -80,11 +80,11 @@ from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, Scene
 from symsynth.scene.propositions import interpret_all
 
-# The human moves' values are taken on numba's threads (NUMBA_NUM_THREADS, default one per
-# core).  Its OpenMP layer from GNU is not safe across fork (the bench and `symsynth.parallel`
-# fork): "forksafe" takes TBB when installed, else numba's own workqueue.
+# Moves are generated on numba's threads (NUMBA_NUM_THREADS, default one per core).  Its
+# OpenMP layer from GNU is not safe across fork (the bench and `symsynth.parallel` fork):
+# "forksafe" takes TBB when installed, else numba's own workqueue.
 if "NUMBA_THREADING_LAYER" not in os.environ:
-    numba.config.THREADING_LAYER = "forksafe"
+    numba.config.THREADING_LAYER = "forksafe"  # type: ignore[attr-defined]  # numba.config: set at run time
 
 INF = np.int64(1 << 60)
 MAX_ATOMS = 16
