@@ -42,6 +42,12 @@ h, the human's moves left:
   are at most `HUMAN_MOVES_KEPT` of them: past that they are dropped and
   `_solve` generates them again, looking their values up in a hash table
   of the layer below rebuilt from its keys (one table alive at a time).
+- moves are generated, canonicalized and looked up in the table on numba's
+  threads, `BATCH` nodes at a time (the table only read meanwhile); one
+  thread then adds the targets not found, in order, so the nodes are
+  numbered, valued and chosen as with one thread.  The human moves' values
+  when generated again are taken on the threads too; the rest (inserting,
+  rebuilding tables, Dijkstra) is serial.
 
 The moves are generated in the kernel from docs/game-semantics.md §4-§5 as
 `game/abstraction.py` writes them; the tests hold the two to the same value
@@ -88,8 +94,8 @@ if "NUMBA_THREADING_LAYER" not in os.environ:
 
 INF = np.int64(1 << 60)
 MAX_ATOMS = 16
-#: The human moves of this many nodes are generated at once, in parallel, before their
-#: targets are added to the layer below in order (a buffer of BATCH x the most moves a node has)
+#: The moves of this many nodes are generated at once, in parallel, before their new targets
+#: are added in order (two buffers of BATCH x the most moves a node has, 8 bytes a move)
 BATCH = 8192
 #: The human's moves are kept (4 bytes each) while there are at most this many (2 GiB); a
 #: larger game drops them and generates them again when solving (twice their exploring work:
