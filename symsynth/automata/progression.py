@@ -81,6 +81,11 @@ class Progression:
             self._obligation[name] = key
         return self.bdd.var(name)
 
+    def meaning(self, name: str) -> tuple[bool, ast.Formula] | None:
+        """`(strong, f)` when the variable `name` is the obligation `X f`
+        (strong) or `WX f`; None for an atom or another variable."""
+        return self._obligation.get(name)
+
     def unfold(self, formula: ast.Formula) -> Function:
         """What `formula` demands of the current letter and the next position."""
         result = self._unfolded.get(formula)
@@ -158,31 +163,7 @@ class Progression:
         step = {name: self.unfold(self._obligation[name][1]) for name in self.bdd.support(state)}
         after = self.bdd.let(step, state) if step else state
         after = self._canonical(after)  # so that successors that say the same are one BDD
-        # Bottom-up over the BDD's nodes at atom levels (each node once, not
-        # each path: a path per letter class is exponential in the atoms):
-        # below[u] maps each successor reachable from node u to its guard.
-        num_atoms = len(self.atom_keys)
-        bdd = self.bdd
-        below: dict[Function, dict[Function, Function]] = {}
-        stack = [(after, False)]
-        while stack:
-            node, ready = stack.pop()
-            if node in below:
-                continue
-            if node == bdd.true or node == bdd.false or node.level >= num_atoms:
-                below[node] = {node: bdd.true}
-                continue
-            low, high = branches(bdd, node)
-            if not ready:
-                stack.append((node, True))
-                stack.extend(child for child in ((low, False), (high, False)) if child[0] not in below)
-                continue
-            x = bdd.var(node.var)
-            found = {succ: ~x & guard for succ, guard in below[low].items()}
-            for succ, guard in below[high].items():
-                found[succ] = found[succ] | (x & guard) if succ in found else x & guard
-            below[node] = found
-        return below[after]
+        return split_letters(self.bdd, after, len(self.atom_keys))
 
     # -- states that say the same -------------------------------------------
     def _learn_implications(self, formula: ast.Formula) -> None:
@@ -266,30 +247,102 @@ class Progression:
         return GuardedDFA(self.bdd, 0, accepting, edges)
 
 
+def split_letters(bdd: BDD, u: Function, num_atoms: int) -> dict[Function, Function]:
+    """The nodes where the paths of `u` leave the atom levels (the first
+    `num_atoms` levels: the letter read), each with the set of letters
+    leading there, as a BDD over the atoms.
+
+    Bottom-up over the BDD's nodes at atom levels (each node once, not each
+    path: a path per letter class is exponential in the atoms): below[v]
+    maps each node reachable from v to its guard."""
+    below: dict[Function, dict[Function, Function]] = {}
+    true, false = bdd.true, bdd.false
+    stack = [(u, False)]
+    while stack:
+        node, ready = stack.pop()
+        if node in below:
+            continue
+        if node == true or node == false or node.level >= num_atoms:
+            below[node] = {node: true}
+            continue
+        low, high = branches(bdd, node)
+        if not ready:
+            stack.append((node, True))
+            stack.extend(child for child in ((low, False), (high, False)) if child[0] not in below)
+            continue
+        x = bdd.var(node.var)
+        found = {succ: ~x & guard for succ, guard in below[low].items()}
+        for succ, guard in below[high].items():
+            found[succ] = found[succ] | (x & guard) if succ in found else x & guard
+        below[node] = found
+    return below[u]
+
+
 def minimize(dfa: GuardedDFA) -> GuardedDFA:
-    """Moore partition refinement; the result is the minimal complete DFA.
+    """Partition refinement; the result is the minimal complete DFA.
 
     Two states stay together while they agree on acceptance and, for every
-    class, on the set of letters leading into it.  Guards are canonical
-    BDDs, so a state's signature is a hashable value.  Only reachable
-    states are given (the construction yields no others).
+    class, on the set of letters leading into it (their *signature*; guards
+    are canonical BDDs, so it is a hashable value).  Only reachable states
+    are given (the construction yields no others).
+
+    A worklist version of Moore's rounds, with Hopcroft's "all but the
+    largest" rule: when a class splits, the largest part keeps its number
+    and the states of the other parts are renumbered; only the states with
+    a successor renumbered can change signature, so only they are
+    recomputed, and only the classes holding them are split again.  (Moore's
+    rounds recompute every state once per round, and a counter's DFA needs
+    as many rounds as it counts: 2^k rounds for k bits.)
     """
     bdd = dfa.bdd
+    edges = dfa.edges
+    n = len(edges)
+    predecessors: list[list[int]] = [[] for _ in range(n)]
+    for state, out in enumerate(edges):
+        for succ in out:
+            predecessors[succ].append(state)
     block = [int(acc) for acc in dfa.accepting]
-    count = len(set(block))
-    while True:
-        signatures: dict[tuple, int] = {}
-        new_block = []
-        for state, out in enumerate(dfa.edges):
-            into: dict[int, Function] = {}
-            for succ, guard in out.items():
-                into[block[succ]] = into.get(block[succ], bdd.false) | guard
-            sig = (block[state], frozenset(into.items()))
-            new_block.append(signatures.setdefault(sig, len(signatures)))
-        block = new_block
-        if len(signatures) == count:
-            break
-        count = len(signatures)
+    members: list[set[int]] = [set(), set()]
+    for state, b in enumerate(block):
+        members[b].add(state)
+    signature: list = [None] * n  # valid unless the state is dirty
+    dirty: dict[int, set[int]] = {b: set(ms) for b, ms in enumerate(members) if ms}
+
+    def signature_of(state: int) -> frozenset:
+        into: dict[int, Function] = {}
+        for succ, guard in edges[state].items():
+            b = block[succ]
+            into[b] = into[b] | guard if b in into else guard
+        return frozenset(into.items())
+
+    while dirty:
+        b, changed = dirty.popitem()
+        everyone = members[b]
+        if len(everyone) == 1:
+            signature[next(iter(everyone))] = None
+            continue
+        groups: dict[frozenset, set[int]] = {}
+        for state in changed:
+            sig = signature_of(state)
+            signature[state] = sig
+            groups.setdefault(sig, set()).add(state)
+        if len(changed) < len(everyone):  # the others kept one common signature
+            clean = everyone - changed
+            sig = signature[next(iter(clean))]
+            groups.setdefault(sig, set()).update(clean)
+        if len(groups) == 1:
+            continue
+        parts = sorted(groups.values(), key=len, reverse=True)
+        members[b] = parts[0]
+        for part in parts[1:]:
+            new = len(members)
+            members.append(part)
+            for state in part:
+                block[state] = new
+        for part in parts[1:]:  # (after renumbering: `dirty` is keyed by the current class)
+            for state in part:
+                for pred in predecessors[state]:
+                    dirty.setdefault(block[pred], set()).add(pred)
     # renumber blocks in BFS order from the initial state
     rename: dict[int, int] = {block[dfa.initial]: 0}
     order = [dfa.initial]
