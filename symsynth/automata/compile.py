@@ -33,6 +33,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from symsynth.automata.bdd import BDD, Function, new_manager
+from symsynth.automata.invariant import Invariants, invariant_shape
 from symsynth.automata.normal import expose, nnf, split_conjuncts
 from symsynth.automata.progression import GuardedDFA, Progression, TooLarge, minimize
 from symsynth.automata.symbolic import SymbolicDFA, product
@@ -47,14 +48,18 @@ MAX_ATOMS = 1000
 MAX_STATE_BITS = 1000
 
 #: Explicit products while both operands have fewer states than this and
-#: the product of their state counts is under EXPLICIT_PRODUCT (Lisa's
-#: defaults: 800, 2500; ours are larger, since our symbolic minimization
-#: costs more than Lisa's), and while the product has at most EXPLICIT_EDGES
-#: edges (an explicit state lists one guard per successor: past that, the
-#: attempt is dropped and the operands go symbolic).
-EXPLICIT_SINGLE = 800
-EXPLICIT_PRODUCT = 5000
-EXPLICIT_EDGES = 20_000
+#: the product of their state counts is under EXPLICIT_PRODUCT, and while
+#: the product has at most EXPLICIT_EDGES edges (an explicit state lists one
+#: guard per successor: past that, the attempt is dropped and the operands
+#: go symbolic).  Lisa's defaults are 800 and 2,500; ours are larger since an
+#: explicit product and its minimization (partition refinement, below) cost
+#: little next to a symbolic product's minimization, which works on pairs of
+#: states (the counters: 1,025 x 5 states explicit in 0.1 s; symbolic, over
+#: a minute).  The edge limit bounds a failed attempt to about a second, and
+#: after one, no pair at least as large is tried (see `merge`).
+EXPLICIT_SINGLE = 100_000
+EXPLICIT_PRODUCT = 1_000_000
+EXPLICIT_EDGES = 200_000
 
 #: A conjunction of bounded-lookahead invariants is progressed as one leaf
 #: while its DFA has at most this many edges; past that, part by part.
@@ -146,11 +151,13 @@ class Composer:
                  product_limit: int = EXPLICIT_PRODUCT, edge_limit: int = EXPLICIT_EDGES,
                  merged_edges: int = MERGED_EDGES):
         self.progression = progression
+        self.invariants = Invariants(progression)
         self.single = single
         self.product_limit = product_limit
         self.edge_limit = edge_limit
         self.merged_edges = merged_edges
         self.independent = False
+        self._failed_bound: float = float("inf")  # a product this large (in state pairs) failed
         self._leaves: dict[ast.Formula, GuardedDFA] = {}
         self._support: dict[int, set[str]] = {}
         self._alive: list[GuardedDFA] = []  # keys of _support stay unique
@@ -215,25 +222,56 @@ class Composer:
                 unique.setdefault(f, None)
         operands = list(unique)
         if op == "and":
-            invariants = [f.arg for f in operands if isinstance(f, ast.Always) and id(f.arg) in self._bounded]
-            if len(invariants) > 1:
-                operands = [f for f in operands if not (isinstance(f, ast.Always) and id(f.arg) in self._bounded)]
-                for group in _connected(invariants):
-                    if len(group) == 1:
-                        operands.append(ast.Always(group[0]))
-                        continue
-                    merged = ast.Always(_balanced(ast.And, group))
-                    operands.append(merged)
-                    # a leaf (kept alive: ids stay unique), or its parts if too large
-                    self._merged[id(merged)] = (merged, [ast.Always(f) for f in group])
+            operands = self._group_invariants(operands)
         if len(operands) == 1:
             return self.shape(operands[0]) if id(operands[0]) not in self._propositional else None
         return op, operands
 
+    def _group_invariants(self, operands: list[ast.Formula]) -> list[ast.Formula]:
+        """The operands of an `&` with its bounded-lookahead invariants merged:
+        `P G f` for a prefix `P` of `X` / `WX` (often none; the counters'
+        guarantees are `WX G(...)`), grouped by prefix and then by the atoms
+        they share, each group one operand `P G(f1 & f2 & ...)`
+        (`WX G f & WX G g = WX G(f & g)`)."""
+        by_prefix: dict[tuple[type, ...], list[ast.Formula]] = {}
+        rest = []
+        for f in operands:
+            prefix, inner = [], f
+            while isinstance(inner, (ast.Next, ast.WeakNext)):
+                prefix.append(type(inner))
+                inner = inner.arg
+            if isinstance(inner, ast.Always) and id(inner.arg) in self._bounded:
+                by_prefix.setdefault(tuple(prefix), []).append(inner.arg)
+            else:
+                rest.append(f)
+        if not any(len(bodies) > 1 for bodies in by_prefix.values()):
+            return operands
+
+        def prefixed(prefix, f):
+            for kind in reversed(prefix):
+                f = kind(f)
+            return f
+
+        for prefix, bodies in by_prefix.items():
+            for group in _connected(bodies):
+                if len(group) == 1:
+                    rest.append(prefixed(prefix, ast.Always(group[0])))
+                    continue
+                merged = prefixed(prefix, ast.Always(_balanced(ast.And, group)))
+                rest.append(merged)
+                # a leaf (kept alive: ids stay unique), or its parts if too large
+                self._merged[id(merged)] = (merged, [prefixed(prefix, ast.Always(f)) for f in group])
+        return rest
+
     def leaf(self, formula: ast.Formula, max_edges: int | None = None) -> GuardedDFA:
         dfa = self._leaves.get(formula)
         if dfa is None:
-            dfa = minimize(self.progression.dfa(nnf(formula), max_edges))
+            normal = nnf(formula)
+            shape = invariant_shape(normal)
+            if shape is not None:  # one-step invariants: states read off the letter
+                dfa = minimize(self.invariants.dfa(*shape, max_edges))
+            else:
+                dfa = minimize(self.progression.dfa(normal, max_edges))
             self._leaves[formula] = dfa
         return dfa
 
@@ -253,7 +291,7 @@ class Composer:
             left, right = operands
             if isinstance(left, GuardedDFA) and isinstance(right, GuardedDFA) and self._small(left, right):
                 try:
-                    return explicit_product(left, right, op, self.edge_limit)
+                    return self._explicit(left, right, op)
                 except TooLarge:
                     pass
             explicit, symbolic = [], []
@@ -297,7 +335,7 @@ class Composer:
                 break
             _, i, j = best
             try:
-                merged = explicit_product(dfas[i], dfas[j], op, self.edge_limit)
+                merged = self._explicit(dfas[i], dfas[j], op)
             except TooLarge:
                 failed.add((id(dfas[i]), id(dfas[j])))
                 continue
@@ -316,8 +354,19 @@ class Composer:
         return found
 
     def _small(self, a: GuardedDFA, b: GuardedDFA) -> bool:
+        bound = a.num_states * b.num_states
         return (a.num_states < self.single and b.num_states < self.single
-                and a.num_states * b.num_states < self.product_limit)
+                and bound < self.product_limit and bound < self._failed_bound)
+
+    def _explicit(self, a: GuardedDFA, b: GuardedDFA, op: str) -> GuardedDFA:
+        """`explicit_product`; once it fails (`TooLarge`), products with as
+        many state pairs are not tried again (each attempt costs up to the
+        edge limit's worth of work)."""
+        try:
+            return explicit_product(a, b, op, self.edge_limit)
+        except TooLarge:
+            self._failed_bound = min(self._failed_bound, a.num_states * b.num_states)
+            raise
 
 
 def _plain_nodes(formula: ast.Formula) -> tuple[set[int], set[int]]:
@@ -381,6 +430,7 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
     """The minimal DFA of the product of `a` and `b` accepting by `op`;
     `TooLarge` once it has more than `max_edges` edges (when given)."""
     bdd, accept = a.bdd, _OPS[op]
+    false = bdd.false
     start = (a.initial, b.initial)
     index = {start: 0}
     order = [start]
@@ -390,10 +440,11 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
     for s, t in order:
         accepting.append(accept([a.accepting[s], b.accepting[t]]))
         out: dict[int, Function] = {}
+        out_b = b.edges[t].items()
         for s2, g1 in a.edges[s].items():
-            for t2, g2 in b.edges[t].items():
+            for t2, g2 in out_b:
                 guard = g1 & g2
-                if guard == bdd.false:
+                if guard == false:
                     continue
                 pair = (s2, t2)
                 if pair not in index:
