@@ -273,13 +273,14 @@ class Composer:
             else:
                 dfa = minimize(self.progression.dfa(normal, max_edges))
             self._leaves[formula] = dfa
+            self._note(dfa, {a.key for a in ast.atoms(formula)})
         return dfa
 
     def combine(self, op: str, operands: list[Result]) -> Result:
         if op == "not":
             (arg,) = operands
             if isinstance(arg, GuardedDFA):
-                return complement(arg)
+                return self._note(complement(arg), self._reads(arg))
             return Symbolic(arg.components, ("not", [arg.acceptance]))
         explicit = [x for x in operands if isinstance(x, GuardedDFA)]
         if op in ("and", "or"):
@@ -343,15 +344,23 @@ class Composer:
         return dfas
 
     def _reads(self, dfa: GuardedDFA) -> set[str]:
+        """The atoms `dfa` may read: a superset of its guards' support, kept
+        for each DFA the composer makes (products read what their operands
+        read), so that no guard is looked at."""
         found = self._support.get(id(dfa))
-        if found is None:
+        if found is None:  # (every DFA is noted when made; this is a fallback)
             found = set()
             for out in dfa.edges:
                 for guard in out.values():
                     found |= dfa.bdd.support(guard)
-            self._support[id(dfa)] = found
-            self._alive.append(dfa)
+            self._note(dfa, found)
         return found
+
+    def _note(self, dfa: GuardedDFA, reads: set[str]) -> GuardedDFA:
+        if id(dfa) not in self._support:
+            self._support[id(dfa)] = reads
+            self._alive.append(dfa)
+        return dfa
 
     def _small(self, a: GuardedDFA, b: GuardedDFA) -> bool:
         bound = a.num_states * b.num_states
@@ -363,7 +372,7 @@ class Composer:
         many state pairs are not tried again (each attempt costs up to the
         edge limit's worth of work)."""
         try:
-            return explicit_product(a, b, op, self.edge_limit)
+            return self._note(explicit_product(a, b, op, self.edge_limit), self._reads(a) | self._reads(b))
         except TooLarge:
             self._failed_bound = min(self._failed_bound, a.num_states * b.num_states)
             raise

@@ -42,14 +42,14 @@ class SymbolicDFA:
 
     def __init__(self, bdd: BDD, atoms: Sequence[str], bits: Sequence[str],
                  delta: Mapping[str, Function], initial: Mapping[str, bool],
-                 accepting: Function):
+                 accepting: Function, reachable: Function | None = None):
         self.bdd = bdd
         self.atoms = tuple(atoms)
         self.bits = tuple(bits)
         self.delta = dict(delta)
         self.initial_assignment = dict(initial)
         self.accepting = accepting
-        self.reachable = self._reach()
+        self.reachable = self._reach() if reachable is None else reachable  # given: the caller knows
 
     # -- running -------------------------------------------------------------
     @property
@@ -246,6 +246,7 @@ def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
     initial: dict[str, bool] = {}
     bits: list[str] = []
     accepts: list[Function] = []
+    reachable = None
     for c, comp in enumerate(components):
         width = (comp.num_states - 1).bit_length()
         names = [f"{prefix}{c}_{j}" for j in range(width)]
@@ -255,22 +256,22 @@ def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
             if atom not in bdd.vars:
                 bdd.declare(atom)
         bits.extend(names)
-        codes = [bdd.cube({n: bool(s >> j & 1) for j, n in enumerate(names)}) if names else bdd.true
-                 for s in range(comp.num_states)]
-        comp_delta = {n: bdd.false for n in names}
+        # next value of bit j in state s: the letters into successors with bit j set
+        ones: list[list[Function]] = [[bdd.false] * comp.num_states for _ in names]
+        copied: dict[Function, Function] = {}
         for s, out in enumerate(comp.edges):
             for succ, guard in out.items():
-                moved = codes[s] & comp.bdd.copy(guard, bdd)
-                for j, n in enumerate(names):
+                here = copied.get(guard)
+                if here is None:
+                    here = copied[guard] = comp.bdd.copy(guard, bdd)
+                for j in range(width):
                     if succ >> j & 1:
-                        comp_delta[n] |= moved
-        delta.update(comp_delta)
+                        ones[j][s] = ones[j][s] | here
+        delta.update({n: _by_state(bdd, names, ones[j]) for j, n in enumerate(names)})
         initial.update({n: bool(comp.initial >> j & 1) for j, n in enumerate(names)})
-        comp_acc = bdd.false
-        for s, acc in enumerate(comp.accepting):
-            if acc:
-                comp_acc |= codes[s]
-        accepts.append(comp_acc)
+        accepts.append(_by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
+        if len(components) == 1:  # every state of an explicit DFA is reachable
+            reachable = _by_state(bdd, names, [bdd.true] * comp.num_states)
     for atom in atoms:  # atoms no component reads still get a variable
         if atom not in bdd.vars:
             bdd.declare(atom)
@@ -280,7 +281,20 @@ def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
         accepting = bdd.true
         for comp_acc in accepts:
             accepting &= comp_acc
-    return SymbolicDFA(bdd, atoms, bits, delta, initial, accepting)
+    return SymbolicDFA(bdd, atoms, bits, delta, initial, accepting, reachable=reachable)
+
+
+def _by_state(bdd: BDD, names: Sequence[str], values: Sequence[Function]) -> Function:
+    """The function that is `values[s]` where the bits `names` (lowest
+    first) encode `s`, and false on the codes past the last state: a
+    decision tree on the bits, merged bottom-up by `ite` (one node per
+    pair when the values lie below the bits; no disjunction grows)."""
+    width = len(names)
+    level = list(values) + [bdd.false] * ((1 << width) - len(values))
+    for j in reversed(range(width)):  # the last bit is the deepest split
+        bit, half = bdd.var(names[j]), 1 << j
+        level = [bdd.ite(bit, level[m + half], level[m]) for m in range(half)]
+    return level[0]
 
 
 def _atoms_read(comp: GuardedDFA, atoms: Sequence[str]) -> list[str]:
