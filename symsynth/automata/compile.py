@@ -63,7 +63,7 @@ EXPLICIT_EDGES = 200_000
 
 #: A conjunction of bounded-lookahead invariants is progressed as one leaf
 #: while its DFA has at most this many edges; past that, part by part.
-MERGED_EDGES = 2000
+MERGED_EDGES = 100_000
 
 #: Boolean operators of the skeleton, as functions of the operands' acceptance.
 _OPS = {
@@ -99,7 +99,8 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
                          f"of at most {MAX_ATOMS}")
     progression = Progression(atom_keys)
     if compositional:
-        result = Composer(progression, **(limits or {})).compose(formula)
+        composer = Composer(progression, **(limits or {}))
+        result = composer.finish(composer.compose(formula))
         if isinstance(result, GuardedDFA):
             components, acceptance = [result], None
         else:
@@ -194,6 +195,25 @@ class Composer:
                 result = self.combine(op, done)
             else:
                 return result
+
+    def finish(self, result: Result) -> Result:
+        """The components left for the symbolic product, as one explicit
+        product when they are few states together: the operands kept apart
+        because they read disjoint atoms (a Syft specification's
+        assumptions and guarantees: a few hundred states in all) cost less
+        explicitly than a symbolic product and its minimization over pairs
+        of states."""
+        if isinstance(result, GuardedDFA) or len(result.components) < 2:
+            return result
+        bound = 1
+        for c in result.components:
+            bound *= c.num_states
+        if bound >= self.product_limit or bound >= self._failed_bound:
+            return result
+        try:
+            return explicit_product_many(result.components, result.acceptance, self.edge_limit)
+        except TooLarge:
+            return result
 
     def shape(self, node: ast.Formula) -> tuple[str, list[ast.Formula]] | None:
         """The skeleton operator at `node` and its operands (None: a leaf).
@@ -460,6 +480,44 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
                     index[pair] = len(order)
                     order.append(pair)
                 out[index[pair]] = guard
+        edges.append(out)
+        count += len(out)
+        if max_edges is not None and count > max_edges:
+            raise TooLarge(f"more than {max_edges} edges")
+    return minimize(_reject_at_start(GuardedDFA(bdd, 0, accepting, edges)))
+
+
+def explicit_product_many(components: list[GuardedDFA], acceptance: tuple,
+                          max_edges: int | None = None) -> GuardedDFA:
+    """The minimal DFA of the product of `components` accepting by the
+    Boolean combination `acceptance` of theirs (`Symbolic.acceptance`);
+    `TooLarge` once it has more than `max_edges` edges (when given).  A
+    letter's successor tuple is found component by component, dropping a
+    partial tuple as soon as its guard is empty."""
+    bdd = components[0].bdd
+    false = bdd.false
+    position = {id(c): i for i, c in enumerate(components)}
+    start = tuple(c.initial for c in components)
+    index = {start: 0}
+    order = [start]
+    accepting: list[bool] = []
+    edges: list[dict[int, Function]] = []
+    count = 0
+    for states in order:
+        accepting.append(_fold(acceptance, lambda d: d.accepting[states[position[id(d)]]],
+                               lambda op, xs: _OPS[op](xs)))
+        partial: list[tuple[Function, tuple[int, ...]]] = [(bdd.true, ())]
+        for c, s in zip(components, states):
+            out_c = c.edges[s].items()
+            partial = [(both, succs + (succ,)) for guard, succs in partial for succ, g in out_c
+                       if (both := guard & g) != false]
+        out: dict[int, Function] = {}
+        for guard, succs in partial:
+            target = index.get(succs)
+            if target is None:
+                target = index[succs] = len(order)
+                order.append(succs)
+            out[target] = guard
         edges.append(out)
         count += len(out)
         if max_edges is not None and count > max_edges:
