@@ -343,6 +343,8 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
             for state in part:
                 for pred in predecessors[state]:
                     dirty.setdefault(block[pred], set()).add(pred)
+    if dfa.initial == 0 and sum(1 for m in members if m) == n:
+        return dfa  # already minimal (and numbered from its initial state)
     # renumber blocks in BFS order from the initial state
     rename: dict[int, int] = {block[dfa.initial]: 0}
     order = [dfa.initial]
@@ -358,7 +360,8 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
     for old_block, new in rename.items():
         state = representative[old_block]
         accepting[new] = dfa.accepting[state]
+        out = edges[new]
         for succ, guard in dfa.edges[state].items():
             target = rename[block[succ]]
-            edges[new][target] = edges[new].get(target, bdd.false) | guard
+            out[target] = out[target] | guard if target in out else guard
     return GuardedDFA(bdd, 0, accepting, edges)
