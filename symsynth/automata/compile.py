@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 from symsynth.automata.bdd import BDD, Function, new_manager
 from symsynth.automata.invariant import Invariants, invariant_shape
 from symsynth.automata.normal import expose, nnf, split_conjuncts
-from symsynth.automata.progression import GuardedDFA, Progression, TooLarge, minimize
+from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge, minimize
 from symsynth.automata.symbolic import SymbolicDFA, product
 from symsynth.errors import InputError
 from symsynth.logic import ast
@@ -61,9 +61,25 @@ EXPLICIT_SINGLE = 100_000
 EXPLICIT_PRODUCT = 1_000_000
 EXPLICIT_EDGES = 200_000
 
-#: A conjunction of bounded-lookahead invariants is progressed as one leaf
-#: while its DFA has at most this many edges; past that, part by part.
-MERGED_EDGES = 100_000
+#: An explicit product is dropped (early, cheaply) when its states have
+#: more than this many successors on average: a symbolic product of the
+#: operands keeps such a DFA (a random Syft guarantee remembering the last
+#: letter: 256 successors per state) in a few bits per operand, where one
+#: explicit component's BDDs hold every edge.  Nim's DFAs have up to 70.
+EXPLICIT_DEGREE = 100
+
+#: A conjunction of bounded-lookahead invariants is one leaf while its DFA
+#: has at most MERGED_EDGES edges (built by progression) or, when it looks
+#: one step ahead (invariant.py, which costs per state), at most
+#: MERGED_INVARIANT_EDGES edges and MERGED_DEGREE successors per state on
+#: average (plus a small slack); past that, part by part.  The degree bound
+#: tells the counters and Nim (4 and 40 successors per state: one leaf) from
+#: the random Syft guarantees (`G(!X p | q)` and mutual exclusions: a state
+#: remembers the last letter and reaches most others, 256 successors per
+#: state), whose parts a symbolic product keeps small.
+MERGED_EDGES = 2000
+MERGED_INVARIANT_EDGES = 100_000
+MERGED_DEGREE = 64
 
 #: Boolean operators of the skeleton, as functions of the operands' acceptance.
 _OPS = {
@@ -175,7 +191,7 @@ class Composer:
             shape = self.shape(node)
             if shape is None and id(node) in self._merged:
                 try:  # a merged invariant, as one leaf while that stays small
-                    result = self.leaf(node, max_edges=self.merged_edges)
+                    result = self.leaf(node, merged=True)
                 except TooLarge:
                     shape = "and", self._merged[id(node)][1]
             elif shape is None:
@@ -211,7 +227,7 @@ class Composer:
         if bound >= self.product_limit or bound >= self._failed_bound:
             return result
         try:
-            return explicit_product_many(result.components, result.acceptance, self.edge_limit)
+            return explicit_product_many(result.components, result.acceptance, self.edge_limit, self._degree())
         except TooLarge:
             return result
 
@@ -283,15 +299,18 @@ class Composer:
                 self._merged[id(merged)] = (merged, [prefixed(prefix, ast.Always(f)) for f in group])
         return rest
 
-    def leaf(self, formula: ast.Formula, max_edges: int | None = None) -> GuardedDFA:
+    def leaf(self, formula: ast.Formula, merged: bool = False) -> GuardedDFA:
+        """The minimal DFA of a leaf; `TooLarge` for a merged invariant past
+        its limits (MERGED_EDGES and the others)."""
         dfa = self._leaves.get(formula)
         if dfa is None:
             normal = nnf(formula)
             shape = invariant_shape(normal)
             if shape is not None:  # one-step invariants: states read off the letter
-                dfa = minimize(self.invariants.dfa(*shape, max_edges))
+                edges = min(self.merged_edges * 50, MERGED_INVARIANT_EDGES) if merged else None
+                dfa = minimize(self.invariants.dfa(*shape, edges, MERGED_DEGREE if merged else None))
             else:
-                dfa = minimize(self.progression.dfa(normal, max_edges))
+                dfa = minimize(self.progression.dfa(normal, self.merged_edges if merged else None))
             self._leaves[formula] = dfa
             self._note(dfa, {a.key for a in ast.atoms(formula)})
         return dfa
@@ -348,7 +367,7 @@ class Composer:
                 for j in range(i + 1, len(dfas)):
                     b = dfas[j]
                     key = (id(a), id(b))
-                    if key in failed or not self._small(a, b) or not (self.independent or self._reads(a) & self._reads(b)):
+                    if key in failed or not self._small(a, b) or not self._related(a, b):
                         continue
                     if best is None or a.num_states * b.num_states < best[0]:
                         best = (a.num_states * b.num_states, i, j)
@@ -362,6 +381,13 @@ class Composer:
                 continue
             dfas = [d for k, d in enumerate(dfas) if k not in (i, j)] + [merged]
         return dfas
+
+    def _related(self, a: GuardedDFA, b: GuardedDFA) -> bool:
+        """Whether an explicit product of `a` and `b` may pay: they read a
+        common atom, or one of them reads none (a constant language, or one
+        of trace lengths: the product is no larger than the other)."""
+        reads_a, reads_b = self._reads(a), self._reads(b)
+        return self.independent or not reads_a or not reads_b or bool(reads_a & reads_b)
 
     def _reads(self, dfa: GuardedDFA) -> set[str]:
         """The atoms `dfa` may read: a superset of its guards' support, kept
@@ -392,10 +418,17 @@ class Composer:
         many state pairs are not tried again (each attempt costs up to the
         edge limit's worth of work)."""
         try:
-            return self._note(explicit_product(a, b, op, self.edge_limit), self._reads(a) | self._reads(b))
+            return self._note(explicit_product(a, b, op, self.edge_limit, self._degree()),
+                              self._reads(a) | self._reads(b))
+        except TooDense:
+            raise
         except TooLarge:
             self._failed_bound = min(self._failed_bound, a.num_states * b.num_states)
             raise
+
+    def _degree(self) -> int | None:
+        """EXPLICIT_DEGREE, unless the limits make every product explicit."""
+        return None if self.edge_limit is None else EXPLICIT_DEGREE
 
 
 def _plain_nodes(formula: ast.Formula) -> tuple[set[int], set[int]]:
@@ -455,9 +488,12 @@ def _balanced(op, items: list[ast.Formula]) -> ast.Formula:
 # ------------------------------------------------------------ explicit steps
 
 
-def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | None = None) -> GuardedDFA:
+def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | None = None,
+                     max_degree: int | None = None) -> GuardedDFA:
     """The minimal DFA of the product of `a` and `b` accepting by `op`;
-    `TooLarge` once it has more than `max_edges` edges (when given)."""
+    `TooLarge` once it has more than `max_edges` edges (when given), and
+    `TooDense` once its states have more than `max_degree` successors on
+    average (plus a slack of 2,000 edges)."""
     bdd, accept = a.bdd, _OPS[op]
     false = bdd.false
     start = (a.initial, b.initial)
@@ -484,14 +520,16 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
         count += len(out)
         if max_edges is not None and count > max_edges:
             raise TooLarge(f"more than {max_edges} edges")
+        if max_degree is not None and count > max_degree * len(edges) + 2000:
+            raise TooDense(f"more than {max_degree} successors per state")
     return minimize(_reject_at_start(GuardedDFA(bdd, 0, accepting, edges)))
 
 
 def explicit_product_many(components: list[GuardedDFA], acceptance: tuple,
-                          max_edges: int | None = None) -> GuardedDFA:
+                          max_edges: int | None = None, max_degree: int | None = None) -> GuardedDFA:
     """The minimal DFA of the product of `components` accepting by the
     Boolean combination `acceptance` of theirs (`Symbolic.acceptance`);
-    `TooLarge` once it has more than `max_edges` edges (when given).  A
+    `TooLarge` / `TooDense` as for `explicit_product`.  A
     letter's successor tuple is found component by component, dropping a
     partial tuple as soon as its guard is empty."""
     bdd = components[0].bdd
@@ -522,6 +560,8 @@ def explicit_product_many(components: list[GuardedDFA], acceptance: tuple,
         count += len(out)
         if max_edges is not None and count > max_edges:
             raise TooLarge(f"more than {max_edges} edges")
+        if max_degree is not None and count > max_degree * len(edges) + 2000:
+            raise TooDense(f"more than {max_degree} successors per state")
     return minimize(_reject_at_start(GuardedDFA(bdd, 0, accepting, edges)))
 
 

@@ -32,7 +32,7 @@ initial state, the prefix and the sink (the caller minimizes).
 from __future__ import annotations
 
 from symsynth.automata.bdd import Function
-from symsynth.automata.progression import GuardedDFA, Progression, TooLarge, split_letters
+from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge, split_letters
 from symsynth.logic import ast
 
 
@@ -112,9 +112,12 @@ class Invariants:
                 values[id(node)] = (now, now)
         return values[id(body)]
 
-    def dfa(self, prefix: list[type], body: ast.Formula, max_edges: int | None = None) -> GuardedDFA:
+    def dfa(self, prefix: list[type], body: ast.Formula, max_edges: int | None = None,
+            max_degree: int | None = None) -> GuardedDFA:
         """The complete DFA of `P G body` (`invariant_shape`'s parts), its
-        states in BFS order; `TooLarge` past `max_edges` edges."""
+        states in BFS order; `TooLarge` past `max_edges` edges, or past
+        `max_degree` successors per state on average (plus a slack of 2,000
+        edges) over the states built so far."""
         self._declare()
         bdd, progression = self.bdd, self.progression
         moves, ends = self._evaluate(body)  # F(x, y), E(x)
@@ -128,6 +131,8 @@ class Invariants:
         order: list[Function] = []
         sink: list[int] = []
         count = k
+        filled = [0]  # states whose edges are built
+        below: dict = {}  # split_letters' memo: the states' BDDs share nodes of h
 
         def state(node: Function) -> int:
             if node == bdd.false:
@@ -147,12 +152,15 @@ class Invariants:
         def fill(source: int, u: Function) -> None:
             nonlocal count
             out = edges[source]
-            for node, guard in split_letters(bdd, u, self.num_atoms).items():
+            for node, guard in split_letters(bdd, u, self.num_atoms, below).items():
                 target = state(node)
                 out[target] = out[target] | guard if target in out else guard
             count += len(out)
+            filled[0] += 1
             if max_edges is not None and count > max_edges:
                 raise TooLarge(f"more than {max_edges} edges")
+            if max_degree is not None and count > max_degree * filled[0] + 2000:
+                raise TooDense(f"more than {max_degree} successors per state")
 
         fill(k, h)  # the first letter of G body: any letter, to its cofactor
         for node in order:  # grows while we walk it: BFS

@@ -51,6 +51,11 @@ class TooLarge(Exception):
     """A construction went past the size it was given."""
 
 
+class TooDense(TooLarge):
+    """A construction went past the successors per state it was given
+    (found early, after a few states: cheap to try)."""
+
+
 class Progression:
     """Builds `GuardedDFA`s for formulas over a fixed list of atoms."""
 
@@ -158,12 +163,12 @@ class Progression:
         ending = {name: not self._obligation[name][0] for name in self.bdd.support(state)}
         return (self.bdd.let(ending, state) if ending else state) == self.bdd.true
 
-    def _successors(self, state: Function) -> dict[Function, Function]:
+    def _successors(self, state: Function, below: dict | None = None) -> dict[Function, Function]:
         """successor state -> guard, by splitting on the atom levels."""
         step = {name: self.unfold(self._obligation[name][1]) for name in self.bdd.support(state)}
         after = self.bdd.let(step, state) if step else state
         after = self._canonical(after)  # so that successors that say the same are one BDD
-        return split_letters(self.bdd, after, len(self.atom_keys))
+        return split_letters(self.bdd, after, len(self.atom_keys), below)
 
     # -- states that say the same -------------------------------------------
     def _learn_implications(self, formula: ast.Formula) -> None:
@@ -231,6 +236,7 @@ class Progression:
         accepting: list[bool] = []
         edges: list[dict[int, Function]] = []
         count = 0
+        below: dict = {}  # split_letters' memo: successive states share BDD nodes
         for state in order:  # `order` grows while we walk it: BFS
             accepting.append(self._accepts(state))
             out: dict[int, Function] = {}
@@ -238,7 +244,7 @@ class Progression:
                 count += len(edges[-1]) if edges else 0
                 if count > max_edges:
                     raise TooLarge(f"more than {max_edges} edges")
-            for succ, guard in self._successors(state).items():
+            for succ, guard in self._successors(state, below).items():
                 if succ not in index:
                     index[succ] = len(order)
                     order.append(succ)
@@ -247,15 +253,19 @@ class Progression:
         return GuardedDFA(self.bdd, 0, accepting, edges)
 
 
-def split_letters(bdd: BDD, u: Function, num_atoms: int) -> dict[Function, Function]:
+def split_letters(bdd: BDD, u: Function, num_atoms: int,
+                  below: dict[Function, dict[Function, Function]] | None = None) -> dict[Function, Function]:
     """The nodes where the paths of `u` leave the atom levels (the first
     `num_atoms` levels: the letter read), each with the set of letters
     leading there, as a BDD over the atoms.
 
     Bottom-up over the BDD's nodes at atom levels (each node once, not each
     path: a path per letter class is exponential in the atoms): below[v]
-    maps each node reachable from v to its guard."""
-    below: dict[Function, dict[Function, Function]] = {}
+    maps each node reachable from v to its guard.  A caller that splits
+    many BDDs sharing nodes passes one `below` to all calls (the result
+    must then not be modified)."""
+    if below is None:
+        below = {}
     true, false = bdd.true, bdd.false
     stack = [(u, False)]
     while stack:

@@ -256,22 +256,41 @@ def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
             if atom not in bdd.vars:
                 bdd.declare(atom)
         bits.extend(names)
-        # next value of bit j in state s: the letters into successors with bit j set
-        ones: list[list[Function]] = [[bdd.false] * comp.num_states for _ in names]
-        copied: dict[Function, Function] = {}
+        initial.update({n: bool(comp.initial >> j & 1) for j, n in enumerate(names)})
+        if len(components) == 1:
+            # next value of bit j in state s: the letters into successors with
+            # bit j set, merged over the states by a decision tree on the bits
+            ones: list[list[Function]] = [[bdd.false] * comp.num_states for _ in names]
+            copied: dict[Function, Function] = {}
+            for s, out in enumerate(comp.edges):
+                for succ, guard in out.items():
+                    here = copied.get(guard)
+                    if here is None:
+                        here = copied[guard] = comp.bdd.copy(guard, bdd)
+                    for j in range(width):
+                        if succ >> j & 1:
+                            ones[j][s] = ones[j][s] | here
+            delta.update({n: _by_state(bdd, names, ones[j]) for j, n in enumerate(names)})
+            accepts.append(_by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
+            reachable = _by_state(bdd, names, [bdd.true] * comp.num_states)  # every state of an explicit DFA
+            continue
+        # several components: the manager reorders while they are built, and
+        # disjunctions of state codes fare better there than the tree above
+        codes = [bdd.cube({n: bool(s >> j & 1) for j, n in enumerate(names)}) if names else bdd.true
+                 for s in range(comp.num_states)]
+        comp_delta = {n: bdd.false for n in names}
         for s, out in enumerate(comp.edges):
             for succ, guard in out.items():
-                here = copied.get(guard)
-                if here is None:
-                    here = copied[guard] = comp.bdd.copy(guard, bdd)
-                for j in range(width):
+                moved = codes[s] & comp.bdd.copy(guard, bdd)
+                for j, n in enumerate(names):
                     if succ >> j & 1:
-                        ones[j][s] = ones[j][s] | here
-        delta.update({n: _by_state(bdd, names, ones[j]) for j, n in enumerate(names)})
-        initial.update({n: bool(comp.initial >> j & 1) for j, n in enumerate(names)})
-        accepts.append(_by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
-        if len(components) == 1:  # every state of an explicit DFA is reachable
-            reachable = _by_state(bdd, names, [bdd.true] * comp.num_states)
+                        comp_delta[n] |= moved
+        delta.update(comp_delta)
+        comp_acc = bdd.false
+        for s, acc in enumerate(comp.accepting):
+            if acc:
+                comp_acc |= codes[s]
+        accepts.append(comp_acc)
     for atom in atoms:  # atoms no component reads still get a variable
         if atom not in bdd.vars:
             bdd.declare(atom)
