@@ -135,3 +135,14 @@ def test_many_independent_invariants_are_not_merged_into_one_state_space():
     dfa = compile_ltlf(text)
     # states: start, sink, and one per set of pending b_i (2^n)
     assert dfa.num_states == 2 ** n + 2
+
+
+@pytest.mark.parametrize("path", sorted(PATHS))
+@pytest.mark.parametrize("text", ["!(X c -> X c)", "!(F a -> F a)", "(G a -> G a) & F b"])
+def test_one_component_read_through_a_boolean_combination_is_minimized(path, text):
+    """Both sides of `->` are one DFA: a single component whose acceptance
+    is a Boolean combination of its own (`!(X c -> X c)` is empty: 1 state)."""
+    formula = parse_ltlf(text)
+    dfa = compile_ltlf(formula, limits=PATHS[path])
+    assert dfa.num_states == minimal_num_states(formula)
+    assert distinguishing_trace(dfa, reference_dfa(formula), keys(formula)) is None

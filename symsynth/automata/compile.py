@@ -145,8 +145,8 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
     index = {id(c): i for i, c in enumerate(components)}
     combine = None if acceptance is None else (lambda accs: _evaluate(acceptance, accs, index, bdd))
     dfa = product(bdd, atom_keys, components, prefix=prefix, combine=combine)
-    if len(components) > 1:
-        dfa = dfa.minimize()
+    if len(components) > 1 or (acceptance is not None and acceptance[0] != "c"):
+        dfa = dfa.minimize()  # (one component read through a Boolean combination: `!(X c -> X c)`)
     if own:
         manager.configure(reordering=False)  # a stable order for whoever uses the DFA
     return dfa
