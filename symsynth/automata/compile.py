@@ -68,6 +68,14 @@ EXPLICIT_EDGES = 200_000
 #: explicit component's BDDs hold every edge.  Nim's DFAs have up to 70.
 EXPLICIT_DEGREE = 100
 
+#: The components left at the end are multiplied explicitly while the
+#: product of their state counts is under this (`Composer.finish`): they
+#: read disjoint atoms, and only a product that shrinks when minimized
+#: pays (a Syft specification: 536 pairs, 2 states); independent parts
+#: whose product does not shrink stay symbolic (GFand: 3 x 2^(n-1) pairs,
+#: as many states).
+FINAL_PRODUCT = 4096
+
 #: A component of the final symbolic product with at least FACTOR_STATES
 #: states and FACTOR_DEGREE successors per state on average is replaced by
 #: the operands of its explicit product (`Composer._factored`).
@@ -224,7 +232,7 @@ class Composer:
 
     def finish(self, result: Result) -> Result:
         """The components left for the symbolic product, as one explicit
-        product when they are few states together: the operands kept apart
+        product when they are few states together (FINAL_PRODUCT): the operands kept apart
         because they read disjoint atoms (a Syft specification's
         assumptions and guarantees: a few hundred states in all) cost less
         explicitly than a symbolic product and its minimization over pairs
@@ -238,7 +246,7 @@ class Composer:
         bound = 1
         for c in result.components:
             bound *= c.num_states
-        if self.final_explicit and bound < self.product_limit and bound < self._failed_bound:
+        if self.final_explicit and bound < min(self.product_limit, FINAL_PRODUCT) and bound < self._failed_bound:
             try:
                 return explicit_product_many(result.components, result.acceptance, self.edge_limit,
                                              self._degree())
