@@ -67,6 +67,7 @@ EXPLICIT_EDGES = 200_000
 #: letter: 256 successors per state) in a few bits per operand, where one
 #: explicit component's BDDs hold every edge.  Nim's DFAs have up to 70.
 EXPLICIT_DEGREE = 100
+DENSE_AFTER = 100
 
 #: The components left at the end are multiplied explicitly while the
 #: product of their state counts is under this (`Composer.finish`): they
@@ -555,7 +556,8 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
     """The minimal DFA of the product of `a` and `b` accepting by `op`;
     `TooLarge` once it has more than `max_edges` edges (when given), and
     `TooDense` once its states have more than `max_degree` successors on
-    average (plus a slack of 2,000 edges)."""
+    average (plus a slack of 2,000 edges), from the DENSE_AFTER-th state
+    on (the first states of a counter reach thousands of others)."""
     bdd, accept = a.bdd, _OPS[op]
     false = bdd.false
     start = (a.initial, b.initial)
@@ -582,7 +584,7 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
         count += len(out)
         if max_edges is not None and count > max_edges:
             raise TooLarge(f"more than {max_edges} edges")
-        if max_degree is not None and count > max_degree * len(edges) + 2000:
+        if max_degree is not None and len(edges) >= DENSE_AFTER and count > max_degree * len(edges) + 2000:
             raise TooDense(f"more than {max_degree} successors per state")
     return minimize(_reject_at_start(GuardedDFA(bdd, 0, accepting, edges)))
 
@@ -622,7 +624,7 @@ def explicit_product_many(components: list[GuardedDFA], acceptance: tuple,
         count += len(out)
         if max_edges is not None and count > max_edges:
             raise TooLarge(f"more than {max_edges} edges")
-        if max_degree is not None and count > max_degree * len(edges) + 2000:
+        if max_degree is not None and len(edges) >= DENSE_AFTER and count > max_degree * len(edges) + 2000:
             raise TooDense(f"more than {max_degree} successors per state")
     return minimize(_reject_at_start(GuardedDFA(bdd, 0, accepting, edges)))
 

@@ -117,7 +117,7 @@ class Invariants:
         """The complete DFA of `P G body` (`invariant_shape`'s parts), its
         states in BFS order; `TooLarge` past `max_edges` edges, or past
         `max_degree` successors per state on average (plus a slack of 2,000
-        edges) over the states built so far."""
+        edges) over the states built so far, once there are 100."""
         self._declare()
         bdd, progression = self.bdd, self.progression
         moves, ends = self._evaluate(body)  # F(x, y), E(x)
@@ -159,7 +159,7 @@ class Invariants:
             filled[0] += 1
             if max_edges is not None and count > max_edges:
                 raise TooLarge(f"more than {max_edges} edges")
-            if max_degree is not None and count > max_degree * filled[0] + 2000:
+            if max_degree is not None and filled[0] >= 100 and count > max_degree * filled[0] + 2000:
                 raise TooDense(f"more than {max_degree} successors per state")
 
         fill(k, h)  # the first letter of G body: any letter, to its cofactor
