@@ -76,6 +76,10 @@ DENSE_AFTER = 100
 #: whose product does not shrink stay symbolic (GFand: 3 x 2^(n-1) pairs,
 #: as many states).
 FINAL_PRODUCT = 4096
+#: ... and while that times the product of their largest out-degrees (a
+#: bound on the explicit product's edges) is under this: independent parts
+#: multiply their successors (GFand: 2^n per state).
+FINAL_EDGES = 25_000
 
 #: A component of the final symbolic product with at least FACTOR_STATES
 #: states and FACTOR_DEGREE successors per state on average is replaced by
@@ -244,10 +248,12 @@ class Composer:
             result = Symbolic([result], ("c", result))  # (tests: every path taken apart)
         if len(result.components) < 2:
             return self._factored(result)
-        bound = 1
+        bound = fanout = 1  # state tuples; successor tuples of one state, at most
         for c in result.components:
             bound *= c.num_states
-        if self.final_explicit and bound < min(self.product_limit, FINAL_PRODUCT) and bound < self._failed_bound:
+            fanout *= max(len(out) for out in c.edges)
+        if (self.final_explicit and bound < min(self.product_limit, FINAL_PRODUCT)
+                and bound * fanout < FINAL_EDGES and bound < self._failed_bound):
             try:
                 return explicit_product_many(result.components, result.acceptance, self.edge_limit,
                                              self._degree())
