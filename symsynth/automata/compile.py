@@ -69,6 +69,11 @@ EXPLICIT_EDGES = 200_000
 EXPLICIT_DEGREE = 100
 DENSE_AFTER = 100
 
+#: The edge limit of a product grows to this many times the edges of its
+#: larger operand (a 16,000-state counter times a 4-state initial condition:
+#: 300,000 edges, against a symbolic product of 2^48 codes).
+GROWTH = 8
+
 #: The components left at the end are multiplied explicitly while the
 #: product of their state counts is under this (`Composer.finish`): they
 #: read disjoint atoms, and only a product that shrinks when minimized
@@ -487,8 +492,11 @@ class Composer:
         """`explicit_product`; once it fails (`TooLarge`), products with as
         many state pairs are not tried again (each attempt costs up to the
         edge limit's worth of work)."""
+        limit = self.edge_limit
+        if limit is not None:  # a product with a small operand may grow with the large one
+            limit = max(limit, GROWTH * max(sum(len(out) for out in d.edges) for d in (a, b)))
         try:
-            return self._made(explicit_product(a, b, op, self.edge_limit, self._degree()), op, [a, b])
+            return self._made(explicit_product(a, b, op, limit, self._degree()), op, [a, b])
         except TooDense:
             raise
         except TooLarge:
@@ -562,8 +570,9 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
     """The minimal DFA of the product of `a` and `b` accepting by `op`;
     `TooLarge` once it has more than `max_edges` edges (when given), and
     `TooDense` once its states have more than `max_degree` successors on
-    average (plus a slack of 2,000 edges), from the DENSE_AFTER-th state
-    on (the first states of a counter reach thousands of others)."""
+    average (plus a slack of 2,000 edges) over its states after the first
+    DENSE_AFTER (the first states of a counter reach thousands of others),
+    checked from the 2 x DENSE_AFTER-th state on."""
     bdd, accept = a.bdd, _OPS[op]
     false = bdd.false
     start = (a.initial, b.initial)
@@ -571,7 +580,7 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
     order = [start]
     accepting: list[bool] = []
     edges: list[dict[int, Function]] = []
-    count = 0
+    count = early = 0
     for s, t in order:
         accepting.append(accept([a.accepting[s], b.accepting[t]]))
         out: dict[int, Function] = {}
@@ -590,7 +599,10 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
         count += len(out)
         if max_edges is not None and count > max_edges:
             raise TooLarge(f"more than {max_edges} edges")
-        if max_degree is not None and len(edges) >= DENSE_AFTER and count > max_degree * len(edges) + 2000:
+        if len(edges) == DENSE_AFTER:
+            early = count  # the first states may reach thousands (a counter's start)
+        if max_degree is not None and len(edges) >= 2 * DENSE_AFTER and \
+                count - early > max_degree * (len(edges) - DENSE_AFTER) + 2000:
             raise TooDense(f"more than {max_degree} successors per state")
     return minimize(_reject_at_start(GuardedDFA(bdd, 0, accepting, edges)))
 
@@ -610,7 +622,7 @@ def explicit_product_many(components: list[GuardedDFA], acceptance: tuple,
     order = [start]
     accepting: list[bool] = []
     edges: list[dict[int, Function]] = []
-    count = 0
+    count = early = 0
     for states in order:
         accepting.append(_fold(acceptance, lambda d: d.accepting[states[position[id(d)]]],
                                lambda op, xs: _OPS[op](xs)))
@@ -630,7 +642,10 @@ def explicit_product_many(components: list[GuardedDFA], acceptance: tuple,
         count += len(out)
         if max_edges is not None and count > max_edges:
             raise TooLarge(f"more than {max_edges} edges")
-        if max_degree is not None and len(edges) >= DENSE_AFTER and count > max_degree * len(edges) + 2000:
+        if len(edges) == DENSE_AFTER:
+            early = count  # the first states may reach thousands (a counter's start)
+        if max_degree is not None and len(edges) >= 2 * DENSE_AFTER and \
+                count - early > max_degree * (len(edges) - DENSE_AFTER) + 2000:
             raise TooDense(f"more than {max_degree} successors per state")
     return minimize(_reject_at_start(GuardedDFA(bdd, 0, accepting, edges)))
 
