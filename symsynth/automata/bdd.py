@@ -25,7 +25,7 @@ Function: TypeAlias = Any
 Cube = tuple[tuple[str, bool], ...]  # a conjunction of literals, as (variable, polarity)
 
 
-def new_manager(*, reordering: bool = False, memory: int = 2**24, cache: int = 2**14) -> BDD:
+def new_manager(*, reordering: bool = False, memory: int = 2**27, cache: int = 2**14) -> BDD:
     """A fresh manager.  Reordering is off unless asked for: several routines
     rely on declared order (atoms above the variables that follow them).
 
