@@ -10,7 +10,8 @@ from symsynth.automata.symbolic import SymbolicDFA
 #: file whose numbering is not this one with that reason.  Bump it with any
 #: change to the compiler that renumbers the states of some formula's DFA
 #: (tests/test_dfa_numbering.py notices one).  1: per-conjunct progression;
-#: 2: composition over the whole Boolean structure.
-NUMBERING = 2
+#: 2: composition over the whole Boolean structure; 3: one-step invariants
+#: built directly and explicit components encoded by a decision tree.
+NUMBERING = 3
 
 __all__ = ["compile_ltlf", "ExplicitDFA", "NUMBERING", "SymbolicDFA"]

@@ -9,7 +9,7 @@ each with the robot's action there::
      "scene": "pick", "task": "F(at(b, l2))", "k": 1,
      "resolution": 1.0, "units": 34, "cost_bound": 34.0,
      "objects": ["b"],
-     "dfa": {"bits": ["#q0_0", "#q0_1"], "initial": [0, 0], "numbering": 2},
+     "dfa": {"bits": ["#q0_0", "#q0_1"], "initial": [0, 0], "numbering": 3},
      "positions": [
       {"at": {"b": "l1"}, "grip": null, "ee": "Else", "q": [0, 1], "h": 1,
        "action": "transit(b,top)", "budget": 34.0},
