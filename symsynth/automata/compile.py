@@ -31,6 +31,7 @@ the parser's nesting limit.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 from symsynth.automata.bdd import BDD, Function, new_manager
 from symsynth.automata.invariant import Invariants, invariant_shape
@@ -118,7 +119,7 @@ _OPS = {
 def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = "strong",
                  source: str = "<formula>", bdd: BDD | None = None,
                  prefix: str = "#q", compositional: bool = True,
-                 limits: dict[str, int] | None = None) -> SymbolicDFA:
+                 limits: dict[str, Any] | None = None) -> SymbolicDFA:
     """The minimal complete DFA of an LTLf formula over non-empty traces.
 
     `formula` is text (parsed with `next_semantics`, errors naming `source`)
@@ -354,15 +355,15 @@ class Composer:
                 f = kind(f)
             return f
 
-        for prefix, bodies in by_prefix.items():
+        for kinds, bodies in by_prefix.items():
             for group in _connected(bodies):
                 if len(group) == 1:
-                    rest.append(prefixed(prefix, ast.Always(group[0])))
+                    rest.append(prefixed(kinds, ast.Always(group[0])))
                     continue
-                merged = prefixed(prefix, ast.Always(_balanced(ast.And, group)))
+                merged = prefixed(kinds, ast.Always(_balanced(ast.And, group)))
                 rest.append(merged)
                 # a leaf (kept alive: ids stay unique), or its parts if too large
-                self._merged[id(merged)] = (merged, [prefixed(prefix, ast.Always(f)) for f in group])
+                self._merged[id(merged)] = (merged, [prefixed(kinds, ast.Always(f)) for f in group])
         return rest
 
     def leaf(self, formula: ast.Formula, merged: bool = False) -> GuardedDFA:

@@ -305,10 +305,10 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
     as many rounds as it counts: 2^k rounds for k bits.)
     """
     bdd = dfa.bdd
-    edges = dfa.edges
-    n = len(edges)
+    old_edges = dfa.edges
+    n = len(old_edges)
     predecessors: list[list[int]] = [[] for _ in range(n)]
-    for state, out in enumerate(edges):
+    for state, out in enumerate(old_edges):
         for succ in out:
             predecessors[succ].append(state)
     block = [int(acc) for acc in dfa.accepting]
@@ -320,7 +320,7 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
 
     def signature_of(state: int) -> frozenset:
         into: dict[int, Function] = {}
-        for succ, guard in edges[state].items():
+        for succ, guard in old_edges[state].items():
             b = block[succ]
             into[b] = into[b] | guard if b in into else guard
         return frozenset(into.items())
