@@ -24,8 +24,8 @@ SETTINGS = settings(max_examples=150, deadline=None)
 ATOMS = ("a", "b", "c")
 
 
-def propositional(max_depth: int = 2) -> st.SearchStrategy[ast.Formula]:
-    leaf = st.sampled_from([ast.Atom(x) for x in ATOMS] + [ast.TRUE, ast.FALSE])
+def boolean(leaf: st.SearchStrategy[ast.Formula], max_depth: int) -> st.SearchStrategy[ast.Formula]:
+    """Boolean combinations of `leaf`, nested up to `max_depth`."""
     level = leaf
     for _ in range(max_depth):
         level = st.one_of(
@@ -34,6 +34,10 @@ def propositional(max_depth: int = 2) -> st.SearchStrategy[ast.Formula]:
             st.builds(lambda op, f, g: op(f, g), st.sampled_from([ast.And, ast.Or, ast.Implies, ast.Equiv]),
                       level, level))
     return level
+
+
+def propositional(max_depth: int = 2) -> st.SearchStrategy[ast.Formula]:
+    return boolean(st.sampled_from([ast.Atom(x) for x in ATOMS] + [ast.TRUE, ast.FALSE]), max_depth)
 
 
 def one_step(max_depth: int = 3) -> st.SearchStrategy[ast.Formula]:
@@ -44,14 +48,7 @@ def one_step(max_depth: int = 3) -> st.SearchStrategy[ast.Formula]:
         st.builds(ast.Next, propositional()),
         st.builds(ast.WeakNext, propositional()),
         st.just(ast.Last()))
-    level = leaf
-    for _ in range(max_depth):
-        level = st.one_of(
-            leaf,
-            st.builds(ast.Not, level),
-            st.builds(lambda op, f, g: op(f, g), st.sampled_from([ast.And, ast.Or, ast.Implies, ast.Equiv]),
-                      level, level))
-    return level
+    return boolean(leaf, max_depth)
 
 
 prefixes = st.lists(st.sampled_from([ast.Next, ast.WeakNext]), max_size=2)

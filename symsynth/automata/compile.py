@@ -598,14 +598,25 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
                 out[index[pair]] = guard
         edges.append(out)
         count += len(out)
-        if max_edges is not None and count > max_edges:
-            raise TooLarge(f"more than {max_edges} edges")
-        if len(edges) == DENSE_AFTER:
-            early = count  # the first states may reach thousands (a counter's start)
-        if max_degree is not None and len(edges) >= 2 * DENSE_AFTER and \
-                count - early > max_degree * (len(edges) - DENSE_AFTER) + 2000:
-            raise TooDense(f"more than {max_degree} successors per state")
+        early = _check_growth(len(edges), count, early, max_edges, max_degree)
     return minimize(_reject_at_start(GuardedDFA(bdd, 0, accepting, edges)))
+
+
+def _check_growth(states: int, count: int, early: int, max_edges: int | None,
+                  max_degree: int | None) -> int:
+    """After a product state's edges are added (`states` states, `count`
+    edges so far): `TooLarge` past `max_edges`, `TooDense` when the states
+    after the first DENSE_AFTER average more than `max_degree` successors.
+    Returns `early`, the edges of the first DENSE_AFTER states (the first
+    states may reach thousands: a counter's start)."""
+    if max_edges is not None and count > max_edges:
+        raise TooLarge(f"more than {max_edges} edges")
+    if states == DENSE_AFTER:
+        early = count
+    if max_degree is not None and states >= 2 * DENSE_AFTER and \
+            count - early > max_degree * (states - DENSE_AFTER) + 2000:
+        raise TooDense(f"more than {max_degree} successors per state")
+    return early
 
 
 def explicit_product_many(components: list[GuardedDFA], acceptance: tuple,
@@ -641,13 +652,7 @@ def explicit_product_many(components: list[GuardedDFA], acceptance: tuple,
             out[target] = guard
         edges.append(out)
         count += len(out)
-        if max_edges is not None and count > max_edges:
-            raise TooLarge(f"more than {max_edges} edges")
-        if len(edges) == DENSE_AFTER:
-            early = count  # the first states may reach thousands (a counter's start)
-        if max_degree is not None and len(edges) >= 2 * DENSE_AFTER and \
-                count - early > max_degree * (len(edges) - DENSE_AFTER) + 2000:
-            raise TooDense(f"more than {max_degree} successors per state")
+        early = _check_growth(len(edges), count, early, max_edges, max_degree)
     return minimize(_reject_at_start(GuardedDFA(bdd, 0, accepting, edges)))
 
 
