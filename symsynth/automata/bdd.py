@@ -8,7 +8,8 @@ else imports `BDD` and `Function` from this module.
 from __future__ import annotations
 
 import warnings
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
 from typing import Any, TypeAlias
 
 try:
@@ -38,11 +39,35 @@ def new_manager(*, reordering: bool = False, memory: int = 2**27, cache: int = 2
     return bdd
 
 
+@contextmanager
+def fixed_order(bdd: BDD) -> Iterator[None]:
+    """Dynamic reordering suspended inside the block, restored after.
+
+    Sifting minimizes the BDDs alive when it runs, not the intermediate
+    results of the operation under way: in the middle of a fixpoint over
+    pairs of states it lifts the atoms above the state bits, and every
+    BDD relating a state to its successor then remembers all atoms before
+    it reads a bit (see `SymbolicDFA.minimize`)."""
+    old = bdd.configure(reordering=False)["reordering"]
+    try:
+        yield
+    finally:
+        bdd.configure(reordering=old)
+
+
 def and_exists(bdd: BDD, u: Function, v: Function, qvars: set[str]) -> Function:
     """\\E qvars: u /\\ v, in one pass where the backend has it."""
     if BACKEND == "cudd":
         return _backend.and_exists(u, v, qvars)
     return bdd.exist(qvars, u & v)  # pragma: no cover - only without CUDD
+
+
+def restrict(bdd: BDD, u: Function, care: Function) -> Function:
+    """A function equal to `u` where `care` holds, usually smaller
+    (Coudert and Madre's restrict); `u` itself without CUDD."""
+    if BACKEND == "cudd":
+        return _backend.restrict(u, care)
+    return u  # pragma: no cover - only without CUDD
 
 
 def peak_nodes(bdd: BDD) -> int:
