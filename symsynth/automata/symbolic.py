@@ -44,9 +44,10 @@ class SymbolicDFA:
     the reachable states, the sink included.
 
     `local`: the declared variable order keeps each part's atoms next to its
-    bits and no atom is read by two parts (`product` of components over
-    disjoint atoms); `_reach` and `minimize` then suspend dynamic
-    reordering, which can only cost there (see `minimize`).
+    bits and no atom is read by two parts (a `product` of LOCAL_PARTS or
+    more components over disjoint atoms); `_reach` and `minimize` then
+    suspend dynamic reordering, which costs more than it finds there (see
+    `minimize`).
     """
 
     def __init__(self, bdd: BDD, atoms: Sequence[str], bits: Sequence[str],
@@ -154,19 +155,29 @@ class SymbolicDFA:
         Each class is replaced by its least member (in bit order).
 
         The variable order decides the cost.  In a local DFA (a product of
-        parts over disjoint atoms, each part's bits, their primed copies and
-        its atoms declared together) every BDD here is a sum of per-part
-        pieces: n one-step invariants `G(a_i -> X b_i)`, E has O(n) nodes.
-        Dynamic reordering (sifting) minimizes the BDDs alive when it runs,
-        not E(delta(q,x), delta(q',x)) under construction: it lifts the
-        atoms above the bits or parts a bit from its primed copy, and that
-        BDD becomes exponential in n (44 invariants: 20 s in one step; 100:
-        146 s in all; grouping each part's variables so that they move
-        together still costs 16 s at 100, in sifting alone).  So a local
-        DFA is minimized in its declared order (100: 0.7 s).  Where parts
-        share atoms (the Syft specifications) no declared order is known to
-        be good and sifting pays (syft_2/004: 0.4 s with it, 47 s in the
-        declared order), so the manager's setting is kept there.
+        LOCAL_PARTS or more parts over disjoint atoms, each part's bits,
+        their primed copies and its atoms declared together) every BDD here
+        is a sum of per-part pieces: for n one-step invariants
+        `G(a_i -> X b_i)`, E has O(n) nodes.  Dynamic reordering (sifting)
+        minimizes the BDDs alive when it runs, not E(delta(q,x), delta(q',x))
+        under construction: it lifted the atoms above the bits and parted
+        bits from their primed copies, and that BDD became exponential in n
+        (44 invariants: 20 s in one step; 100: 146 s in all; with each
+        part's variables grouped so that they move together, 16 s at 100,
+        in sifting alone).  So a local DFA is minimized in its declared
+        order (100: 0.3 s with the rest below).  Where parts share atoms
+        (the Syft specifications) no declared order is known to be good and
+        sifting pays (syft_2/004: 0.4 s with it, 47 s in the declared
+        order), as it does for a few disjoint parts (`LOCAL_PARTS`), so the
+        manager's setting is kept there.
+
+        The least members come from one pass over E's nodes
+        (`_least_member`), and the quotient's functions differ from the
+        product's only where the successor is moved (not its class's least
+        member): delta'_b = ite(Moved(delta), rep_b(delta), delta_b), with
+        rep_b simplified on Moved, a constant where one class is merged (the
+        invariants' sink).  On codes no reachable state leads to, delta'
+        may differ from rep(delta): those are no states of the DFA.
         """
         if not self.bits:
             return self
@@ -368,8 +379,10 @@ def _dag_size(bdd: BDD, roots: Sequence[Function]) -> int:
 #: A product of at least this many components over pairwise disjoint atoms
 #: is built and minimized in its declared order (`SymbolicDFA.minimize`).
 #: Fewer, and sifting pays for itself: syft_5/001 (8 such parts, one of 29
-#: states over 6 atoms) minimizes in 0.12 s with it, 1.1 s without; from
-#: 16 independent one-step invariants on, sifting costs more than it finds.
+#: states over 6 atoms) minimizes in 0.12 s with it, 1.1 s without.  Up to
+#: 32 independent one-step invariants the two cost the same (sifting rarely
+#: starts); from there sifting costs more than it finds (40: 0.5 s against
+#: 0.08 s in the declared order; 60: 34 s against 0.2 s).
 LOCAL_PARTS = 16
 
 
