@@ -189,3 +189,22 @@ def test_independent_invariants_language():
     keys = ["a0", "a1", "b0", "b1"]
     for trace in all_traces(keys, 3):
         assert dfa.accepts(trace) == holds(formula, trace), trace
+
+
+def test_many_independent_parts_in_a_boolean_combination(monkeypatch):
+    """17 invariants or `F c` or `G d & X e`: a product of LOCAL_PARTS or more
+    parts over disjoint atoms (the declared-order path) whose acceptance is
+    not a plain conjunction, against the semantics on random traces; as many
+    states as through sifting (both are minimal)."""
+    text = f"({invariants(17)}) | F c | (G d & X e)"
+    formula = parse_ltlf(text)
+    dfa = compile_ltlf(formula)
+    assert dfa.local
+    monkeypatch.setattr(symbolic, "LOCAL_PARTS", 10**6)
+    sifted = compile_ltlf(formula)
+    assert not sifted.local and sifted.num_states == dfa.num_states
+    keys = [f"a{i}" for i in range(17)] + [f"b{i}" for i in range(17)] + ["c", "d", "e"]
+    rng = random.Random(17)
+    for _ in range(400):
+        trace = [frozenset(k for k in keys if rng.random() < 0.15) for _ in range(rng.randint(1, 6))]
+        assert dfa.accepts(trace) == holds(formula, trace), trace
