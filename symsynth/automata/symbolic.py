@@ -191,14 +191,14 @@ class SymbolicDFA:
         bdd = self.bdd
         primed = {b: prime(b) for b in self.bits}
         reach2 = self.reachable & bdd.let(primed, self.reachable)
-        # E0(q, q') = R(q) /\\ R(q') /\\ (Acc(q) <-> Acc(q'))
+        # E0(q, q') = R(q) /\ R(q') /\ (Acc(q) <-> Acc(q'))
         equiv = reach2 & bdd.apply("<=>", self.accepting, bdd.let(primed, self.accepting))
         step_both = {b: self.delta[b] for b in self.bits}
         step_both.update({primed[b]: bdd.let(primed, self.delta[b]) for b in self.bits})
         old = None
         while equiv != old:
             old = equiv
-            # E(q, q') /\\ \\A x: E(delta(q, x), delta(q', x))
+            # E(q, q') /\ \A x: E(delta(q, x), delta(q', x))
             equiv = equiv & bdd.forall(set(self.atoms), bdd.let(step_both, equiv))
         return equiv
 
@@ -211,9 +211,9 @@ class SymbolicDFA:
         if equiv == self.reachable & identity:
             return self
         representative = _least_member(bdd, equiv, targets)
-        # Moved(q) = R(q) /\\ !Rep(q, q): the states that are not their class's least member
+        # Moved(q) = R(q) /\ !Rep(q, q): the states that are not their class's least member
         moved = self.reachable & ~and_exists(bdd, representative, identity, set(targets))
-        # rep_b(q) = \\E q': Rep(q, q') /\\ q'_b on Moved (a constant where one class is moved)
+        # rep_b(q) = \E q': Rep(q, q') /\ q'_b on Moved (a constant where one class is moved)
         onto = representative & moved
         rep = {b: restrict(bdd, and_exists(bdd, onto, bdd.var(t), set(targets)), moved)
                for b, t in primed.items()}
@@ -225,7 +225,7 @@ class SymbolicDFA:
         initial = {b: start & bdd.var(t) != bdd.false for b, t in primed.items()}
         # the quotient's reachable states are the least members of the classes
         # of reachable states: rep(init) is one, and rep(delta(rep(s), x)) =
-        # rep(delta(s, x)) since rep(s) ~ s.  R'(q) = (\\E q: Rep(q, q'))[q' -> q]
+        # rep(delta(s, x)) since rep(s) ~ s.  R'(q) = (\E q: Rep(q, q'))[q' -> q]
         unprime = {t: b for b, t in primed.items()}
         reachable = bdd.let(unprime, bdd.exist(set(self.bits), representative))
         return SymbolicDFA(bdd, self.atoms, self.bits, delta, initial, self.accepting, reachable,
@@ -304,7 +304,8 @@ def _least_member(bdd: BDD, relation: Function, targets: Sequence[str]) -> Funct
     at a node on any other variable v, the ite on v of the cofactors'.
     A target that an edge skips is 0 in the least member.  Each node is
     visited once, where target by target rebuilds all of R once per target
-    (quadratic in the bits: 400 state bits, 5 s against 0.1 s)."""
+    (quadratic in the bits: 200 invariants, 400 bits, took 5.1 s; 300
+    invariants, 600 bits, take 0.2 s in one pass)."""
     levels = [bdd.level_of_var(t) for t in targets]
     if levels != sorted(levels):
         return _least_member_by_bits(bdd, relation, targets)
