@@ -182,9 +182,7 @@ class SymbolicDFA:
         if not self.bits:
             return self
         with self._order():
-            equiv = self._bisimulation()
-        with fixed_order(self.bdd):  # `_least_member` reads levels
-            return self._quotient(equiv)
+            return self._quotient(self._bisimulation())
 
     def _bisimulation(self) -> Function:
         """E(q, q'), the coarsest bisimulation on reachable states."""
@@ -293,8 +291,8 @@ def _equal(bdd: BDD, xs: Sequence[str], ys: Sequence[str]) -> Function:
 def _least_member(bdd: BDD, relation: Function, targets: Sequence[str]) -> Function:
     """Restrict R(q, t) so that each q keeps only its least t (first target
     most significant), in one pass over R's nodes when the targets lie in
-    the variable order in their order of significance (else target by
-    target, `_least_member_by_bits`).
+    the variable order in their order of significance and reordering is
+    off (else target by target, `_least_member_by_bits`).
 
     Bottom up, each node u gets least(u) and some(u) = \\E t: u.  At a node
     on target t_i with cofactors L (t_i = 0) and H, a member with t_i = 0
@@ -307,7 +305,7 @@ def _least_member(bdd: BDD, relation: Function, targets: Sequence[str]) -> Funct
     (quadratic in the bits: 200 invariants, 400 bits, took 5.1 s; 300
     invariants, 600 bits, take 0.2 s in one pass)."""
     levels = [bdd.level_of_var(t) for t in targets]
-    if levels != sorted(levels):
+    if levels != sorted(levels) or bdd.configure()["reordering"]:  # levels must hold still
         return _least_member_by_bits(bdd, relation, targets)
     is_target = set(targets)
     least = {bdd.false: bdd.false, bdd.true: bdd.true}
