@@ -23,6 +23,7 @@ from symsynth.logic import parse_ltlf
 from symsynth.logic.semantics import holds
 from symsynth.synthesis import Partition, solve_realizability
 from symsynth.synthesis.machine import strategy_machine
+from symsynth.synthesis.preimage import CLUSTER_NODES
 from symsynth.synthesis.symbolic_strategy import read_symbolic_strategy, symbolic_strategy, write_json
 
 DATA = Path(__file__).parent / "data" / "finite-synthesis"
@@ -43,12 +44,15 @@ def letters(names):
 
 
 @settings(max_examples=100, deadline=None)
-@given(formula=formulas(max_depth=3), partition=partitions, agent_first=st.booleans())
-def test_the_bdd_strategy_wins_against_every_environment(formula, partition, agent_first, tmp_path_factory):
+@given(formula=formulas(max_depth=3), partition=partitions, agent_first=st.booleans(),
+       clusters=st.sampled_from([0, CLUSTER_NODES]))
+def test_the_bdd_strategy_wins_against_every_environment(formula, partition, agent_first, clusters,
+                                                         tmp_path_factory):
     """Depth-first over every input sequence: each play is accepted by the
     reference DFA exactly when the strategy's state is accepting, and every
-    play is won within the initial state's rank."""
-    game = solve_realizability(compile_ltlf(formula), partition, agent_first=agent_first)
+    play is won within the initial state's rank (with the transition
+    relation one cluster per bit, and whole: symsynth/synthesis/preimage.py)."""
+    game = solve_realizability(compile_ltlf(formula), partition, agent_first=agent_first, cluster_nodes=clusters)
     if not game.realizable:
         return
     strategy = round_trip(symbolic_strategy(game), tmp_path_factory.mktemp("s"))

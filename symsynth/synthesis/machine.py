@@ -88,7 +88,7 @@ def strategy_machine(game: Realizability) -> Machine:
         rank = game.rank(cube)
         if rank is None:  # the walk follows winning moves only, which stay in W
             raise ValueError(f"the strategy reached DFA state {state} outside the winning region")
-        choices = bdd.let(dict(zip(dfa.bits, state)), game.choices(rank)) if dfa.bits else game.choices(rank)
+        choices = game.choices(rank, dict(zip(dfa.bits, state)))
         moves = []
         if game.agent_first:  # one output for every input: \A x: C
             sure = bdd.forall(set(game.inputs), choices) if game.inputs else choices

@@ -115,10 +115,13 @@ def symbolic_strategy(game: Realizability) -> SymbolicStrategy:
         raise ValueError(f"variables of neither player: {sorted(unowned)}")
     moves = bdd.false
     below = bdd.false
+    after = bdd.false  # (Acc \/ W_{i-1})(delta(q, x, y)), grown by the new states' preimage (game.py)
+    taken = bdd.false
     for won in game.rounds:
         target = dfa.accepting | below
+        after, taken = after | game.preimage(target & ~taken), target
         # (W_i \ W_{i-1})(q) /\ (Acc \/ W_{i-1})(delta(q, x, y))
-        moves |= won & ~below & (bdd.let(dict(dfa.delta), target) if dfa.bits else target)
+        moves |= won & ~below & after
         below = won
     allowed = bdd.forall(xs, moves) if game.agent_first and xs else moves  # \A x: M (agent first)
     output = {}
