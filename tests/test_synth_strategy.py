@@ -23,7 +23,7 @@ from symsynth.logic import parse_ltlf
 from symsynth.logic.semantics import holds
 from symsynth.synthesis import Partition, solve_realizability
 from symsynth.synthesis.machine import strategy_machine
-from symsynth.synthesis.preimage import CLUSTER_NODES
+from symsynth.synthesis.preimage import Preimage
 from symsynth.synthesis.symbolic_strategy import read_symbolic_strategy, symbolic_strategy, write_json
 
 DATA = Path(__file__).parent / "data" / "finite-synthesis"
@@ -45,14 +45,17 @@ def letters(names):
 
 @settings(max_examples=100, deadline=None)
 @given(formula=formulas(max_depth=3), partition=partitions, agent_first=st.booleans(),
-       clusters=st.sampled_from([0, CLUSTER_NODES]))
-def test_the_bdd_strategy_wins_against_every_environment(formula, partition, agent_first, clusters,
+       relation=st.booleans())
+def test_the_bdd_strategy_wins_against_every_environment(formula, partition, agent_first, relation,
                                                          tmp_path_factory):
     """Depth-first over every input sequence: each play is accepted by the
     reference DFA exactly when the strategy's state is accepting, and every
-    play is won within the initial state's rank (with the transition
-    relation one cluster per bit, and whole: symsynth/synthesis/preimage.py)."""
-    game = solve_realizability(compile_ltlf(formula), partition, agent_first=agent_first, cluster_nodes=clusters)
+    play is won within the initial state's rank (the preimages by
+    substitution, or by the transition relation one cluster per bit:
+    symsynth/synthesis/preimage.py)."""
+    dfa = compile_ltlf(formula)
+    preimage = Preimage(dfa, limit=0, composed=0) if relation else Preimage(dfa, composed=10**9)
+    game = solve_realizability(dfa, partition, agent_first=agent_first, preimage=preimage)
     if not game.realizable:
         return
     strategy = round_trip(symbolic_strategy(game), tmp_path_factory.mktemp("s"))

@@ -19,12 +19,12 @@ first won in round i plays a `y` that leads into Acc \\/ W_{i-1} whatever
 the environment does (`choices`); every play then wins within i letters.
 
 How each round is computed (Double-Counter 05, 4,101 states, 61 rounds:
-17 s with `bdd.let(delta, G)` every round, 1.0 s so):
+17 s with `bdd.let(delta, G)` every round, 0.5 s so):
 
-- G(delta(q, x, y)) is a relational product with the transition relation,
-  built once (`preimage.py`), and it is distributive over \\/ in G: the
-  fixpoint keeps `after` = (Acc \\/ W_i)(delta) and adds the preimage of
-  the states new in the round only;
+- G(delta(q, x, y)) is, past the first rounds, a relational product with
+  the transition relation, built once (`preimage.py`); it is distributive
+  over \\/ in G, as the substitution is: the fixpoint keeps `after` =
+  (Acc \\/ W_i)(delta) and adds the preimage of the round's new states;
 - Pre is taken only at the states not yet won that have an edge into those
   new states (the others cannot change), so the quantifiers over x and y
   run on a few states' letters, not on every state's.
@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 from symsynth.automata.bdd import Function
 from symsynth.automata.symbolic import SymbolicDFA
 from symsynth.synthesis.partition import Partition
-from symsynth.synthesis.preimage import CLUSTER_NODES, Preimage
+from symsynth.synthesis.preimage import Preimage
 
 
 @dataclass
@@ -72,15 +72,15 @@ class Realizability:
 
 
 def solve_realizability(dfa: SymbolicDFA, partition: Partition, *, agent_first: bool = True,
-                        cluster_nodes: int = CLUSTER_NODES) -> Realizability:
+                        preimage: Preimage | None = None) -> Realizability:
     """The reachability game of the module docstring on `dfa`; variables of
-    the partition that the formula does not read play no part.
-    `cluster_nodes`: the transition relation's cluster size (preimage.py)."""
+    the partition that the formula does not read play no part.  `preimage`:
+    how G(delta) is computed (preimage.py; by default its own settings)."""
     bdd = dfa.bdd
     inputs = tuple(a for a in dfa.atoms if a in partition.inputs)
     outputs = tuple(a for a in dfa.atoms if a in partition.outputs)
     xs, ys = set(inputs), set(outputs)
-    preimage = Preimage(dfa, cluster_nodes)
+    preimage = Preimage(dfa) if preimage is None else preimage
     rounds: list[Function] = []
     win = bdd.false
     after = bdd.false  # (Acc \/ W_i)(delta(q, x, y))

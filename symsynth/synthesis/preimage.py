@@ -15,9 +15,10 @@ quantified in the one cluster that reads it (no other does):
         = \\E q'(C_k): (... \\E q'(C_1): (G(q') /\\ C_1) ...) /\\ C_k
 
 With `limit` 0 every conjunct is its own cluster (the partitioned relation);
-when every conjunct fits in one, T is monolithic.  The product is
-distributive over `|` in G, which the fixpoint uses: it takes the preimage of
-the states new in each round only.
+when every conjunct fits in one, T is monolithic.  T is built only for
+games past their first few rounds (`COMPOSED`); before, the preimage is the
+substitution.  Both are distributive over `|` in G, which the fixpoint uses:
+it takes the preimage of the states new in each round only.
 """
 
 from __future__ import annotations
@@ -29,40 +30,68 @@ from symsynth.automata.symbolic import SymbolicDFA, prime
 #: 06, 16,389 states: its monolithic T has 708,000).
 CLUSTER_NODES = 1 << 20
 
+#: The first preimages substitute delta into G instead (`bdd.let`): most
+#: games end within a few rounds (the random families: 0 to 3, Nim: 2 or
+#: 3), where building T would cost more than it saves (Nim 01_15: 0.03 s for
+#: T against 0.02 s for all its rounds by substitution).
+COMPOSED = 4
+
 
 class Preimage:
-    """`preimage(G)` = G(delta(q, x, y)) for a BDD G over the DFA's state bits."""
+    """`preimage(G)` = G(delta(q, x, y)) for a BDD G over the DFA's state
+    bits: by substitution for the first `composed` calls, then by the
+    clustered relation (built then)."""
 
-    def __init__(self, dfa: SymbolicDFA, limit: int = CLUSTER_NODES):
-        bdd = self.bdd = dfa.bdd
+    def __init__(self, dfa: SymbolicDFA, limit: int = CLUSTER_NODES, composed: int = COMPOSED):
+        self.dfa, self.bdd, self.limit, self.composed = dfa, dfa.bdd, limit, composed
         self.primed = {b: prime(b) for b in dfa.bits}
-        # (C_j, the primed bits only C_j reads); first one conjunct per bit
-        level = [(bdd.apply("<=>", bdd.var(prime(b)), dfa.delta[b]), {prime(b)})  # q'_b <-> delta_b(q, x, y)
-                 for b in dfa.bits]
-        joined = True
-        while joined and len(level) > 1:  # neighbours conjoined pairwise, a balanced tree
-            joined, merged, i = False, [], 0
-            while i < len(level):
-                if i + 1 < len(level):
-                    both = level[i][0] & level[i + 1][0]
-                    if len(both) <= limit:
-                        merged.append((both, level[i][1] | level[i + 1][1]))
-                        joined, i = True, i + 2
-                        continue
-                merged.append(level[i])
-                i += 1
-            level = merged
-        self.clusters = level
+        self._clusters: list[tuple[Function, set[str]]] | None = None
 
     def __call__(self, target: Function) -> Function:
-        if not self.clusters:  # no state bits: one state
+        if not self.dfa.bits:  # one state
             return target
+        if self.composed > 0:
+            self.composed -= 1
+            return self.bdd.let(self.dfa.delta, target)  # G(delta(q, x, y))
         image = self.bdd.let(self.primed, target)  # G(q')
         for cluster, qvars in self.clusters:
             image = and_exists(self.bdd, image, cluster, qvars)  # \E q'(C): image /\ C
         return image
 
     @property
+    def clusters(self) -> list[tuple[Function, set[str]]]:
+        """(C_j, the primed bits only C_j reads), built on first use."""
+        if self._clusters is None:
+            self._clusters = _clusters(self.dfa, self.limit)
+        return self._clusters
+
+    @property
+    def built(self) -> bool:
+        """Whether the relation has been built (by a call past the substitutions, or `clusters`)."""
+        return self._clusters is not None
+
+    @property
     def nodes(self) -> int:
         """The clusters' nodes, counted one cluster at a time."""
         return sum(len(c) for c, _ in self.clusters)
+
+
+def _clusters(dfa: SymbolicDFA, limit: int) -> list[tuple[Function, set[str]]]:
+    """The conjuncts q'_b <-> delta_b, neighbours conjoined pairwise level by
+    level (a balanced tree) where the conjunction has at most `limit` nodes."""
+    bdd = dfa.bdd
+    level = [(bdd.apply("<=>", bdd.var(prime(b)), dfa.delta[b]), {prime(b)}) for b in dfa.bits]
+    joined = True
+    while joined and len(level) > 1:
+        joined, merged, i = False, [], 0
+        while i < len(level):
+            if i + 1 < len(level):
+                both = level[i][0] & level[i + 1][0]
+                if len(both) <= limit:
+                    merged.append((both, level[i][1] | level[i + 1][1]))
+                    joined, i = True, i + 2
+                    continue
+            merged.append(level[i])
+            i += 1
+        level = merged
+    return level
