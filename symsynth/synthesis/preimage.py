@@ -16,8 +16,8 @@ quantified in the one cluster that reads it (no other does):
 
 With `limit` 0 every conjunct is its own cluster (the partitioned relation);
 when every conjunct fits in one, T is monolithic.  T is built only for
-games past their first few rounds (`COMPOSED`); before, the preimage is the
-substitution.  Both are distributive over `|` in G, which the fixpoint uses:
+games past their first small rounds (`SUBSTITUTED_NODES`); before, the
+preimage is the substitution.  Both are distributive over `|` in G, which the fixpoint uses:
 it takes the preimage of the states new in each round only.
 """
 
@@ -30,28 +30,32 @@ from symsynth.automata.symbolic import SymbolicDFA, prime
 #: 06, 16,389 states: its monolithic T has 708,000).
 CLUSTER_NODES = 1 << 20
 
-#: The first preimages substitute delta into G instead (`bdd.let`): most
-#: games end within a few rounds (the random families: 0 to 3, Nim: 2 or
-#: 3), where building T would cost more than it saves (Nim 01_15: 0.03 s for
-#: T against 0.02 s for all its rounds by substitution).
-COMPOSED = 4
+#: Before T is built the preimage substitutes delta into G (`bdd.let`),
+#: about |G| x |delta| steps, where building T costs about |delta| times a
+#: constant: as in renting until the rent paid would have bought, the
+#: substitutions go on while their targets have at most this many nodes
+#: together (measured: 25 ns per |G| x |delta| step, 2-5 us per delta node
+#: for T).  Nim and the random families end within it (0 to 3 rounds of
+#: small targets: Nim 01_15, 50 nodes in 4 calls, 0.02 s, where T costs 0.05 s);
+#: Double-Counter 05 builds T at its second call.
+SUBSTITUTED_NODES = 64
 
 
 class Preimage:
     """`preimage(G)` = G(delta(q, x, y)) for a BDD G over the DFA's state
-    bits: by substitution for the first `composed` calls, then by the
-    clustered relation (built then)."""
+    bits: by substitution while the targets so far have at most `substituted`
+    nodes together, then by the clustered relation (built then)."""
 
-    def __init__(self, dfa: SymbolicDFA, limit: int = CLUSTER_NODES, composed: int = COMPOSED):
-        self.dfa, self.bdd, self.limit, self.composed = dfa, dfa.bdd, limit, composed
+    def __init__(self, dfa: SymbolicDFA, limit: int = CLUSTER_NODES, substituted: int = SUBSTITUTED_NODES):
+        self.dfa, self.bdd, self.limit, self.substituted = dfa, dfa.bdd, limit, substituted
         self.primed = {b: prime(b) for b in dfa.bits}
         self._clusters: list[tuple[Function, set[str]]] | None = None
 
     def __call__(self, target: Function) -> Function:
         if not self.dfa.bits:  # one state
             return target
-        if self.composed > 0:
-            self.composed -= 1
+        if self._clusters is None and len(target) <= self.substituted:
+            self.substituted -= len(target)
             return self.bdd.let(self.dfa.delta, target)  # G(delta(q, x, y))
         image = self.bdd.let(self.primed, target)  # G(q')
         for cluster, qvars in self.clusters:
