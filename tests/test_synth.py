@@ -18,9 +18,10 @@ from hypothesis import strategies as st
 from support.reference import reference_dfa
 from support.strategies import formulas
 from symsynth.automata import compile_ltlf
+from symsynth.automata.bdd import lexmin
 from symsynth.cli import main
-from symsynth.logic import ast
-from symsynth.synthesis import Partition, solve_realizability
+from symsynth.logic import ast, parse_ltlf
+from symsynth.synthesis import Partition, read_partition, solve_realizability
 from symsynth.synthesis.machine import strategy_machine
 
 DATA = Path(__file__).parent / "data" / "finite-synthesis"
@@ -197,3 +198,25 @@ def test_the_sample_agrees_with_the_published_verdicts():
         for row in csv.DictReader(file):
             published[row["instance"].split("/")[-1]] = row["expected"]
     assert [published[p.name] for p in SAMPLE] == ["realizable" if expected(p) else "unrealizable" for p in SAMPLE]
+
+
+@pytest.mark.parametrize("agent_first", [True, False])
+def test_the_machine_follows_the_dfa_letter_by_letter(agent_first):
+    """Double-Counter 02 (3 inputs, 9 outputs; machine.py lists the
+    successors of all letters at once): each move's output is the least
+    one (lexmin) leading one round closer to winning, and its next state is
+    the DFA's step on the letter, evaluated one letter at a time."""
+    spec = DATA / "Double-Counter" / "counters_02.ltlf"
+    dfa = compile_ltlf(parse_ltlf(spec.read_text(), next_semantics="weak"))
+    game = solve_realizability(dfa, read_partition(spec.with_suffix(".part")), agent_first=agent_first)
+    machine = strategy_machine(game)
+    bdd = dfa.bdd
+    for state, moves in zip(machine.states, machine.moves):
+        assert len(moves) == 2 ** len(game.inputs)
+        choices = game.choices(game.rank(dfa.state_cube(state)), dict(zip(dfa.bits, state)))
+        for move in moves:
+            allowed = bdd.forall(set(game.inputs), choices) if agent_first else bdd.let(move.input, choices)
+            assert tuple(move.output.values()) == lexmin(bdd, allowed, game.outputs)
+            after = dfa.step(state, {a for a, v in (move.input | move.output).items() if v})
+            assert move.next == ("win" if dfa.is_accepting(after) else machine.states.index(after))
+    assert len(machine.states) > 3

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from symsynth.automata.bdd import Function
+from symsynth.automata.bdd import BDD, Function
 from symsynth.automata.symbolic import SymbolicDFA
 from symsynth.synthesis.partition import Partition
 from symsynth.synthesis.preimage import Preimage
@@ -69,6 +69,21 @@ class Realizability:
             return dfa.accepting | below
         here = {b: bdd.let(state, dfa.delta[b]) for b in dfa.bits}  # delta(state, x, y): small
         return bdd.let(here, dfa.accepting | below)
+
+
+def least_outputs(bdd: BDD, allowed: Function, outputs: tuple[str, ...]) -> dict[str, Function]:
+    """The lexicographically least outputs that `allowed` (over the outputs
+    and other variables) permits, each a function of the other variables,
+    fixed one at a time, false where possible: f_y = !\\E y_rest:
+    A[y := false], then A := A[y := f_y]."""
+    functions = {}
+    for i, y in enumerate(outputs):
+        rest = set(outputs[i + 1:])
+        zero = bdd.let({y: False}, allowed)
+        f = ~(bdd.exist(rest, zero) if rest else zero)
+        allowed = bdd.let({y: f}, allowed)
+        functions[y] = f
+    return functions
 
 
 def solve_realizability(dfa: SymbolicDFA, partition: Partition, *, agent_first: bool = True,

@@ -15,9 +15,9 @@ import json
 from dataclasses import dataclass
 from typing import Any
 
-from symsynth.automata.bdd import lexmin
+from symsynth.automata.bdd import Function, lexmin
 from symsynth.errors import InputError
-from symsynth.synthesis.game import Realizability
+from symsynth.synthesis.game import Realizability, least_outputs
 
 #: Listing enumerates every input letter of every state: at most this many inputs.
 MAX_INPUTS = 12
@@ -81,6 +81,7 @@ def strategy_machine(game: Realizability) -> Machine:
     index = {dfa.initial: 0}
     order = [dfa.initial]
     machine_moves = []
+    accepting: dict[tuple[bool, ...], bool] = {}
     for state in order:  # grows while walked: breadth first
         if len(order) > MAX_STATES:
             raise TooLarge(f"the strategy has more than {MAX_STATES} states; too many to list")
@@ -88,26 +89,51 @@ def strategy_machine(game: Realizability) -> Machine:
         rank = game.rank(cube)
         if rank is None:  # the walk follows winning moves only, which stay in W
             raise ValueError(f"the strategy reached DFA state {state} outside the winning region")
-        choices = game.choices(rank, dict(zip(dfa.bits, state)))
-        moves = []
+        values = dict(zip(dfa.bits, state))
+        choices = game.choices(rank, values)
         if game.agent_first:  # one output for every input: \A x: C
             sure = bdd.forall(set(game.inputs), choices) if game.inputs else choices
-            output = dict(zip(game.outputs, lexmin(bdd, sure, game.outputs)))
+            output = {y: bdd.true if v else bdd.false for y, v in zip(game.outputs, lexmin(bdd, sure, game.outputs))}
+        else:  # an output per input: the least one C allows, as functions of x
+            output = least_outputs(bdd, choices, game.outputs)
+        # the output and the successor (delta(state, x, output)) at every input letter at once
+        nexts = [bdd.let(values, dfa.delta[b]) for b in dfa.bits]
+        if output:
+            nexts = [bdd.let(output, f) for f in nexts]
+        table = _table(bdd, list(output.values()) + nexts, game.inputs)
+        moves = []
         for x in letters:
-            if not game.agent_first:
-                given = bdd.let(x, choices) if x else choices
-                output = dict(zip(game.outputs, lexmin(bdd, given, game.outputs)))
-            after = dfa.step(state, {a for a, v in (x | output).items() if v})
-            if dfa.is_accepting(after):
+            value = table[tuple(x.values())]
+            chosen = dict(zip(game.outputs, value[:len(game.outputs)]))
+            after = value[len(game.outputs):]
+            if after not in accepting:
+                accepting[after] = dfa.is_accepting(after)
+            if accepting[after]:
                 target: int | str = "win"
             else:
                 if after not in index:
                     index[after] = len(order)
                     order.append(after)
                 target = index[after]
-            moves.append(Move(x, output, target))
+            moves.append(Move(x, chosen, target))
         machine_moves.append(tuple(moves))
     return Machine(game.agent_first, game.inputs, game.outputs, tuple(order), tuple(machine_moves))
+
+
+def _table(bdd, functions: list[Function], inputs: tuple[str, ...]) -> dict[tuple[bool, ...], tuple[bool, ...]]:
+    """The values of `functions` (BDDs over `inputs`) at every assignment to
+    the inputs (in their order): the letters split by the value of each
+    function in turn, then each part's letters listed (a few parts, where
+    evaluating every function at every letter is a BDD call per pair)."""
+    parts: list[tuple[tuple[bool, ...], Function]] = [((), bdd.true)]
+    for f in functions:
+        parts = [(value + (bit,), part) for value, guard in parts
+                 for bit, part in ((False, guard & ~f), (True, guard & f)) if part != bdd.false]
+    table: dict[tuple[bool, ...], tuple[bool, ...]] = {}
+    for value, guard in parts:
+        for letter in bdd.pick_iter(guard, care_vars=set(inputs)):
+            table[tuple(letter[x] for x in inputs)] = value
+    return table
 
 
 def write_json(machine: Machine) -> str:

@@ -51,7 +51,7 @@ from typing import Any
 
 from symsynth.automata.bdd import BDD, Function, branches, new_manager
 from symsynth.errors import InputError, read_text
-from symsynth.synthesis.game import Realizability
+from symsynth.synthesis.game import Realizability, least_outputs
 
 FORMAT = "symsynth.strategy-bdd/1"
 Assignment = Mapping[str, bool]
@@ -124,14 +124,7 @@ def symbolic_strategy(game: Realizability) -> SymbolicStrategy:
         moves |= won & ~below & after
         below = won
     allowed = bdd.forall(xs, moves) if game.agent_first and xs else moves  # \A x: M (agent first)
-    output = {}
-    for i, y in enumerate(game.outputs):
-        rest = set(game.outputs[i + 1:])
-        zero = bdd.let({y: False}, allowed)
-        # f_y = !\E y_rest: A[y := false]
-        f = ~(bdd.exist(rest, zero) if rest else zero)
-        allowed = bdd.let({y: f}, allowed)
-        output[y] = f
+    output = least_outputs(bdd, allowed, game.outputs)  # f_y = !\E y_rest: A[y := false], A := A[y := f_y]
     return SymbolicStrategy(bdd, game.agent_first, game.inputs, game.outputs, dfa.bits,
                             dict(dfa.initial_assignment), {b: dfa.delta[b] for b in dfa.bits}, dfa.accepting,
                             below, list(game.rounds), output)
