@@ -20,7 +20,7 @@ from support.strategies import formulas
 from symsynth.automata import compile_ltlf
 from symsynth.logic import parse_ltlf
 from symsynth.synthesis import Partition, solve_realizability
-from symsynth.synthesis.preimage import CLUSTER_NODES, SUBSTITUTED_NODES, Preimage
+from symsynth.synthesis.preimage import CLUSTER_NODES, SUBSTITUTION_STEPS, Preimage
 
 ATOMS = ("a", "b", "c")
 CLUSTERS = (0, 12, 60, CLUSTER_NODES)
@@ -50,18 +50,18 @@ def holds_at(dfa, f, values) -> bool:
 
 @settings(max_examples=80, deadline=None)
 @given(formula=formulas(max_depth=3), path=st.sampled_from(sorted(PATHS)), limit=st.sampled_from(CLUSTERS),
-       substituted=st.sampled_from([0, 10**9]), chosen=st.integers(min_value=0, max_value=2**256))
-def test_the_preimage_is_the_set_of_letters_into_the_target(formula, path, limit, substituted, chosen):
+       steps=st.sampled_from([0, 10**18]), chosen=st.integers(min_value=0, max_value=2**256))
+def test_the_preimage_is_the_set_of_letters_into_the_target(formula, path, limit, steps, chosen):
     """preimage(G) holds at (q, letter) iff step(q, letter) is in G, for a
     random G (bit k of `chosen`: the k-th state code is in G), by the
-    relation (`substituted` 0) and by substitution."""
+    relation (`steps` 0) and by substitution."""
     dfa = compile_ltlf(formula, limits=PATHS[path])
     bdd, states = dfa.bdd, codes(dfa)
     target = bdd.false
     for k, state in enumerate(states):
         if chosen >> k & 1:
             target |= dfa.state_cube(state)
-    got = Preimage(dfa, limit, substituted)(target)
+    got = Preimage(dfa, limit, steps)(target)
     inside = {s for k, s in enumerate(states) if chosen >> k & 1}
     for state in states:
         for letter in letters(dfa.atoms):
@@ -116,13 +116,13 @@ def brute_rounds(dfa, partition, agent_first):
 @settings(max_examples=120, deadline=None)
 @given(formula=formulas(max_depth=3), path=st.sampled_from(sorted(PATHS)), partition=partitions,
        agent_first=st.booleans(), limit=st.sampled_from(CLUSTERS),
-       substituted=st.sampled_from([0, 8, SUBSTITUTED_NODES, 10**9]))
-def test_the_rounds_are_the_state_by_state_rounds(formula, path, partition, agent_first, limit, substituted):
+       steps=st.sampled_from([0, 2000, SUBSTITUTION_STEPS, 10**18]))
+def test_the_rounds_are_the_state_by_state_rounds(formula, path, partition, agent_first, limit, steps):
     """The fixpoint that adds the new states' preimage and quantifies at
     the states that moved only gives the same W_i on every reachable state
     as the game played naively (and so the same ranks for the strategies)."""
     dfa = compile_ltlf(formula, limits=PATHS[path])
-    game = solve_realizability(dfa, partition, agent_first=agent_first, preimage=Preimage(dfa, limit, substituted))
+    game = solve_realizability(dfa, partition, agent_first=agent_first, preimage=Preimage(dfa, limit, steps))
     reachable, expected = brute_rounds(dfa, partition, agent_first)
     got = [{q for q in reachable if holds_at(dfa, won, dict(zip(dfa.bits, q)))} for won in game.rounds]
     # unreachable codes may be won later than every reachable state: compare

@@ -54,7 +54,7 @@ def test_the_bdd_strategy_wins_against_every_environment(formula, partition, age
     substitution, or by the transition relation one cluster per bit:
     symsynth/synthesis/preimage.py)."""
     dfa = compile_ltlf(formula)
-    preimage = Preimage(dfa, limit=0, substituted=0) if relation else Preimage(dfa, substituted=10**9)
+    preimage = Preimage(dfa, limit=0, steps=0) if relation else Preimage(dfa, steps=10**18)
     game = solve_realizability(dfa, partition, agent_first=agent_first, preimage=preimage)
     if not game.realizable:
         return

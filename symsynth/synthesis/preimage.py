@@ -15,9 +15,9 @@ quantified in the one cluster that reads it (no other does):
         = \\E q'(C_k): (... \\E q'(C_1): (G(q') /\\ C_1) ...) /\\ C_k
 
 With `limit` 0 every conjunct is its own cluster (the partitioned relation);
-when every conjunct fits in one, T is monolithic.  T is built only for
-games past their first small rounds (`SUBSTITUTED_NODES`); before, the
-preimage is the substitution.  Both are distributive over `|` in G, which the fixpoint uses:
+when every conjunct fits in one, T is monolithic.  T is built only once
+substituting has cost enough (`SUBSTITUTION_STEPS`); before, the preimage
+is the substitution.  Both are distributive over `|` in G, which the fixpoint uses:
 it takes the preimage of the states new in each round only.
 """
 
@@ -31,31 +31,35 @@ from symsynth.automata.symbolic import SymbolicDFA, prime
 CLUSTER_NODES = 1 << 20
 
 #: Before T is built the preimage substitutes delta into G (`bdd.let`),
-#: about |G| x |delta| steps, where building T costs about |delta| times a
-#: constant: as in renting until the rent paid would have bought, the
-#: substitutions go on while their targets have at most this many nodes
-#: together (measured: 25 ns per |G| x |delta| step, 2-5 us per delta node
-#: for T).  Nim and the random families end within it (0 to 3 rounds of
-#: small targets: Nim 01_15, 50 nodes in 4 calls, 0.02 s, where T costs 0.05 s);
-#: Double-Counter 05 builds T at its second call.
-SUBSTITUTED_NODES = 64
+#: about |G| x |delta| steps (|delta|: the transition functions' nodes),
+#: 20-25 ns each here, where building T costs 2-5 us per node of T, and T
+#: has at least |delta| nodes, often many more (a random Syft DFA: |delta|
+#: 289, T 17,854).  As in renting until the rent paid would have bought,
+#: the substitutions go on while they have cost at most this many steps
+#: together (about 40 ms): the games that end within a few rounds (Nim and
+#: the random families: 0 to 3) or whose delta is small keep substituting;
+#: Double-Counter 05 (|delta| 99,231, first target 49 nodes) builds T at
+#: its first call.
+SUBSTITUTION_STEPS = 2_000_000
 
 
 class Preimage:
     """`preimage(G)` = G(delta(q, x, y)) for a BDD G over the DFA's state
-    bits: by substitution while the targets so far have at most `substituted`
-    nodes together, then by the clustered relation (built then)."""
+    bits: by substitution while the substitutions so far have cost at most
+    `steps` (|G| x |delta| each), then by the clustered relation (built then)."""
 
-    def __init__(self, dfa: SymbolicDFA, limit: int = CLUSTER_NODES, substituted: int = SUBSTITUTED_NODES):
-        self.dfa, self.bdd, self.limit, self.substituted = dfa, dfa.bdd, limit, substituted
+    def __init__(self, dfa: SymbolicDFA, limit: int = CLUSTER_NODES, steps: int = SUBSTITUTION_STEPS):
+        self.dfa, self.bdd, self.limit, self.steps = dfa, dfa.bdd, limit, steps
         self.primed = {b: prime(b) for b in dfa.bits}
+        self.delta_nodes = sum(len(f) for f in dfa.delta.values())  # shared nodes counted once per function
         self._clusters: list[tuple[Function, set[str]]] | None = None
 
     def __call__(self, target: Function) -> Function:
         if not self.dfa.bits:  # one state
             return target
-        if self._clusters is None and len(target) <= self.substituted:
-            self.substituted -= len(target)
+        cost = len(target) * self.delta_nodes
+        if self._clusters is None and cost <= self.steps:
+            self.steps -= cost
             return self.bdd.let(self.dfa.delta, target)  # G(delta(q, x, y))
         image = self.bdd.let(self.primed, target)  # G(q')
         for cluster, qvars in self.clusters:
