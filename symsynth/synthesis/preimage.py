@@ -35,23 +35,28 @@ CLUSTER_NODES = 1 << 20
 #: 20-25 ns each here, where building T costs 2-5 us per node of T, and T
 #: has at least |delta| nodes, often many more (a random Syft DFA: |delta|
 #: 289, T 17,854).  As in renting until the rent paid would have bought,
-#: the substitutions go on while they have cost at most this many steps
-#: together (about 40 ms): the games that end within a few rounds (Nim and
-#: the random families: 0 to 3) or whose delta is small keep substituting;
-#: Double-Counter 05 (|delta| 99,231, first target 49 nodes) builds T at
-#: its first call.
+#: the substitutions go on while they have cost at most STEPS_PER_NODE
+#: steps per node of delta (T's least price), and at least
+#: SUBSTITUTION_STEPS (about 40 ms: small deltas, whose T may blow up,
+#: keep substituting).  Nim and the random families end within a few
+#: rounds and never build T (Nim 02_07: |delta| 58,853, 3 targets of 61
+#: nodes together; T would cost 0.36 s against 0.06 s); Double-Counter 05
+#: (|delta| 99,231, targets of 49 and 159 nodes) builds it at its second call.
+STEPS_PER_NODE = 150
 SUBSTITUTION_STEPS = 2_000_000
 
 
 class Preimage:
     """`preimage(G)` = G(delta(q, x, y)) for a BDD G over the DFA's state
     bits: by substitution while the substitutions so far have cost at most
-    `steps` (|G| x |delta| each), then by the clustered relation (built then)."""
+    `steps` (|G| x |delta| each; by default the budget above), then by the
+    clustered relation (built then)."""
 
-    def __init__(self, dfa: SymbolicDFA, limit: int = CLUSTER_NODES, steps: int = SUBSTITUTION_STEPS):
-        self.dfa, self.bdd, self.limit, self.steps = dfa, dfa.bdd, limit, steps
+    def __init__(self, dfa: SymbolicDFA, limit: int = CLUSTER_NODES, steps: int | None = None):
+        self.dfa, self.bdd, self.limit = dfa, dfa.bdd, limit
         self.primed = {b: prime(b) for b in dfa.bits}
         self.delta_nodes = sum(len(f) for f in dfa.delta.values())  # shared nodes counted once per function
+        self.steps = max(SUBSTITUTION_STEPS, STEPS_PER_NODE * self.delta_nodes) if steps is None else steps
         self._clusters: list[tuple[Function, set[str]]] | None = None
 
     def __call__(self, target: Function) -> Function:
