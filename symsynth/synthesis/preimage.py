@@ -15,10 +15,11 @@ quantified in the one cluster that reads it (no other does):
         = \\E q'(C_k): (... \\E q'(C_1): (G(q') /\\ C_1) ...) /\\ C_k
 
 With `limit` 0 every conjunct is its own cluster (the partitioned relation);
-when every conjunct fits in one, T is monolithic.  T is built only once
-substituting has cost enough (`SUBSTITUTION_STEPS`); before, the preimage
-is the substitution.  Both are distributive over `|` in G, which the fixpoint uses:
-it takes the preimage of the states new in each round only.
+when every conjunct fits in one, T is monolithic.  T is not built until
+substituting has cost about what T would (`STEPS_PER_NODE`,
+`SUBSTITUTION_STEPS`); until then the preimage is the substitution.  Both
+are distributive over `|` in G, which the fixpoint uses: it takes the
+preimage of the states new in each round only.
 """
 
 from __future__ import annotations
