@@ -210,6 +210,7 @@ class Composer:
         self._failed_bound: float = float("inf")  # a product this large (in state pairs) failed
         self._leaves: dict[ast.Formula, GuardedDFA] = {}
         self._support: dict[int, set[str]] = {}
+        self._bounded_dfas: dict[int, bool] = {}  # (ids of DFAs in _alive)
         self._alive: list[GuardedDFA] = []  # keys of _support stay unique
         self._factors: dict[int, tuple[str, list[GuardedDFA]]] = {}  # explicit result -> (op, operands)
 
@@ -457,9 +458,19 @@ class Composer:
     def _related(self, a: GuardedDFA, b: GuardedDFA) -> bool:
         """Whether an explicit product of `a` and `b` may pay: they read a
         common atom, or one of them reads none (a constant language, or one
-        of trace lengths: the product is no larger than the other)."""
+        of trace lengths: the product is no larger than the other).
+        (Conditions on the first letters over disjoint atoms are not joined
+        first: a counter's start reaches thousands of states, and each
+        state of the joined condition's prefix would copy their edges.)"""
         reads_a, reads_b = self._reads(a), self._reads(b)
         return self.independent or not reads_a or not reads_b or bool(reads_a & reads_b)
+
+    def _is_bounded(self, dfa: GuardedDFA) -> bool:
+        """Whether `dfa`'s states other than its sinks form no cycle."""
+        found = self._bounded_dfas.get(id(dfa))
+        if found is None:
+            found = self._bounded_dfas[id(dfa)] = bounded_order(dfa) is not None
+        return found
 
     def _reads(self, dfa: GuardedDFA) -> set[str]:
         """The atoms `dfa` may read: a superset of its guards' support, kept
@@ -490,9 +501,17 @@ class Composer:
         return dfa
 
     def _small(self, a: GuardedDFA, b: GuardedDFA) -> bool:
+        """Whether an explicit product of `a` and `b` is worth a try: both
+        operands and the pairs of their states below the limits, or one of
+        them looks a bounded number of letters ahead (`prefix_product`:
+        the pairs after its few letters are the other's states)."""
+        if a.num_states >= self.single or b.num_states >= self.single:
+            return False
+        small = min(a, b, key=lambda d: d.num_states)
+        if small.num_states <= PREFIX_STATES and self._is_bounded(small):
+            return True
         bound = a.num_states * b.num_states
-        return (a.num_states < self.single and b.num_states < self.single
-                and bound < self.product_limit and bound < self._failed_bound)
+        return bound < self.product_limit and bound < self._failed_bound
 
     def _explicit(self, a: GuardedDFA, b: GuardedDFA, op: str) -> GuardedDFA:
         """`explicit_product`; once it fails (`TooLarge`), products with as
@@ -623,9 +642,11 @@ def _sinks(dfa: GuardedDFA) -> tuple[int | None, int | None]:
     return found[0], found[1]
 
 
-def _acyclic_order(dfa: GuardedDFA, sinks: set[int]) -> list[int] | None:
-    """The states of `dfa` other than `sinks`, each after its successors
-    (a reverse topological order), or None when they form a cycle."""
+def bounded_order(dfa: GuardedDFA) -> list[int] | None:
+    """The states of `dfa` other than its sinks (`_sinks`), each after its
+    successors (a reverse topological order), or None when they form a
+    cycle (the DFA does not look a bounded number of letters ahead)."""
+    sinks = {s for s in _sinks(dfa) if s is not None}
     inside = [s for s in range(dfa.num_states) if s not in sinks]
     pending = {s: sum(1 for t in dfa.edges[s] if t not in sinks) for s in inside}
     preds: dict[int, list[int]] = {s: [] for s in inside}
@@ -663,17 +684,19 @@ def prefix_product(big: GuardedDFA, small: GuardedDFA, op: str,
     agreements) where the product and its partition refinement pass over
     them several times with a BDD conjunction per edge (Double-Counter
     counters_06: 13 such products into a DFA of 16,263 states)."""
-    accept_sink, reject_sink = _sinks(small)
-    sinks = {s for s in (accept_sink, reject_sink) if s is not None}
-    order = _acyclic_order(small, sinks)
+    order = bounded_order(small)
     if order is None:
         return None
+    accept_sink, reject_sink = _sinks(small)
+    sinks = {s for s in (accept_sink, reject_sink) if s is not None}
     bdd = big.bdd
     true, false = bdd.true, bdd.false
     n = big.num_states
     accepting = list(big.accepting)
     edges: list[dict[int, Function]] = list(big.edges)
     big_accept, big_reject = _sinks(big)
+    made: dict[tuple, int] = {}  # (accepting, edges) of a state added -> the state
+    preds: list[list[int]] | None = None  # of `big`'s states, made when first needed
 
     def constant(value: bool) -> int:
         nonlocal big_accept, big_reject
@@ -693,13 +716,13 @@ def prefix_product(big: GuardedDFA, small: GuardedDFA, op: str,
     keeps = accept_sink if op == "and" else reject_sink
     other = reject_sink if op == "and" else accept_sink
     combine = all if op == "and" else any
-    preds: list[list[int]] | None = None  # of `big`'s states, made when first needed
-    made: dict[tuple, int] = {}  # (accepting, edges) of a state added -> the state
 
-    def existing(value: bool, out: dict[int, Function]) -> int | None:
+    def existing(q: int, value: bool, out: dict[int, Function]) -> int | None:
         """A state of `big` (or a sink added) with acceptance `value` and
         edges `out`: one of the states with an edge into `out`'s first target."""
         nonlocal preds
+        if q < n and accepting[q] == value and edges[q] == out:
+            return q  # (most often: the condition met, the state goes on as `big`'s)
         first = next(iter(out))
         if first >= n:  # a state added: only those are its predecessors
             return None
@@ -712,47 +735,49 @@ def prefix_product(big: GuardedDFA, small: GuardedDFA, op: str,
             if accepting[state] == value and edges[state] == out:
                 return state
         return None
-    # the pairs reachable from the start, before `small` is in a sink
+
     start = (big.initial, small.initial)
     if small.initial in sinks:
         initial = big.initial if small.initial == keeps else constant(op == "or")
         return _renumbered(bdd, initial, accepting, edges)
-    pairs = {start}
+    # the pairs reachable from the start before `small` is in a sink, with
+    # their edges: (successor pair, guard)
+    steps: dict[tuple[int, int], list[tuple[int, int, Function]]] = {}
     todo = [start]
     count = 0
     while todo:
-        q, s = todo.pop()
-        for s2 in small.edges[s]:
-            if s2 in sinks:
-                continue
-            for q2 in big.edges[q]:
-                if (q2, s2) not in pairs:
-                    pairs.add((q2, s2))
-                    todo.append((q2, s2))
-                    count += len(big.edges[q2])
-                    if max_edges is not None and count > max_edges:
-                        raise TooLarge(f"more than {max_edges} edges")
-    rank = {s: i for i, s in enumerate(order)}
-    canonical: dict[tuple[int, int], int] = {}
-    for q, s in sorted(pairs, key=lambda pair: rank[pair[1]]):  # successors first
-        out: dict[int, Function] = {}
+        q, s = pair = todo.pop()
+        if pair in steps:
+            continue
+        out_pair = steps[pair] = []
         for s2, g2 in small.edges[s].items():
             for q2, g1 in big.edges[q].items():
                 guard = g1 & g2
                 if guard == false:
                     continue
-                if s2 == keeps:
-                    target = q2
-                elif s2 == other:
-                    target = constant(op == "or")
-                else:
-                    target = canonical[(q2, s2)]
-                out[target] = out[target] | guard if target in out else guard
+                out_pair.append((q2, s2, guard))
+                if s2 not in sinks and (q2, s2) not in steps:
+                    todo.append((q2, s2))
+        count += len(out_pair)
+        if max_edges is not None and count > max_edges:
+            raise TooLarge(f"more than {max_edges} edges")
+    rank = {s: i for i, s in enumerate(order)}
+    canonical: dict[tuple[int, int], int] = {}
+    for q, s in sorted(steps, key=lambda pair: rank[pair[1]]):  # successors first
+        out: dict[int, Function] = {}
+        for q2, s2, guard in steps[(q, s)]:
+            if s2 == keeps:
+                target = q2
+            elif s2 == other:
+                target = constant(op == "or")
+            else:
+                target = canonical[(q2, s2)]
+            out[target] = out[target] | guard if target in out else guard
         value = combine((big.accepting[q], small.accepting[s]))
         key = (value, frozenset(out.items()))
         state = made.get(key)
         if state is None:
-            state = existing(value, out)
+            state = existing(q, value, out)
         if state is None:
             state = made[key] = len(accepting)
             accepting.append(value)

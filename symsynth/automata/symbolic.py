@@ -431,16 +431,27 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
         if len(components) == 1:
             # next value of bit j in state s: the letters into successors with
             # bit j set, merged over the states by a decision tree on the bits
+            # (a bit all successors agree on needs no disjunction: most bits
+            # of most states, the successors of a state being few and near)
             ones: list[list[Function]] = [[bdd.false] * comp.num_states for _ in names]
             copied: dict[Function, Function] = {}
             for s, out in enumerate(comp.edges):
-                for succ, guard in out.items():
-                    here = copied.get(guard)
-                    if here is None:
-                        here = copied[guard] = comp.bdd.copy(guard, bdd)
-                    for j in range(width):
-                        if succ >> j & 1:
-                            ones[j][s] = ones[j][s] | here
+                every, some = -1, 0
+                for succ in out:
+                    every &= succ
+                    some |= succ
+                for j in range(width):
+                    if every >> j & 1:
+                        ones[j][s] = bdd.true
+                    elif some >> j & 1:
+                        value = bdd.false
+                        for succ, guard in out.items():
+                            if succ >> j & 1:
+                                here = copied.get(guard)
+                                if here is None:
+                                    here = copied[guard] = comp.bdd.copy(guard, bdd)
+                                value = value | here
+                        ones[j][s] = value
             delta.update({n: _by_state(bdd, names, ones[j]) for j, n in enumerate(names)})
             accepts.append(_by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
             reachable = _by_state(bdd, names, [bdd.true] * comp.num_states)  # every state of an explicit DFA
@@ -488,8 +499,8 @@ def _by_state(bdd: BDD, names: Sequence[str], values: Sequence[Function]) -> Fun
 
 
 def _atoms_read(comp: GuardedDFA, atoms: Sequence[str]) -> list[str]:
-    support = set()
-    for out in comp.edges:
-        for guard in out.values():
-            support |= comp.bdd.support(guard)
+    guards = {guard for out in comp.edges for guard in out.values()}  # (each once)
+    support: set[str] = set()
+    for guard in guards:
+        support |= comp.bdd.support(guard)
     return [a for a in atoms if a in support]
