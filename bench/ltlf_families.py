@@ -137,12 +137,18 @@ def mona_program(text: str) -> str:
 
 
 def timed_mona(path: Path, timeout: float) -> dict:
+    """MONA on the program at `path`: its time, or a timeout, or an error
+    (MONA stops with a non-zero status when it runs out of its BDD tables:
+    no automaton, however fast)."""
     clock = time.perf_counter()
     try:
-        subprocess.run(["mona", *MONA_FLAGS, str(path)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                       timeout=timeout)
+        done = subprocess.run(["mona", *MONA_FLAGS, str(path)], stdout=subprocess.DEVNULL,
+                              stderr=subprocess.PIPE, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
         return {"seconds": None, "status": "timeout"}
+    if done.returncode != 0:
+        last = (done.stderr.strip().splitlines() or [f"exit status {done.returncode}"])[-1]
+        return {"seconds": None, "status": f"error: {last[:80]}"}
     return {"seconds": time.perf_counter() - clock, "status": "ok"}
 
 

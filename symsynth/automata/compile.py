@@ -75,6 +75,15 @@ DENSE_AFTER = 100
 #: `prefix_product` (cost: one pass over the larger operand's edges).
 PREFIX_STATES = 256
 
+#: ... and to SPARSE_EDGES when the operands' average successors per state
+#: multiply to at most SPARSE_DEGREE: a product of sparse DFAs has about as
+#: many edges per state as they do, where a symbolic product must find its
+#: equivalent pairs by a bisimulation over pairs of states (Double-Counter
+#: counters_07: 259 x 259 states of 4 and 5 successors, 65,000 states
+#: explicitly; symbolically, over 5 minutes).
+SPARSE_DEGREE = 32
+SPARSE_EDGES = 2_000_000
+
 #: The edge limit of a product grows to this many times the edges of its
 #: larger operand (a 16,000-state counter times a 4-state initial condition:
 #: 300,000 edges, against a symbolic product of 2^48 codes).
@@ -519,7 +528,10 @@ class Composer:
         edge limit's worth of work)."""
         limit = self.edge_limit
         if limit is not None:  # a product with a small operand may grow with the large one
-            limit = max(limit, GROWTH * max(sum(len(out) for out in d.edges) for d in (a, b)))
+            sizes = [sum(len(out) for out in d.edges) for d in (a, b)]
+            limit = max(limit, GROWTH * max(sizes))
+            if sizes[0] * sizes[1] <= SPARSE_DEGREE * a.num_states * b.num_states:
+                limit = max(limit, SPARSE_EDGES)
         try:
             return self._made(explicit_product(a, b, op, limit, self._degree()), op, [a, b])
         except TooDense:
@@ -788,8 +800,9 @@ def prefix_product(big: GuardedDFA, small: GuardedDFA, op: str,
 
 def _renumbered(bdd: BDD, initial: int, accepting: list[bool],
                 edges: list[dict[int, Function]]) -> GuardedDFA:
-    """The states reachable from `initial`: as they are when that is all of
-    them, else numbered in breadth-first order."""
+    """The states reachable from `initial`, numbered as they are but for
+    the few past the end that fill the places of unreachable ones."""
+    accepting_all, edges_all = accepting, edges
     seen = [False] * len(edges)
     seen[initial] = True
     order = [initial]
@@ -800,9 +813,21 @@ def _renumbered(bdd: BDD, initial: int, accepting: list[bool],
                 order.append(succ)
     if len(order) == len(edges):
         return GuardedDFA(bdd, initial, accepting, edges)
-    rename = {s: i for i, s in enumerate(order)}
-    return GuardedDFA(bdd, 0, [accepting[s] for s in order],
-                      [{rename[t]: g for t, g in edges[s].items()} for s in order])
+    # the last states move into the places of the unreachable ones (a prefix
+    # product leaves a few: the old start), so only the edges into those few
+    # change; the rest keep their numbers and their dicts
+    size = len(order)
+    holes = [s for s in range(size) if not seen[s]]
+    movers = [s for s in range(size, len(edges)) if seen[s]]
+    moved = dict(zip(movers, holes))
+    accepting, edges = accepting[:size], edges[:size]
+    for old, new in moved.items():
+        accepting[new] = accepting_all[old]
+        edges[new] = edges_all[old]
+    for state, out in enumerate(edges):
+        if any(t in moved for t in out):
+            edges[state] = {moved.get(t, t): g for t, g in out.items()}
+    return GuardedDFA(bdd, moved.get(initial, initial), accepting, edges)
 
 
 def _check_growth(states: int, count: int, early: int, max_edges: int | None,

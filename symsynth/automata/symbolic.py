@@ -443,15 +443,19 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
                 for j in range(width):
                     if every >> j & 1:
                         ones[j][s] = bdd.true
-                    elif some >> j & 1:
+                    elif some >> j & 1:  # the guards are disjoint and cover every letter:
+                        # the fewer of those into a 1 and into a 0 suffice
+                        set_ = [guard for succ, guard in out.items() if succ >> j & 1]
+                        clear = len(set_) * 2 > len(out)
+                        if clear:
+                            set_ = [guard for succ, guard in out.items() if not succ >> j & 1]
                         value = bdd.false
-                        for succ, guard in out.items():
-                            if succ >> j & 1:
-                                here = copied.get(guard)
-                                if here is None:
-                                    here = copied[guard] = comp.bdd.copy(guard, bdd)
-                                value = value | here
-                        ones[j][s] = value
+                        for guard in set_:
+                            here = copied.get(guard)
+                            if here is None:
+                                here = copied[guard] = comp.bdd.copy(guard, bdd)
+                            value = value | here
+                        ones[j][s] = ~value if clear else value
             delta.update({n: _by_state(bdd, names, ones[j]) for j, n in enumerate(names)})
             accepts.append(_by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
             reachable = _by_state(bdd, names, [bdd.true] * comp.num_states)  # every state of an explicit DFA
