@@ -146,3 +146,26 @@ def test_one_component_read_through_a_boolean_combination_is_minimized(path, tex
     dfa = compile_ltlf(formula, limits=PATHS[path])
     assert dfa.num_states == minimal_num_states(formula)
     assert distinguishing_trace(dfa, reference_dfa(formula), keys(formula)) is None
+
+
+SETTLED = {  # an operand that decides its operator: `g & !g` is empty, `g | !g` universal
+    "and empty": lambda f, g: ast.And(ast.And(g, ast.Not(g)), f),
+    "or universal": lambda f, g: ast.Or(ast.Or(g, ast.Not(g)), f),
+    "implies from empty": lambda f, g: ast.Implies(ast.And(g, ast.Not(g)), f),
+    "implies to universal": lambda f, g: ast.Implies(f, ast.Or(g, ast.Not(g))),
+    "implies from universal": lambda f, g: ast.Implies(ast.Or(g, ast.Not(g)), f),
+    "and universal": lambda f, g: ast.And(ast.Or(g, ast.Not(g)), f),
+}
+
+
+@SETTINGS
+@given(formulas(max_depth=3), formulas(max_depth=2), st.sampled_from(sorted(SETTLED)),
+       st.sampled_from(sorted(PATHS)))
+def test_an_operand_that_decides_its_operator_gives_the_language(f, g, shape, path):
+    """The composer stops evaluating an `&` at an empty operand, an `|` at a
+    universal one, an implication at an empty premise or a universal
+    conclusion (`Composer._settled`); the last two shapes must not stop."""
+    formula = SETTLED[shape](f, g)
+    dfa = compile_ltlf(formula, limits=PATHS[path])
+    assert dfa.num_states == minimal_num_states(formula), (to_string(formula), path)
+    assert distinguishing_trace(dfa, reference_dfa(formula), keys(formula)) is None, (to_string(formula), path)
