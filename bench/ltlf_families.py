@@ -43,6 +43,7 @@ import csv
 import os
 import platform
 import random
+import resource
 import statistics
 import subprocess
 import sys
@@ -140,16 +141,21 @@ def timed_mona(path: Path, timeout: float) -> dict:
     """MONA on the program at `path`: its time, or a timeout, or an error
     (MONA stops with a non-zero status when it runs out of its BDD tables:
     no automaton, however fast)."""
-    clock = time.perf_counter()
+    clock, cpu = time.perf_counter(), _children_cpu()
     try:
         done = subprocess.run(["mona", *MONA_FLAGS, str(path)], stdout=subprocess.DEVNULL,
                               stderr=subprocess.PIPE, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
-        return {"seconds": None, "status": "timeout"}
+        return {"seconds": None, "wall": None, "status": "timeout"}
     if done.returncode != 0:
         last = (done.stderr.strip().splitlines() or [f"exit status {done.returncode}"])[-1]
-        return {"seconds": None, "status": f"error: {last[:80]}"}
-    return {"seconds": time.perf_counter() - clock, "status": "ok"}
+        return {"seconds": None, "wall": None, "status": f"error: {last[:80]}"}
+    return {"seconds": _children_cpu() - cpu, "wall": time.perf_counter() - clock, "status": "ok"}
+
+
+def _children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 def main(argv=None) -> int:
@@ -196,7 +202,8 @@ def main(argv=None) -> int:
                         continue
                     got = worker.run(given, 1, args.timeout)
                     status = "timeout" if got["timeout"] else ("error" if got.get("error") else "ok")
-                    row[tool] = got["times"][0] if status == "ok" and got["times"] else None
+                    row[tool] = got["cpu"] if status == "ok" and got["times"] else None
+                    row[f"{tool}_wall"] = got["times"][0] if status == "ok" and got["times"] else None
                     row[f"{tool}_status"] = status if status != "error" else f"error: {got['error'].splitlines()[0][:80]}"
                     if tool == "symsynth":
                         row["states"] = got.get("states")
@@ -210,6 +217,7 @@ def main(argv=None) -> int:
                         program.write_text(mona_program(peer))
                         got = timed_mona(program, args.timeout)
                         row["mona"], row["mona_status"] = got["seconds"], got["status"]
+                        row["mona_wall"] = got["wall"]
                     except Exception as error:  # ltlf2dfa cannot write a program for it
                         row["mona"], row["mona_status"] = None, f"error: {type(error).__name__}"
                     if row["mona_status"] == "timeout" and family in SCALING:
@@ -242,7 +250,7 @@ def main(argv=None) -> int:
 def write(rows: list[dict], args) -> None:
     csv_path = args.out.with_suffix(".csv")
     columns = ["family", "instance", "atoms", "states", "symsynth", "symsynth_status", "mona", "mona_status",
-               "ltlf2dfa", "ltlf2dfa_status", "equivalence", "load"]
+               "ltlf2dfa", "ltlf2dfa_status", "equivalence", "load", "symsynth_wall", "mona_wall", "ltlf2dfa_wall"]
     with open(csv_path, "w", newline="") as out:
         writer = csv.DictWriter(out, columns, extrasaction="ignore")
         writer.writeheader()
@@ -252,7 +260,9 @@ def write(rows: list[dict], args) -> None:
              f"Command: `python bench/ltlf_families.py --timeout {args.timeout:g}`; data: "
              "github.com/whitemech/finite-synthesis-datasets (MIT); machine: "
              f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}; "
-             f"MONA {' '.join(mona_version)}; ltlf2dfa 2.0.0. Seconds of one run each; "
+             f"MONA {' '.join(mona_version)}; ltlf2dfa 2.0.0. CPU seconds (user + system, MONA's "
+             "own process; ltlf2dfa's with the MONA it runs) of one run each, wall-clock seconds in "
+             "the CSV's `_wall` columns; "
              f"TO: over {args.timeout:g} s; TO*: not run after a smaller instance timed out. Rows: "
              f"[{csv_path.name}]({csv_path.name}). Load average (1 min) during the run: "
              f"{min(args.load):.1f} to {max(args.load):.1f} on {os.cpu_count()} cores (shared machine; "
