@@ -492,6 +492,14 @@ def _worker(conn, tool):  # pragma: no cover - runs in the child
         conn.send(("end",))
 
 
+#: A run is stopped after `timeout` seconds of CPU time (the machine is
+#: shared: the wall clock counts the other jobs' turns too), or after
+#: WALL_FACTOR times that of wall time; the worker is checked every POLL s.
+WALL_FACTOR = 3
+POLL = 0.05
+CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
+
+
 def cpu_seconds() -> float:
     """User and system CPU time of this process and of its waited-for
     children (MONA, run by ltlf2dfa): on a shared machine, the time a
@@ -520,8 +528,9 @@ def _descendants(pid):
 
 
 class Worker:
-    def __init__(self, tool, timeout):
+    def __init__(self, tool, timeout, wall=None):
         self.tool, self.timeout = tool, timeout
+        self.wall = wall if wall is not None else WALL_FACTOR * timeout
         self.proc = self.conn = None
 
     def _start(self):
@@ -537,6 +546,21 @@ class Worker:
         if msg[0] != "ready":
             self.kill()
             raise RuntimeError(f"{self.tool} worker failed to start:\n{msg[1]}")
+
+    def cpu(self) -> float:
+        """CPU seconds of the worker and every process under it (MONA, when
+        ltlf2dfa runs it), those it waited for included."""
+        if self.proc is None:
+            return 0.0
+        total = 0.0
+        for pid in [self.proc.pid, *_descendants(self.proc.pid)]:
+            try:
+                with open(f"/proc/{pid}/stat") as fh:
+                    fields = fh.read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            total += sum(int(x) for x in fields[11:15]) / CLOCK_TICKS  # utime stime cutime cstime
+        return total
 
     def kill(self):
         if self.proc is None:
@@ -566,8 +590,12 @@ class Worker:
             self._start()
         out = {"times": [], "timeout": False, "error": None}
         self.conn.send((text, reps, budget, list(traces)))
+        start = self.cpu()
+        wall = time.monotonic() + self.wall
         while True:
-            if not self.conn.poll(self.timeout):
+            while not self.conn.poll(POLL) and (self.cpu() - start <= self.timeout and time.monotonic() <= wall):
+                pass
+            if not self.conn.poll():
                 self.kill()
                 if "states" in out:
                     out["error"] = f"post-processing (accepts/to_explicit) > {self.timeout:g} s"

@@ -17,7 +17,8 @@ a family is large, so that the whole run takes about half an hour here):
   Random/Syft         syft_1..syft_5, instances 001..004 of each
   Random/Lydia        case_03..case_10, instances 01..02 of each
 
-For each instance, each tool gets `--timeout` seconds (killed at the limit):
+For each instance, each tool gets `--timeout` seconds of CPU time (and three
+times that of wall time: the machine may be shared; killed at either limit):
 
   symsynth  `compile_ltlf(text, next_semantics="weak")` in a worker process
             (the datasets' X is weak next, X[!] strong);
@@ -42,8 +43,10 @@ import argparse
 import csv
 import os
 import platform
+import math
 import random
 import resource
+import signal
 import statistics
 import subprocess
 import sys
@@ -54,7 +57,7 @@ from itertools import product
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from ltlf_bench import MONA_FLAGS, Worker, parse_mona, read_mona  # noqa: E402
+from ltlf_bench import MONA_FLAGS, WALL_FACTOR, Worker, parse_mona, read_mona  # noqa: E402
 
 MIRROR = Path("/work/.mirror/whitemech+finite-synthesis-datasets/repo")
 #: letters x symsynth's states up to which the product search tries every letter
@@ -137,15 +140,23 @@ def mona_program(text: str) -> str:
     return MonaProgram(LTLfParser()(text)).mona_program()
 
 
-def timed_mona(path: Path, timeout: float) -> dict:
+def timed_mona(path: Path, timeout: float, wall: float) -> dict:
     """MONA on the program at `path`: its time, or a timeout, or an error
     (MONA stops with a non-zero status when it runs out of its BDD tables:
     no automaton, however fast)."""
     clock, cpu = time.perf_counter(), _children_cpu()
+    limit = max(1, math.ceil(timeout))
+
+    def cap():  # in the child: SIGXCPU past `timeout` s of CPU time
+        resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 1))
+
     try:
         done = subprocess.run(["mona", *MONA_FLAGS, str(path)], stdout=subprocess.DEVNULL,
-                              stderr=subprocess.PIPE, text=True, timeout=timeout)
+                              stderr=subprocess.PIPE, text=True, timeout=wall,
+                              preexec_fn=cap)
     except subprocess.TimeoutExpired:
+        return {"seconds": None, "wall": None, "status": "timeout"}
+    if done.returncode == -signal.SIGXCPU or _children_cpu() - cpu > timeout:
         return {"seconds": None, "wall": None, "status": "timeout"}
     if done.returncode != 0:
         last = (done.stderr.strip().splitlines() or [f"exit status {done.returncode}"])[-1]
@@ -162,6 +173,8 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--data", type=Path, default=MIRROR)
     parser.add_argument("--timeout", type=float, default=60.0)
+    parser.add_argument("--wall", type=float, default=None,
+                        help=f"wall-clock seconds per tool and instance (default {WALL_FACTOR} x --timeout)")
     parser.add_argument("--exhaustive", type=int, default=12, help="atoms up to which every letter is tried")
     parser.add_argument("--traces", type=int, default=2000)
     parser.add_argument("--families", default=",".join(["Uright", "GFand", "Single-Counter", "Double-Counter",
@@ -171,6 +184,8 @@ def main(argv=None) -> int:
                         help="write the tables from the rows of earlier runs (in order) instead of running")
     args = parser.parse_args(argv)
     args.load = [os.getloadavg()[0]]
+    if args.wall is None:
+        args.wall = WALL_FACTOR * args.timeout
     if args.from_csv:
         rows = [_typed(r) for path in args.from_csv for r in csv.DictReader(open(path))]
         args.load = sorted({float(r["load"]) for r in rows if r.get("load")}) or args.load
@@ -180,7 +195,7 @@ def main(argv=None) -> int:
     from symsynth.logic import ast, parse_ltlf
     from symsynth.logic.printer import to_string
 
-    sym, l2d = Worker("sym-weak", args.timeout), Worker("l2d", args.timeout)
+    sym, l2d = Worker("sym-weak", args.timeout, args.wall), Worker("l2d", args.timeout, args.wall)
     work = Path(tempfile.mkdtemp(prefix="ltlf_families_"))
     rows = []
     try:
@@ -215,7 +230,7 @@ def main(argv=None) -> int:
                 else:
                     try:
                         program.write_text(mona_program(peer))
-                        got = timed_mona(program, args.timeout)
+                        got = timed_mona(program, args.timeout, args.wall)
                         row["mona"], row["mona_status"] = got["seconds"], got["status"]
                         row["mona_wall"] = got["wall"]
                     except Exception as error:  # ltlf2dfa cannot write a program for it
@@ -226,7 +241,7 @@ def main(argv=None) -> int:
                 if row["symsynth_status"] == "ok" and row["mona_status"] == "ok":
                     nonempty = work / "nonempty.mona"
                     nonempty.write_text(program.read_text() + "0 in $;\n")
-                    output, complete = read_mona(nonempty, args.timeout)
+                    output, complete = read_mona(nonempty, args.wall)
                     if output and complete:
                         verdict, how = equivalent(compile_ltlf(text, next_semantics="weak"), parse_mona(output),
                                                   atoms, args.exhaustive, args.traces,
@@ -263,7 +278,7 @@ def write(rows: list[dict], args) -> None:
              f"MONA {' '.join(mona_version)}; ltlf2dfa 2.0.0. CPU seconds (user + system, MONA's "
              "own process; ltlf2dfa's with the MONA it runs) of one run each, wall-clock seconds in "
              "the CSV's `_wall` columns; "
-             f"TO: over {args.timeout:g} s; TO*: not run after a smaller instance timed out. Rows: "
+             f"TO: over {args.timeout:g} CPU s (or {args.wall:g} s of wall time); TO*: not run after a smaller instance timed out. Rows: "
              f"[{csv_path.name}]({csv_path.name}). Load average (1 min) during the run: "
              f"{min(args.load):.1f} to {max(args.load):.1f} on {os.cpu_count()} cores (shared machine; "
              "the tools of one instance run one after the other, so load weighs on each).", ""]
