@@ -75,6 +75,11 @@ DENSE_AFTER = 100
 #: `prefix_product` (cost: one pass over the larger operand's edges).
 PREFIX_STATES = 256
 
+#: The edge limit of a product grows to this many times the edges of its
+#: larger operand (a 16,000-state counter times a 4-state initial condition:
+#: 300,000 edges, against a symbolic product of 2^48 codes).
+GROWTH = 8
+
 #: ... and to SPARSE_EDGES when the operands' average successors per state
 #: multiply to at most SPARSE_DEGREE: a product of sparse DFAs has about as
 #: many edges per state as they do, where a symbolic product must find its
@@ -83,11 +88,6 @@ PREFIX_STATES = 256
 #: explicitly; symbolically, over 5 minutes).
 SPARSE_DEGREE = 32
 SPARSE_EDGES = 2_000_000
-
-#: The edge limit of a product grows to this many times the edges of its
-#: larger operand (a 16,000-state counter times a 4-state initial condition:
-#: 300,000 edges, against a symbolic product of 2^48 codes).
-GROWTH = 8
 
 #: The components left at the end are multiplied explicitly while the
 #: product of their state counts is under this (`Composer.finish`): they
