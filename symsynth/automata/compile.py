@@ -37,7 +37,7 @@ from symsynth.automata.bdd import BDD, Function, new_manager
 from symsynth.automata.invariant import Invariants, invariant_shape
 from symsynth.automata.normal import expose, nnf, split_conjuncts
 from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge, minimize
-from symsynth.automata.symbolic import SymbolicDFA, product
+from symsynth.automata.symbolic import SymbolicDFA, atoms_read, is_local, product
 from symsynth.errors import InputError
 from symsynth.logic import ast
 from symsynth.logic.parser import NextSemantics, parse_ltlf
@@ -172,8 +172,13 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
         raise InputError(f"{source}: the DFA's {len(components)} parts need {bits} state bits together; "
                          f"symsynth composes at most {MAX_STATE_BITS} (2^{MAX_STATE_BITS} states)")
     own = bdd is None
-    if bdd is None:  # dynamic reordering while the product is built and minimized
-        bdd = new_manager(reordering=len(components) > 1)
+    if bdd is None:  # dynamic reordering while the product is built and minimized, unless
+        # its many parts read disjoint atoms: then their declared order is kept throughout
+        # (symbolic.is_local), set here once: switching reordering off and on again in the
+        # middle of the work has left CUDD's dead-node count wrong ("cuddGarbageCollect:
+        # problem in table") on Random/Syft syft_4/003
+        local = len(components) > 1 and is_local(atoms_read(components, atom_keys))
+        bdd = new_manager(reordering=len(components) > 1 and not local)
     manager = bdd
     index = {id(c): i for i, c in enumerate(components)}
     combine = None if acceptance is None else (lambda accs: _evaluate(acceptance, accs, index, bdd))

@@ -385,6 +385,19 @@ def _dag_size(bdd: BDD, roots: Sequence[Function]) -> int:
 LOCAL_PARTS = 16
 
 
+def is_local(read: Sequence[Sequence[str]]) -> bool:
+    """Whether a product of components reading the atoms `read` (one list
+    per component) keeps its declared order: LOCAL_PARTS or more parts, no
+    atom read by two (see SymbolicDFA.minimize)."""
+    readers = Counter(atom for r in read for atom in r)
+    return len(read) >= LOCAL_PARTS and all(n == 1 for n in readers.values())
+
+
+def atoms_read(components: Sequence[GuardedDFA], atoms: Sequence[str]) -> list[list[str]]:
+    """The atoms of `atoms` each component's guards read, in that order."""
+    return [_atoms_read(comp, atoms) for comp in components]
+
+
 def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
             prefix: str = "#q",
             combine: Callable[[list[Function]], Function] | None = None) -> SymbolicDFA:
@@ -403,9 +416,7 @@ def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
     says why).
     """
     read = [_atoms_read(comp, atoms) for comp in components]
-    readers = Counter(atom for r in read for atom in r)
-    # many parts over disjoint atoms: the declared order is kept (see SymbolicDFA.minimize)
-    local = len(components) >= LOCAL_PARTS and all(n == 1 for n in readers.values())
+    local = is_local(read)
     with fixed_order(bdd) if local else nullcontext():
         return _product(bdd, atoms, components, read, prefix, combine, local)
 
