@@ -91,6 +91,26 @@ def branches(bdd: BDD, u: Function) -> tuple[Function, Function]:
     return low, high
 
 
+def children_first(bdd: BDD, root: Function, done: Any) -> Iterable[tuple[Function, Function, Function]]:
+    """The nodes under `root` not in `done`, each after its children, as
+    `(node, low, high)` (cofactors as `branches` gives them), without
+    recursion.  The caller adds each node it is given to `done` (a dict or
+    set holding the terminals from the start) before asking for the next."""
+    stack = [root]
+    while stack:
+        u = stack[-1]
+        if u in done:
+            stack.pop()
+            continue
+        low, high = branches(bdd, u)
+        missing = [c for c in (low, high) if c not in done]
+        if missing:
+            stack.extend(missing)
+            continue
+        stack.pop()
+        yield u, low, high
+
+
 def is_constant(bdd: BDD, u: Function) -> bool:
     return u == bdd.true or u == bdd.false
 

@@ -23,7 +23,7 @@ from collections import Counter
 from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from contextlib import AbstractContextManager, nullcontext
 
-from symsynth.automata.bdd import (BDD, Function, and_exists, branches, fixed_order, format_cubes, is_constant,
+from symsynth.automata.bdd import (BDD, Function, and_exists, children_first, fixed_order, format_cubes, is_constant,
                                    isop, lexmin, restrict)
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.progression import GuardedDFA
@@ -326,18 +326,7 @@ def _least_member(bdd: BDD, relation: Function, targets: Sequence[str]) -> Funct
             result = padded[u, i] = bdd.ite(bdd.var(targets[i]), bdd.false, result)  # !t_i /\ ...
         return result
 
-    stack = [relation]
-    while stack:
-        u = stack[-1]
-        if u in least:
-            stack.pop()
-            continue
-        low, high = branches(bdd, u)
-        missing = [c for c in (low, high) if c not in least]
-        if missing:
-            stack.extend(missing)
-            continue
-        stack.pop()
+    for u, low, high in children_first(bdd, relation, least):
         var = bdd.var(u.var)
         least_low, least_high = zeros(low, u.level + 1), zeros(high, u.level + 1)
         if u.var in is_target:

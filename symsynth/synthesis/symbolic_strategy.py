@@ -49,7 +49,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from symsynth.automata.bdd import BDD, Function, branches, new_manager
+from symsynth.automata.bdd import BDD, Function, children_first, new_manager
 from symsynth.errors import InputError, read_text
 from symsynth.synthesis.game import Realizability, least_outputs
 
@@ -140,18 +140,7 @@ def _export(bdd: BDD, roots: dict[str, Any]) -> tuple[list[list], dict[str, Any]
     nodes: list[list] = []
 
     def ref(root: Function, where: str) -> int:
-        stack = [root]
-        while stack:  # post-order without recursion
-            u = stack[-1]
-            if u in index:
-                stack.pop()
-                continue
-            low, high = branches(bdd, u)
-            missing = [c for c in (low, high) if c not in index]
-            if missing:
-                stack.extend(missing)
-                continue
-            stack.pop()
+        for u, low, high in children_first(bdd, root, index):
             index[u] = len(nodes) + 2
             nodes.append([u.var, index[low], index[high]])
         return index[root]
