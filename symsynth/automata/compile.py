@@ -636,7 +636,7 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
     average (plus a slack of 2,000 edges) over its states after the first
     DENSE_AFTER (the first states of a counter reach thousands of others),
     checked from the 2 x DENSE_AFTER-th state on."""
-    for big, small, small_left in ((a, b, False), (b, a, True)):
+    for big, small in ((a, b), (b, a)):  # (`&` and `|` are symmetric)
         if op in ("and", "or") and small.num_states <= PREFIX_STATES < big.num_states:
             done = prefix_product(big, small, op, max_edges)
             if done is not None:
