@@ -496,7 +496,7 @@ def _worker(conn, tool):  # pragma: no cover - runs in the child
 #: shared: the wall clock counts the other jobs' turns too), or after
 #: WALL_FACTOR times that of wall time; the worker is checked every POLL s.
 WALL_FACTOR = 3
-POLL = 0.05
+POLL = 0.25  # (each check lists /proc for the worker's children: a few ms)
 CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
 
 
