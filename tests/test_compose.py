@@ -23,11 +23,14 @@ from symsynth.logic import ast, atoms, holds, parse_ltlf, to_string
 
 SETTINGS = settings(max_examples=120, deadline=None)
 
-#: every product explicit / every product symbolic / invariants part by part /
-#: explicit products made, then every one taken apart again for the final
-#: symbolic product (`Composer._factored`)
+#: every product explicit / ... and made from the operands' moves (moves.py) /
+#: every product symbolic / invariants part by part / explicit products made,
+#: then every one taken apart again for the final symbolic product
+#: (`Composer._factored`)
 PATHS = {
     "explicit": {"single": 10**9, "product_limit": 10**9, "edge_limit": None, "merged_edges": 10**9},
+    "moves": {"single": 10**9, "product_limit": 10**9, "edge_limit": None, "merged_edges": 10**9,
+              "moves_pairs": 0},
     "symbolic": {"single": 0, "product_limit": 0, "edge_limit": 0, "merged_edges": 0},
     "factored": {"factor_states": 0, "factor_degree": 0, "final_explicit": False},
     "default": None,

@@ -36,6 +36,7 @@ from typing import Any
 from symsynth.automata.bdd import BDD, Function, new_manager
 from symsynth.automata.invariant import Invariants, invariant_shape
 from symsynth.automata.normal import expose, nnf, split_conjuncts
+from symsynth.automata import moves as moves_
 from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge, minimize
 from symsynth.automata.symbolic import SymbolicDFA, atoms_read, is_local, product
 from symsynth.errors import InputError
@@ -69,6 +70,21 @@ EXPLICIT_EDGES = 200_000
 #: explicit component's BDDs hold every edge.  Nim's DFAs have up to 70.
 EXPLICIT_DEGREE = 100
 DENSE_AFTER = 100
+
+#: An explicit product whose operands' successors per state multiply to
+#: more than this on average is made from their moves (moves.py: a few BDD
+#: operations per product state, where guards cost one per pair of edges).
+#: Measured on the products of Nim, Random/Syft and Random/Lydia, both ways
+#: (CPU, product and minimization): the moves cost 1.7-13x less from 2,400
+#: (Nim nim_03_03's 258 x 252 states of 256 x 99 successors: 0.64 s against
+#: 7.5 s), 0.5-1.7x between 90 and 470, and up to 25x more on sparse DFAs
+#: (a BDD operation on a state's moves costs 10-100 us in all).
+MOVES_PAIRS = 1000
+#: ... or when an operand given by its moves only (a dense product's, an
+#: invariant's) has more than this many successors per state on average:
+#: its edges would have to be split off its moves first, one guard per edge
+#: (Nim nim_04_01: 3.0 s that way, 1.25 s on the moves).
+MOVES_DEGREE = 16
 
 #: An explicit `&` / `|` with an operand of at most this many states that
 #: looks a bounded number of letters ahead and a larger one is made by
@@ -211,7 +227,8 @@ class Composer:
     def __init__(self, progression: Progression, *, single: int = EXPLICIT_SINGLE,
                  product_limit: int = EXPLICIT_PRODUCT, edge_limit: int = EXPLICIT_EDGES,
                  merged_edges: int = MERGED_EDGES, factor_states: int = FACTOR_STATES,
-                 factor_degree: int = FACTOR_DEGREE, final_explicit: bool = True):
+                 factor_degree: int = FACTOR_DEGREE, final_explicit: bool = True,
+                 moves_pairs: float = MOVES_PAIRS):
         self.progression = progression
         self.invariants = Invariants(progression)
         self.single = single
@@ -220,6 +237,7 @@ class Composer:
         self.merged_edges = merged_edges
         self.factor_states, self.factor_degree = factor_states, factor_degree
         self.final_explicit = final_explicit
+        self.moves_pairs = moves_pairs
         self.independent = False
         self._failed_bound: float = float("inf")  # a product this large (in state pairs) failed
         self._leaves: dict[ast.Formula, GuardedDFA] = {}
@@ -298,7 +316,7 @@ class Composer:
         bound = fanout = 1  # state tuples; successor tuples of one state, at most
         for c in result.components:
             bound *= c.num_states
-            fanout *= max(len(out) for out in c.edges)
+            fanout *= max(c.degrees())
         if (self.final_explicit and bound < min(self.product_limit, FINAL_PRODUCT)
                 and bound * fanout < FINAL_EDGES and bound < self._failed_bound):
             try:
@@ -325,7 +343,7 @@ class Composer:
                 nonlocal split
                 factors = self._factors.get(id(d))
                 if (factors is None or d.num_states < self.factor_states
-                        or sum(len(out) for out in d.edges) < self.factor_degree * d.num_states):
+                        or d.num_edges < self.factor_degree * d.num_states):
                     return ("c", d)
                 split = True
                 return (factors[0], [("c", f) for f in factors[1]])
@@ -554,12 +572,12 @@ class Composer:
         edge limit's worth of work)."""
         limit = self.edge_limit
         if limit is not None:  # a product with a small operand may grow with the large one
-            sizes = [sum(len(out) for out in d.edges) for d in (a, b)]
+            sizes = [d.num_edges for d in (a, b)]
             limit = max(limit, GROWTH * max(sizes))
             if sizes[0] * sizes[1] <= SPARSE_DEGREE * a.num_states * b.num_states:
                 limit = max(limit, SPARSE_EDGES)
         try:
-            return self._made(explicit_product(a, b, op, limit, self._degree()), op, [a, b])
+            return self._made(explicit_product(a, b, op, limit, self._degree(), self.moves_pairs), op, [a, b])
         except TooDense:
             raise
         except TooLarge:
@@ -629,13 +647,19 @@ def _balanced(op, items: list[ast.Formula]) -> ast.Formula:
 
 
 def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | None = None,
-                     max_degree: int | None = None) -> GuardedDFA:
+                     max_degree: int | None = None, moves_pairs: float = MOVES_PAIRS) -> GuardedDFA:
     """The minimal DFA of the product of `a` and `b` accepting by `op`;
     `TooLarge` once it has more than `max_edges` edges (when given), and
     `TooDense` once its states have more than `max_degree` successors on
     average (plus a slack of 2,000 edges) over its states after the first
     DENSE_AFTER (the first states of a counter reach thousands of others),
-    checked from the 2 x DENSE_AFTER-th state on."""
+    checked from the 2 x DENSE_AFTER-th state on.  Made from the operands'
+    moves (moves.py) when their successors per state multiply to more than
+    `moves_pairs` on average or one given by its moves only has more than
+    MOVES_DEGREE successors per state, else from their edges."""
+    if a.num_edges * b.num_edges > moves_pairs * a.num_states * b.num_states or \
+            any(not d.has_edges() and d.num_edges > MOVES_DEGREE * d.num_states for d in (a, b)):
+        return _moves_product(a, b, op, max_edges, max_degree)
     for big, small in ((a, b), (b, a)):  # (`&` and `|` are symmetric)
         if op in ("and", "or") and small.num_states <= PREFIX_STATES < big.num_states:
             done = prefix_product(big, small, op, max_edges)
@@ -669,11 +693,31 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
     return minimize(_reject_at_start(GuardedDFA(bdd, 0, accepting, edges)))
 
 
+def _moves_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | None,
+                   max_degree: int | None) -> GuardedDFA:
+    """`explicit_product` on the operands' moves (moves.product)."""
+    early = 0
+
+    def grown(states: int, edges: int) -> None:
+        nonlocal early
+        early = _check_growth(states, edges, early, max_edges, max_degree)
+
+    accepting, moves = moves_.product(a.bdd, a.moves, a.initial, a.accepting, b.moves, b.initial,
+                                      b.accepting, _OPS[op], grown)
+    return minimize(_reject_at_start(GuardedDFA(a.bdd, 0, accepting, moves=moves)))
+
+
 def _sinks(dfa: GuardedDFA) -> tuple[int | None, int | None]:
     """The states of `dfa` whose only edge is a loop on every letter:
     (accepting, rejecting); None where there is none."""
     true = dfa.bdd.true
     found: list[int | None] = [None, None]
+    if not dfa.has_edges():
+        names = moves_.bits(dfa.bdd, "z", moves_.width(dfa.num_states))
+        for state, t in enumerate(dfa.moves):
+            if t == moves_.cube(dfa.bdd, names, state):
+                found[0 if dfa.accepting[state] else 1] = state
+        return found[0], found[1]
     for state, out in enumerate(dfa.edges):
         if len(out) == 1 and out.get(state) == true:
             found[0 if dfa.accepting[state] else 1] = state
@@ -686,10 +730,11 @@ def bounded_order(dfa: GuardedDFA) -> list[int] | None:
     cycle (the DFA does not look a bounded number of letters ahead)."""
     sinks = {s for s in _sinks(dfa) if s is not None}
     inside = [s for s in range(dfa.num_states) if s not in sinks]
-    pending = {s: sum(1 for t in dfa.edges[s] if t not in sinks) for s in inside}
+    after = dfa.successor_lists()
+    pending = {s: sum(1 for t in after[s] if t not in sinks) for s in inside}
     preds: dict[int, list[int]] = {s: [] for s in inside}
     for s in inside:
-        for t in dfa.edges[s]:
+        for t in after[s]:
             if t not in sinks:
                 preds[t].append(s)
     order = [s for s in inside if pending[s] == 0]
@@ -912,7 +957,8 @@ def explicit_product_many(components: list[GuardedDFA], acceptance: tuple,
 
 def complement(a: GuardedDFA) -> GuardedDFA:
     """The minimal DFA of the non-empty traces `a` rejects."""
-    flipped = GuardedDFA(a.bdd, a.initial, [not x for x in a.accepting], a.edges)
+    flipped = GuardedDFA(a.bdd, a.initial, [not x for x in a.accepting],
+                         a.edges if a.has_edges() else None, moves=None if a.has_edges() else a.moves)
     return minimize(_reject_at_start(flipped))
 
 
@@ -923,12 +969,30 @@ def _reject_at_start(dfa: GuardedDFA) -> GuardedDFA:
     start = dfa.initial
     if not dfa.accepting[start]:
         return dfa
+    if not dfa.has_edges():
+        return _reject_at_start_moves(dfa)
     if not any(start in out for out in dfa.edges):
         accepting = list(dfa.accepting)
         accepting[start] = False
         return GuardedDFA(dfa.bdd, start, accepting, dfa.edges)
     return GuardedDFA(dfa.bdd, len(dfa.accepting), dfa.accepting + [False],
                       dfa.edges + [dict(dfa.edges[start])])
+
+
+def _reject_at_start_moves(dfa: GuardedDFA) -> GuardedDFA:
+    """`_reject_at_start` of a DFA given by its moves (no edges made)."""
+    bdd, start, moves = dfa.bdd, dfa.initial, dfa.moves
+    accepting = list(dfa.accepting)
+    entered = moves_.successors(bdd, moves)
+    names = moves_.bits(bdd, "z", moves_.width(len(moves)))
+    if all(succ & moves_.cube(bdd, names, start) == bdd.false for succ in entered):
+        accepting[start] = False
+        return GuardedDFA(bdd, start, accepting, moves=moves)
+    moves = list(moves) + [moves[start]]
+    if moves_.width(len(moves)) > len(names):  # numbers one bit wider: its value is 0 in every move
+        zero = ~bdd.var(moves_.bits(bdd, "z", len(names) + 1)[-1])
+        moves = [t & zero for t in moves]
+    return GuardedDFA(bdd, len(moves) - 1, accepting + [False], moves=moves)
 
 
 def _is_empty(dfa: GuardedDFA) -> bool:

@@ -31,8 +31,9 @@ initial state, the prefix and the sink (the caller minimizes).
 
 from __future__ import annotations
 
-from symsynth.automata.bdd import Function
-from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge, split_letters
+from symsynth.automata import moves as moves_
+from symsynth.automata.bdd import Function, branches
+from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge
 from symsynth.logic import ast
 
 
@@ -114,56 +115,94 @@ class Invariants:
 
     def dfa(self, prefix: list[type], body: ast.Formula, max_edges: int | None = None,
             max_degree: int | None = None) -> GuardedDFA:
-        """The complete DFA of `P G body` (`invariant_shape`'s parts), its
-        states in BFS order; `TooLarge` past `max_edges` edges, or past
+        """The complete DFA of `P G body` (`invariant_shape`'s parts), given
+        by its moves (moves.py); `TooLarge` past `max_edges` edges, or past
         `max_degree` successors per state on average (plus a slack of 2,000
-        edges) over the states built so far, once there are 100."""
+        edges) once there are 100 states.
+
+        States: the prefix's, the start of `G body` (state `k`), the
+        cofactors of `H` (the nodes where its paths leave the atom levels:
+        every letter leads somewhere from the start, so these are all the
+        states), and the sink.  With Next(x, z) = H with each cofactor
+        replaced by its number, a cofactor state `c` moves by
+        `allowed_c(x) ? Next : sink`: a few BDD operations per state,
+        whatever its number of successors (Nim's merged invariants: 50 to
+        80 successors per state, each a guard to split off by the letters
+        otherwise)."""
         self._declare()
-        bdd, progression = self.bdd, self.progression
-        moves, ends = self._evaluate(body)  # F(x, y), E(x)
+        bdd = self.bdd
+        moves_f, ends = self._evaluate(body)  # F(x, y), E(x)
         e = bdd.var("#e")
-        h = (e & ends) | (~e & moves)
-
+        h = (e & ends) | (~e & moves_f)
         k = len(prefix)
+        cofactors = self._cofactors(h)
+        dead = bdd.false in cofactors  # a first letter after which nothing is allowed: the sink's
+        if dead:
+            cofactors.remove(bdd.false)
+        allowed = [bdd.let(self._unprimed, bdd.let({"#e": False}, node)) for node in cofactors]  # F(x0, y := x)
+        sink = k + 1 + len(cofactors)
+        has_sink = dead or any(a != bdd.true for a in allowed)
+        n = sink + 1 if has_sink else sink
+        names = moves_.bits(bdd, "z", moves_.width(n))
+        cubes = [moves_.cube(bdd, names, i) for i in range(n)]
+        number = {node: k + 1 + i for i, node in enumerate(cofactors)}
+        if dead:
+            number[bdd.false] = sink
+        step = self._relabel(h, {node: cubes[i] for node, i in number.items()})  # Next(x, z)
         accepting = [i >= 1 and prefix[i - 1] is ast.WeakNext for i in range(k + 1)]
-        edges: list[dict[int, Function]] = [{i + 1: bdd.true} for i in range(k)] + [{}]
-        index: dict[Function, int] = {}
-        order: list[Function] = []
-        sink: list[int] = []
-        count = k
-        filled = [0]  # states whose edges are built
-        below: dict = {}  # split_letters' memo: the states' BDDs share nodes of h
+        accepting += [bdd.let({"#e": True}, node) == bdd.true for node in cofactors]
+        moves = [cubes[i + 1] for i in range(k)] + [step]
+        moves += [step if ok == bdd.true else bdd.ite(ok, step, cubes[sink]) for ok in allowed]
+        if has_sink:
+            accepting.append(False)
+            moves.append(cubes[sink])
+        degrees = moves_.count_edges(bdd, moves)
+        count = sum(degrees)
+        if max_edges is not None and count > max_edges:
+            raise TooLarge(f"more than {max_edges} edges")
+        if max_degree is not None and n >= 100 and count > max_degree * n + 2000:
+            raise TooDense(f"more than {max_degree} successors per state")
+        return GuardedDFA(bdd, 0, accepting, moves=moves, degrees=degrees)
 
-        def state(node: Function) -> int:
-            if node == bdd.false:
-                if not sink:
-                    sink.append(len(accepting))
-                    accepting.append(False)
-                    edges.append({sink[0]: bdd.true})
-                return sink[0]
-            found = index.get(node)
-            if found is None:
-                found = index[node] = len(accepting)
-                order.append(node)
-                accepting.append(bdd.let({"#e": True}, node) == bdd.true)
-                edges.append({})
-            return found
+    def _cofactors(self, h: Function) -> list[Function]:
+        """The nodes where the paths of `h` leave the atom levels, in the
+        order a depth-first walk (high branch first) meets them."""
+        bdd, top = self.bdd, self.num_atoms
+        found: dict[Function, None] = {}
+        seen: set[Function] = set()
+        stack = [h]
+        while stack:
+            node = stack.pop()
+            if node in seen:
+                continue
+            seen.add(node)
+            if node == bdd.true or node == bdd.false or node.level >= top:
+                found[node] = None
+                continue
+            low, high = branches(bdd, node)
+            stack += [low, high]
+        return list(found)
 
-        def fill(source: int, u: Function) -> None:
-            nonlocal count
-            out = edges[source]
-            for node, guard in split_letters(bdd, u, self.num_atoms, below).items():
-                target = state(node)
-                out[target] = out[target] | guard if target in out else guard
-            count += len(out)
-            filled[0] += 1
-            if max_edges is not None and count > max_edges:
-                raise TooLarge(f"more than {max_edges} edges")
-            if max_degree is not None and filled[0] >= 100 and count > max_degree * filled[0] + 2000:
-                raise TooDense(f"more than {max_degree} successors per state")
-
-        fill(k, h)  # the first letter of G body: any letter, to its cofactor
-        for node in order:  # grows while we walk it: BFS
-            allowed = bdd.let(self._unprimed, bdd.let({"#e": False}, node))  # F(x0, y := x)
-            fill(index[node], allowed & h)
-        return GuardedDFA(bdd, 0, accepting, edges)
+    def _relabel(self, h: Function, label: dict[Function, Function]) -> Function:
+        """`h` with each node where its paths leave the atom levels replaced
+        by `label[node]`: one `ite` per node at the atom levels."""
+        bdd, top = self.bdd, self.num_atoms
+        done: dict[Function, Function] = {}
+        stack = [h]
+        while stack:
+            node = stack[-1]
+            if node in done:
+                stack.pop()
+                continue
+            if node in label and (node == bdd.true or node == bdd.false or node.level >= top):
+                done[node] = label[node]
+                stack.pop()
+                continue
+            low, high = branches(bdd, node)
+            missing = [c for c in (low, high) if c not in done]
+            if missing:
+                stack += missing
+                continue
+            stack.pop()
+            done[node] = bdd.ite(bdd.var(node.var), done[high], done[low])
+        return done[h]

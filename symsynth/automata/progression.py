@@ -22,29 +22,83 @@ Every obligation is `X`/`WX` of a subformula, so the construction ends.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import singledispatchmethod
 
+from symsynth.automata import moves as moves_
 from symsynth.automata.bdd import BDD, Function, branches, new_manager
 from symsynth.logic import ast
 
 
-@dataclass
 class GuardedDFA:
     """A complete explicit DFA whose edges carry BDD guards over the atoms.
 
     `edges[s]` maps each successor of `s` to the guard (letters) leading there;
-    the guards of one state are disjoint and cover every letter.
+    the guards of one state are disjoint and cover every letter.  The same
+    transitions may be given instead as `moves[s]`, one BDD over the atoms
+    and the successor's bits (moves.py: products and minimization of dense
+    DFAs cost a few BDD operations per state that way, where guards cost
+    one per pair of edges); each form is made from the other when first
+    asked for, and kept.
     """
 
-    bdd: BDD
-    initial: int
-    accepting: list[bool]
-    edges: list[dict[int, Function]]
+    __slots__ = ("bdd", "initial", "accepting", "_edges", "_moves", "_degrees")
+
+    def __init__(self, bdd: BDD, initial: int, accepting: list[bool],
+                 edges: list[dict[int, Function]] | None = None, *,
+                 moves: list[Function] | None = None, degrees: list[int] | None = None):
+        if edges is None and moves is None:
+            raise ValueError("a GuardedDFA needs its edges or its moves")
+        self.bdd = bdd
+        self.initial = initial
+        self.accepting = accepting
+        self._edges = edges
+        self._moves = moves
+        self._degrees = degrees  # (when known: each state's number of successors)
 
     @property
     def num_states(self) -> int:
         return len(self.accepting)
+
+    @property
+    def edges(self) -> list[dict[int, Function]]:
+        if self._edges is None:
+            assert self._moves is not None
+            self._edges = moves_.decode_all(self.bdd, self._moves)
+        return self._edges
+
+    @property
+    def moves(self) -> list[Function]:
+        if self._moves is None:
+            self._moves = moves_.encode_all(self.bdd, self.edges)
+        return self._moves
+
+    def has_edges(self) -> bool:
+        """Whether the edges are at hand (not to be made from the moves)."""
+        return self._edges is not None
+
+    def successor_lists(self) -> list[list[int]]:
+        """Each state's successors."""
+        if self._edges is not None:
+            return [list(out) for out in self._edges]
+        names = moves_.bits(self.bdd, "z", moves_.width(self.num_states))
+        return [moves_.numbers(self.bdd, succ, names) for succ in moves_.successors(self.bdd, self.moves)]
+
+    def degrees(self) -> list[int]:
+        """Each state's number of successors."""
+        if self._degrees is None:
+            if self._edges is not None:
+                self._degrees = [len(out) for out in self._edges]
+            else:
+                self._degrees = moves_.count_edges(self.bdd, self.moves)
+        return self._degrees
+
+    @property
+    def num_edges(self) -> int:
+        """Pairs of a state and a successor."""
+        return sum(self.degrees())
+
+    def __repr__(self) -> str:
+        return f"GuardedDFA({self.num_states} states, initial {self.initial})"
 
 
 class TooLarge(Exception):
@@ -303,8 +357,14 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
     recomputed, and only the classes holding them are split again.  (Moore's
     rounds recompute every state once per round, and a counter's DFA needs
     as many rounds as it counts: 2^k rounds for k bits.)
+
+    A DFA given by its moves only (a dense product's) is minimized on them
+    (moves.minimize: a BDD operation per signature, not one per edge).
     """
     bdd = dfa.bdd
+    if not dfa.has_edges():
+        found = moves_.minimize(bdd, dfa.initial, dfa.accepting, dfa.moves)
+        return dfa if found is None else GuardedDFA(bdd, found[0], found[1], moves=found[2])
     old_edges = dfa.edges
     n = len(old_edges)
     predecessors: list[list[int]] = [[] for _ in range(n)]

@@ -25,6 +25,7 @@ from contextlib import AbstractContextManager, nullcontext
 
 from symsynth.automata.bdd import (BDD, Function, and_exists, children_first, fixed_order, format_cubes, is_constant,
                                    isop, lexmin, restrict)
+from symsynth.automata import moves as moves_
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.progression import GuardedDFA
 
@@ -435,7 +436,12 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
             # of most states, the successors of a state being few and near)
             ones: list[list[Function]] = [[bdd.false] * comp.num_states for _ in names]
             copied: dict[Function, Function] = {}
-            for s, out in enumerate(comp.edges):
+            if not comp.has_edges():  # given by its moves: bit j's letters in one step per state
+                zs = moves_.bits(comp.bdd, "z", width)
+                for s, t in enumerate(comp.moves):
+                    for j in range(width):
+                        ones[j][s] = comp.bdd.copy(and_exists(comp.bdd, t, comp.bdd.var(zs[j]), zs), bdd)
+            for s, out in enumerate(comp.edges if comp.has_edges() else ()):
                 every, some = -1, 0
                 for succ in out:
                     every &= succ
@@ -503,7 +509,10 @@ def _by_state(bdd: BDD, names: Sequence[str], values: Sequence[Function]) -> Fun
 
 
 def _atoms_read(comp: GuardedDFA, atoms: Sequence[str]) -> list[str]:
-    guards = {guard for out in comp.edges for guard in out.values()}  # (each once)
+    if not comp.has_edges():
+        guards = set(comp.moves)  # (their successor bits are no atoms)
+    else:
+        guards = {guard for out in comp.edges for guard in out.values()}  # (each once)
     support: set[str] = set()
     for guard in guards:
         support |= comp.bdd.support(guard)
