@@ -10,8 +10,9 @@ from hypothesis import strategies as st
 
 from support.reference import distinguishing_trace, minimal_num_states, reference_dfa
 from support.strategies import formulas
+from test_prefix_product import bounded
 from symsynth.automata import moves
-from symsynth.automata.compile import _moves_product, _reject_at_start, explicit_product
+from symsynth.automata.compile import _moves_product, _reject_at_start, explicit_product, prefix_product_moves
 from symsynth.automata.normal import nnf
 from symsynth.automata.progression import GuardedDFA, Progression, minimize
 from symsynth.logic import ast, to_string
@@ -117,3 +118,24 @@ def test_numbers_lists_every_member_of_a_set_with_absent_bits():
     got = sorted(moves.numbers(bdd, x0 & ~x2, names))  # bit 0 set, bit 2 clear, bits 1 and 3 free
     assert got == sorted(n for n in range(16) if n & 1 and not n & 4)
     assert moves.numbers(bdd, bdd.false, names) == []
+
+
+@settings(max_examples=200, deadline=None)
+@given(formulas(max_depth=3), bounded(), st.sampled_from(["and", "or"]))
+def test_the_prefix_product_of_moves_is_the_minimal_dfa_of_the_combination(big_formula, small_formula, op):
+    """As tests/test_prefix_product.py's, with the large operand given by its
+    moves only (a dense product's or an invariant's)."""
+    progression = Progression(KEYS)
+    big = moves_only(minimize(progression.dfa(nnf(big_formula))))
+    small = minimize(progression.dfa(nnf(small_formula)))
+    whole = (ast.And if op == "and" else ast.Or)(big_formula, small_formula)
+    text = to_string(whole)
+    got = prefix_product_moves(big, small, op)
+    if got is None:  # only when the small operand decides the product from the start
+        assert small.num_states <= 2 and len(small.edges[small.initial]) == 1, text
+        return
+    assert not got.has_edges(), text
+    assert got.initial == 0 and not got.accepting[0], text
+    assert got.num_states == minimal_num_states(whole), text
+    assert got.degrees() == [len(out) for out in got.edges], text
+    assert distinguishing_trace(Runner(got), reference_dfa(whole), KEYS) is None, text

@@ -33,7 +33,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from symsynth.automata.bdd import BDD, Function, new_manager
+from symsynth.automata.bdd import BDD, Function, and_exists, exists, new_manager, swap
 from symsynth.automata.invariant import Invariants, invariant_shape
 from symsynth.automata.normal import expose, nnf, split_conjuncts
 from symsynth.automata import moves as moves_
@@ -658,6 +658,12 @@ def explicit_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | Non
     moves (moves.py) when their successors per state multiply to more than
     `moves_pairs` on average or one given by its moves only has more than
     MOVES_DEGREE successors per state, else from their edges."""
+    for big, small in ((a, b), (b, a)):
+        if op in ("and", "or") and small.num_states <= min(PREFIX_STATES, big.num_states - 1) \
+                and not big.has_edges():
+            done = prefix_product_moves(big, small, op)
+            if done is not None:
+                return done
     if a.num_edges * b.num_edges > moves_pairs * a.num_states * b.num_states or \
             any(not d.has_edges() and d.num_edges > MOVES_DEGREE * d.num_states for d in (a, b)):
         return _moves_product(a, b, op, max_edges, max_degree)
@@ -703,9 +709,19 @@ def _moves_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | None,
         nonlocal early
         early = _check_growth(states, edges, early, max_edges, max_degree)
 
-    accepting, moves = moves_.product(a.bdd, a.moves, a.initial, a.accepting, b.moves, b.initial,
-                                      b.accepting, _OPS[op], grown)
-    return minimize(_reject_at_start(GuardedDFA(a.bdd, 0, accepting, moves=moves)))
+    bdd = a.bdd
+    made = moves_.product(bdd, a.moves, a.initial, a.accepting, b.moves, b.initial, b.accepting,
+                          _OPS[op], grown)
+    if made.accepting[0]:  # (an implication, a disjunction with a negation)
+        start = moves_.cube(bdd, moves_.bits(bdd, "z", made.width), 0)
+        if any(succ & start != bdd.false for succ in made.after):  # entered again: a fresh start
+            return minimize(_reject_at_start(GuardedDFA(bdd, 0, made.accepting, moves=made.narrowed(bdd),
+                                                        degrees=made.degrees)))
+        made.accepting[0] = False
+    found = moves_.minimize(bdd, made)
+    if found is None:
+        return GuardedDFA(bdd, 0, made.accepting, moves=made.narrowed(bdd), degrees=made.degrees)
+    return GuardedDFA(bdd, 0, found.accepting, moves=found.moves, degrees=found.degrees)
 
 
 def _sinks(dfa: GuardedDFA) -> tuple[int | None, int | None]:
@@ -868,6 +884,129 @@ def prefix_product(big: GuardedDFA, small: GuardedDFA, op: str,
             edges.append(out)
         canonical[(q, s)] = state
     return _renumbered(bdd, canonical[start], accepting, edges)
+
+
+def prefix_product_moves(big: GuardedDFA, small: GuardedDFA, op: str) -> GuardedDFA | None:
+    """`prefix_product` for a `big` given by its moves: the same pairs, made
+    from the last letters to the first, a pair being a state already made
+    exactly when it agrees with it on acceptance and moves (its successors
+    being canonical, the moves BDD is a canonical key: no guard is split
+    off).  A pair whose `small` state is the sink that keeps `big`'s
+    language moves by `big`'s moves; one into the other sink, to the
+    constant.  Then the states reachable from the start, renumbered into
+    the places of the others (one relational product per state)."""
+    order = bounded_order(small)
+    if order is None:
+        return None
+    accept_sink, reject_sink = _sinks(small)
+    sinks = {s for s in (accept_sink, reject_sink) if s is not None}
+    if small.initial in sinks:
+        return None  # (an operand that decides the product: `Composer._settled`'s)
+    keeps = accept_sink if op == "and" else reject_sink
+    combine = all if op == "and" else any
+    bdd = big.bdd
+    false = bdd.false
+    n, T = big.num_states, big.moves
+    w = moves_.width(n)
+    atoms = moves_.atom_vars(bdd)
+    narrow = moves_.bits(bdd, "z", w)
+    start = (big.initial, small.initial)
+    steps: dict[tuple[int, int], list[tuple[int, Function, Function, list[int]]]] = {}
+    todo = [start]
+    while todo:
+        q, s = pair = todo.pop()
+        if pair in steps:
+            continue
+        out = steps[pair] = []
+        for s2, g2 in small.edges[s].items():
+            part = T[q] & g2
+            if part == false:
+                continue
+            after = [] if s2 in sinks else moves_.numbers(bdd, exists(bdd, part, atoms), narrow)
+            out.append((s2, g2, part, after))
+            todo.extend((q2, s2) for q2 in after if (q2, s2) not in steps)
+    # numbers: `big`'s states, the constant when `big` has no such sink, the pairs made
+    value = op == "or"  # the constant language: universal for `or`, empty for `and`
+    constant = _sinks(big)[0 if value else 1]
+    width = moves_.width(n + 1 + len(steps))
+    zs, cs = moves_.bits(bdd, "z", width), moves_.bits(bdd, "c", width)
+    zero = bdd.true  # the bits `big`'s moves do not write
+    for name in zs[w:]:
+        zero &= ~bdd.var(name)
+    accepting = list(big.accepting)
+    moves = list(T)
+    wide: dict[int, Function] = {}  # state -> its moves in `width` bits (the states made)
+    known = {(big.accepting[q], T[q]): q for q in range(n)}  # pairwise inequivalent: `big` is minimal
+    made: dict[tuple[bool, Function], int] = {}
+    if constant is None:
+        constant = n
+        accepting.append(value)
+        wide[n] = moves_.cube(bdd, zs, n)
+        moves.append(wide[n])
+        made[(value, wide[n])] = n
+    rank = {s: i for i, s in enumerate(order)}
+    canonical: dict[tuple[int, int], int] = {}
+    rename = dict(zip(cs, zs))
+    for q, s in sorted(steps, key=lambda pair: rank[pair[1]]):  # successors first
+        t = false
+        for s2, g2, part, after in steps[(q, s)]:
+            if s2 == keeps:
+                t |= part & zero
+            elif s2 in sinks:
+                t |= g2 & moves_.cube(bdd, zs, constant)
+            else:
+                table = false
+                for q2 in after:
+                    table |= moves_.cube(bdd, narrow, q2) & moves_.cube(bdd, cs, canonical[(q2, s2)])
+                t |= swap(bdd, and_exists(bdd, part, table, narrow), rename)
+        accept = combine((big.accepting[q], small.accepting[s]))
+        state = made.get((accept, t))
+        if state is None and width > w:
+            own = exists(bdd, t, zs[w:])
+            if own & zero == t:  # its successors are numbered in `big`'s width
+                state = known.get((accept, own))
+        elif state is None:
+            state = known.get((accept, t))
+        if state is None:
+            state = made[(accept, t)] = len(moves)
+            accepting.append(accept)
+            moves.append(t)
+            wide[state] = t
+        canonical[(q, s)] = state
+    return _renumbered_moves(big, canonical[start], accepting, moves, wide, width)
+
+
+def _renumbered_moves(big: GuardedDFA, initial: int, accepting: list[bool], moves: list[Function],
+                      wide: dict[int, Function], width: int) -> GuardedDFA:
+    """The states reachable from `initial` of `big`'s states and the ones
+    made after them (their moves in `width` bits, `wide`), numbered in
+    breadth-first order from `initial` and written in their own width."""
+    bdd = big.bdd
+    atoms = moves_.atom_vars(bdd)
+    zs = moves_.bits(bdd, "z", width)
+    narrow = moves_.bits(bdd, "z", moves_.width(big.num_states))
+    order, seen = [initial], {initial}
+    degrees = []
+    for state in order:  # grows while walked
+        after = moves_.numbers(bdd, exists(bdd, wide[state], atoms), zs) if state in wide else \
+            moves_.numbers(bdd, exists(bdd, moves[state], atoms), narrow)
+        degrees.append(len(after))
+        for succ in after:
+            if succ not in seen:
+                seen.add(succ)
+                order.append(succ)
+    fw = moves_.width(len(order))
+    cs = moves_.bits(bdd, "c", fw)
+    table = bdd.false
+    for new, old in enumerate(order):
+        table |= moves_.cube(bdd, zs, old) & moves_.cube(bdd, cs, new)
+    zero = bdd.true
+    for name in zs[moves_.width(big.num_states):]:
+        zero &= ~bdd.var(name)
+    rename = dict(zip(cs, moves_.bits(bdd, "z", fw)))
+    result = [swap(bdd, and_exists(bdd, wide.get(old, moves[old] & zero), table, zs), rename)
+              for old in order]
+    return GuardedDFA(bdd, 0, [accepting[old] for old in order], moves=result, degrees=degrees)
 
 
 def _renumbered(bdd: BDD, initial: int, accepting: list[bool],

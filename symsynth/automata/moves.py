@@ -33,6 +33,7 @@ Bit 0 is the least significant.  These functions work on lists of moves;
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 from symsynth.automata.bdd import BDD, Function, and_exists, branches, exists, swap
 
@@ -71,7 +72,7 @@ def cube(bdd: BDD, names: Sequence[str], value: int) -> Function:
     return bdd.cube({name: bool(value >> i & 1) for i, name in enumerate(names)})
 
 
-def _atom_vars(bdd: BDD) -> list[str]:
+def atom_vars(bdd: BDD) -> list[str]:
     """The variables above the bits (the atoms, and any others declared before)."""
     top = bdd.level_of_var(f"{_PREFIX}{FAMILIES[0]}0")
     return [v for v in bdd.vars if bdd.level_of_var(v) < top]
@@ -184,7 +185,7 @@ def numbers(bdd: BDD, u: Function, names: Sequence[str]) -> list[int]:
 
 def successors(bdd: BDD, moves: Sequence[Function]) -> list[Function]:
     """Each state's successors, as a set of `z` numbers."""
-    atoms = _atom_vars(bdd)
+    atoms = atom_vars(bdd)
     return [exists(bdd, t, atoms) for t in moves]
 
 
@@ -203,10 +204,31 @@ def rename(bdd: BDD, moves: Sequence[Function], family: str, count: int) -> list
 # ------------------------------------------------------------------- product
 
 
+@dataclass
+class Machine:
+    """A DFA given by its moves, with what its construction learnt on the
+    way: each state's successors as a set of numbers (over the `z` bits),
+    and their count.  `width` is the number of `z` bits the moves are
+    written in (at least the DFA's own; the numbers above are absent)."""
+
+    initial: int
+    accepting: list[bool]
+    moves: list[Function]
+    after: list[Function]
+    width: int
+    degrees: list[int] | None = None
+
+    def narrowed(self, bdd: BDD) -> list[Function]:
+        """The moves in the DFA's own width (the higher bits are 0 in every
+        successor: existentially quantified)."""
+        high = bits(bdd, "z", self.width)[width(len(self.moves)):]
+        return [exists(bdd, t, high) for t in self.moves] if high else self.moves
+
+
 def product(bdd: BDD, a_moves: Sequence[Function], a_initial: int, a_accepting: Sequence[bool],
             b_moves: Sequence[Function], b_initial: int, b_accepting: Sequence[bool],
             accept: Callable[[list[bool]], bool],
-            grown: Callable[[int, int], None] | None = None) -> tuple[list[bool], list[Function]]:
+            grown: Callable[[int, int], None] | None = None) -> Machine:
     """The reachable product of two DFAs given by their moves: its states
     numbered from the initial pair (0) in breadth-first order, their
     acceptance (`accept` of the pair's) and moves.  `grown(states, edges)`
@@ -215,19 +237,22 @@ def product(bdd: BDD, a_moves: Sequence[Function], a_initial: int, a_accepting: 
     Per state: the conjunction of the pair's moves, the successor pairs not
     seen before (enumerated: each pair once in the whole product), and the
     moves renamed from pairs to numbers by a relational product with the
-    map R(x, y, z) of the pairs seen so far."""
+    map R(x, y, z) of the pairs seen so far (the successor set likewise,
+    from the pairs: a small BDD, without the atoms)."""
     wa, wb = width(len(a_moves)), width(len(b_moves))
     ta, tb = rename(bdd, a_moves, "x", wa), rename(bdd, b_moves, "y", wb)
     xs, ys = bits(bdd, "x", wa), bits(bdd, "y", wb)
     zs = bits(bdd, "z", min(WIDTH, wa + wb))  # (at most |a| x |b| pairs)
     pair_bits = xs + ys
-    atoms = _atom_vars(bdd)
+    atoms = atom_vars(bdd)
     start = (a_initial, b_initial)
     order = [start]
     seen = cube(bdd, xs, a_initial) & cube(bdd, ys, b_initial)
     relation = seen & cube(bdd, zs, 0)
     accepting: list[bool] = []
     moves: list[Function] = []
+    after: list[Function] = []
+    degrees: list[int] = []
     edges = 0
     for s, t in order:  # grows while walked
         accepting.append(accept([a_accepting[s], b_accepting[t]]))
@@ -243,22 +268,21 @@ def product(bdd: BDD, a_moves: Sequence[Function], a_initial: int, a_accepting: 
                 order.append((code & ((1 << wa) - 1), code >> wa))
                 relation |= cube(bdd, pair_bits, code) & cube(bdd, zs, number)
         moves.append(and_exists(bdd, both, relation, pair_bits))
+        after.append(and_exists(bdd, pairs, relation, pair_bits))
+        degrees.append(int(bdd.count(pairs, nvars=wa + wb)))
         if grown is not None:
-            edges += int(bdd.count(pairs, nvars=wa + wb))
+            edges += degrees[-1]
             grown(len(moves), edges)
-    # cut to the DFA's own width: the high bits are 0 in every successor
-    high = zs[width(len(moves)):]
-    return accepting, [exists(bdd, t, high) for t in moves] if high else moves
+    return Machine(0, accepting, moves, after, len(zs), degrees)
 
 
 # -------------------------------------------------------------- minimization
 
 
-def minimize(bdd: BDD, initial: int, accepting: Sequence[bool],
-             moves: Sequence[Function]) -> tuple[int, list[bool], list[Function]] | None:
-    """The minimal DFA of a DFA whose states are all reachable from
-    `initial`: (its initial state, acceptance, moves), or None when the
-    DFA is minimal already.
+def minimize(bdd: BDD, dfa: Machine) -> Machine | None:
+    """The minimal DFA of a DFA whose states are all reachable from its
+    initial state, in its own width, or None when the DFA is minimal
+    already.
 
     Partition refinement as in progression.minimize (Hopcroft's "all but
     the largest" worklist), a state's signature being its moves with the
@@ -267,13 +291,13 @@ def minimize(bdd: BDD, initial: int, accepting: Sequence[bool],
     classes, updated as classes split.  The states to recompute after a
     split, those with a successor that moved, are one relational product
     with the predecessor relation E(s, z)."""
+    moves, accepting = dfa.moves, dfa.accepting
     n = len(moves)
-    w = width(n)
-    zs, ss, cs = bits(bdd, "z", w), bits(bdd, "s", w), bits(bdd, "c", w)
+    w = dfa.width
+    zs, ss, cs = bits(bdd, "z", w), bits(bdd, "s", width(n)), bits(bdd, "c", width(n))
     zcube = [cube(bdd, zs, k) for k in range(n)]
-    after = successors(bdd, moves)
     relation = bdd.false  # E(s, z): z is a successor of s
-    for k, succ in enumerate(after):
+    for k, succ in enumerate(dfa.after):
         relation |= cube(bdd, ss, k) & succ
     block = [int(acc) for acc in accepting]
     members: list[set[int]] = [set(), set()]
@@ -323,17 +347,20 @@ def minimize(bdd: BDD, initial: int, accepting: Sequence[bool],
         return None
     # classes numbered by their first state (the initial one's first): the
     # input's breadth-first order carries over
-    final: dict[int, int] = {block[initial]: 0}
+    final: dict[int, int] = {block[dfa.initial]: 0}
     for state in range(n):
         final.setdefault(block[state], len(final))
-    fs = bits(bdd, "c", width(len(final)))
+    fw = width(len(final))
+    fs = bits(bdd, "c", fw)
     renumber = bdd.false
     for state in range(n):
         renumber |= zcube[state] & cube(bdd, fs, final[block[state]])
-    back = dict(zip(fs, bits(bdd, "z", len(fs))))
+    back = dict(zip(fs, bits(bdd, "z", fw)))
     first: dict[int, int] = {}
     for state in range(n):
         first.setdefault(final[block[state]], state)
-    new_accepting = [accepting[first[c]] for c in range(len(final))]
-    new_moves = [swap(bdd, and_exists(bdd, moves[first[c]], renumber, zs), back) for c in range(len(final))]
-    return 0, new_accepting, new_moves
+    reps = [first[c] for c in range(len(final))]
+    after = [swap(bdd, and_exists(bdd, dfa.after[r], renumber, zs), back) for r in reps]
+    return Machine(0, [accepting[r] for r in reps],
+                   [swap(bdd, and_exists(bdd, moves[r], renumber, zs), back) for r in reps],
+                   after, fw, [int(bdd.count(a, nvars=fw)) for a in after])

@@ -363,8 +363,11 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
     """
     bdd = dfa.bdd
     if not dfa.has_edges():
-        found = moves_.minimize(bdd, dfa.initial, dfa.accepting, dfa.moves)
-        return dfa if found is None else GuardedDFA(bdd, found[0], found[1], moves=found[2])
+        given = moves_.Machine(dfa.initial, dfa.accepting, dfa.moves, moves_.successors(bdd, dfa.moves),
+                               moves_.width(dfa.num_states))
+        found = moves_.minimize(bdd, given)
+        return dfa if found is None else GuardedDFA(bdd, 0, found.accepting, moves=found.moves,
+                                                    degrees=found.degrees)
     old_edges = dfa.edges
     n = len(old_edges)
     predecessors: list[list[int]] = [[] for _ in range(n)]
