@@ -27,7 +27,9 @@ times that of wall time: the machine may be shared; killed at either limit):
   ltlf2dfa  its whole `to_dfa()` (parser, MONA program, MONA, DOT).
 
 In a scaling family (Uright, GFand, the counters, Nim), a tool that timed out
-is not run on the family's larger instances ("TO*").
+is not run on the larger instances of its series ("TO*"): the family, or for
+Nim one number of heaps (nim_03_01..04 grow in heap size; nim_04_01 starts
+a new series with four heaps of size one, smaller than nim_03_03).
 
 Equivalence: where symsynth and MONA both finish, symsynth's DFA and MONA's
 automaton of the same program restricted to non-empty traces (`0 in $`) are
@@ -203,7 +205,10 @@ def main(argv=None) -> int:
             if family not in args.families.split(","):
                 continue
             dead: dict[str, str] = {}
+            series = None
             for path in paths:
+                if family == "Nim" and Path(path).stem[:6] != series:  # nim_03, nim_04, ...
+                    series, dead = Path(path).stem[:6], {}
                 text = read(args.data, path)
                 name = Path(path).stem if family in SCALING else f"{Path(path).parent.name}/{Path(path).stem}"
                 row = {"family": family, "instance": name, "atoms": None}

@@ -62,7 +62,7 @@ def test_the_product_of_moves_is_the_minimal_dfa_of_the_combination(f, g, op):
     a, b = minimize(progression.dfa(nnf(f))), minimize(progression.dfa(nnf(g)))
     whole = OPS[op](f, g)
     text = to_string(whole)
-    got = _moves_product(a, b, op, None, None)
+    got = _moves_product(a, b, op, None)
     assert not got.has_edges(), text  # made and minimized on moves alone
     assert not got.accepting[got.initial], text  # traces are non-empty
     assert got.num_states == minimal_num_states(whole), text
