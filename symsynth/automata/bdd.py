@@ -109,6 +109,41 @@ def branches(bdd: BDD, u: Function) -> tuple[Function, Function]:
     return low, high
 
 
+def split_letters(bdd: BDD, u: Function, num_atoms: int,
+                  below: dict[Function, dict[Function, Function]] | None = None) -> dict[Function, Function]:
+    """The nodes where the paths of `u` leave the atom levels (the first
+    `num_atoms` levels: the letter read), each with the set of letters
+    leading there, as a BDD over the atoms.
+
+    Bottom-up over the BDD's nodes at atom levels (each node once, not each
+    path: a path per letter class is exponential in the atoms): below[v]
+    maps each node reachable from v to its guard.  A caller that splits
+    many BDDs sharing nodes passes one `below` to all calls (the result
+    must then not be modified)."""
+    if below is None:
+        below = {}
+    true, false = bdd.true, bdd.false
+    stack = [(u, False)]
+    while stack:
+        node, ready = stack.pop()
+        if node in below:
+            continue
+        if node == true or node == false or node.level >= num_atoms:
+            below[node] = {node: true}
+            continue
+        low, high = branches(bdd, node)
+        if not ready:
+            stack.append((node, True))
+            stack.extend(child for child in ((low, False), (high, False)) if child[0] not in below)
+            continue
+        x = bdd.var(node.var)
+        found = {succ: ~x & guard for succ, guard in below[low].items()}
+        for succ, guard in below[high].items():
+            found[succ] = found[succ] | (x & guard) if succ in found else x & guard
+        below[node] = found
+    return below[u]
+
+
 def children_first(bdd: BDD, root: Function, done: Any) -> Iterable[tuple[Function, Function, Function]]:
     """The nodes under `root` not in `done`, each after its children, as
     `(node, low, high)` (cofactors as `branches` gives them), without

@@ -35,7 +35,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from symsynth.automata.bdd import BDD, Function, and_exists, branches, exists, swap
+from symsynth.automata.bdd import BDD, Function, and_exists, branches, exists, split_letters, swap
 
 #: Bits per family: DFAs of up to 2^WIDTH states.
 WIDTH = 24
@@ -101,39 +101,16 @@ def encode_all(bdd: BDD, edges: Sequence[dict[int, Function]]) -> list[Function]
 def decode_all(bdd: BDD, moves: Sequence[Function]) -> list[dict[int, Function]]:
     """The edges (successor -> guard over the atoms) of every state: the
     nodes where a state's moves leave the atom levels are cubes over the
-    `z` bits, one per successor; walked bottom-up once for all states (they
-    share nodes)."""
+    `z` bits, one per successor (`split_letters`, with one memo for all
+    states: they share nodes)."""
     zbits = bits(bdd, "z")
     weight = {name: 1 << i for i, name in enumerate(zbits)}
-    top = bdd.level_of_var(zbits[0])
-    true, false = bdd.true, bdd.false
+    top = bdd.level_of_var(zbits[0])  # (the atoms above; no other variable is in the moves)
     number: dict[Function, int] = {}
-    below: dict[Function, dict[int, Function]] = {}  # node -> successor -> letters
-    result = []
-    for root in moves:
-        stack = [(root, False)]
-        while stack:
-            node, ready = stack.pop()
-            if node in below:
-                continue
-            if node == false:
-                below[node] = {}
-                continue
-            if node == true or node.level >= top:
-                below[node] = {_number(bdd, node, weight, number): true}
-                continue
-            low, high = branches(bdd, node)
-            if not ready:
-                stack.append((node, True))
-                stack.extend((child, False) for child in (low, high) if child not in below)
-                continue
-            x = bdd.var(node.var)
-            found = {t: ~x & guard for t, guard in below[low].items()}
-            for t, guard in below[high].items():
-                found[t] = found[t] | (x & guard) if t in found else x & guard
-            below[node] = found
-        result.append(dict(below[root]))
-    return result
+    below: dict[Function, dict[Function, Function]] = {}
+    return [{_number(bdd, leaf, weight, number): guard
+             for leaf, guard in split_letters(bdd, root, top, below).items() if leaf != bdd.false}
+            for root in moves]
 
 
 def _number(bdd: BDD, leaf: Function, weight: dict[str, int], memo: dict[Function, int]) -> int:
