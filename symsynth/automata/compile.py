@@ -713,8 +713,11 @@ def _moves_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | None)
         _check_growth(states, edges, 0, max_edges, None)
 
     bdd = a.bdd
-    made = moves_.product(bdd, a.moves, a.initial, a.accepting, b.moves, b.initial, b.accepting,
-                          _OPS[op], grown)
+    try:
+        made = moves_.product(bdd, a.moves, a.initial, a.accepting, b.moves, b.initial, b.accepting,
+                              _OPS[op], grown)
+    except moves_.TooManyStates as error:
+        raise TooLarge(str(error)) from None
     if made.accepting[0]:  # (an implication, a disjunction with a negation)
         start = moves_.cube(bdd, moves_.bits(bdd, "z", made.width), 0)
         if any(succ & start != bdd.false for succ in made.after):  # entered again: a fresh start
