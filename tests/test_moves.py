@@ -10,32 +10,14 @@ from hypothesis import strategies as st
 
 from support.reference import distinguishing_trace, minimal_num_states, reference_dfa
 from support.strategies import formulas
-from test_prefix_product import bounded
+from test_prefix_product import KEYS, Runner, bounded
 from symsynth.automata import moves
 from symsynth.automata.compile import _moves_product, _reject_at_start, explicit_product, prefix_product_moves
 from symsynth.automata.normal import nnf
 from symsynth.automata.progression import GuardedDFA, Progression, minimize
 from symsynth.logic import ast, to_string
 
-ATOMS = ("a", "b", "c")
-KEYS = list(ATOMS)
 OPS = {"and": ast.And, "or": ast.Or, "implies": ast.Implies, "equiv": ast.Equiv}
-
-
-class Runner:
-    """Steps a GuardedDFA letter by letter through its edges."""
-
-    def __init__(self, dfa: GuardedDFA):
-        self.dfa, self.initial = dfa, dfa.initial
-
-    def step(self, state, letter):
-        bdd = self.dfa.bdd
-        values = {x: x in letter for x in KEYS}
-        (hit,) = [t for t, g in self.dfa.edges[state].items() if bdd.let(values, g) == bdd.true]
-        return hit
-
-    def is_accepting(self, state):
-        return self.dfa.accepting[state]
 
 
 def moves_only(dfa: GuardedDFA) -> GuardedDFA:
