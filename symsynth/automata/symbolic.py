@@ -434,34 +434,7 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
             # bit j set, merged over the states by a decision tree on the bits
             # (a bit all successors agree on needs no disjunction: most bits
             # of most states, the successors of a state being few and near)
-            ones: list[list[Function]] = [[bdd.false] * comp.num_states for _ in names]
-            copied: dict[Function, Function] = {}
-            if not comp.has_edges():  # given by its moves: bit j's letters in one step per state
-                zs = moves_.bits(comp.bdd, "z", width)
-                for s, t in enumerate(comp.moves):
-                    for j in range(width):
-                        ones[j][s] = comp.bdd.copy(and_exists(comp.bdd, t, comp.bdd.var(zs[j]), zs), bdd)
-            for s, out in enumerate(comp.edges if comp.has_edges() else ()):
-                every, some = -1, 0
-                for succ in out:
-                    every &= succ
-                    some |= succ
-                for j in range(width):
-                    if every >> j & 1:
-                        ones[j][s] = bdd.true
-                    elif some >> j & 1:  # the guards are disjoint and cover every letter:
-                        # the fewer of those into a 1 and into a 0 suffice
-                        set_ = [guard for succ, guard in out.items() if succ >> j & 1]
-                        clear = len(set_) * 2 > len(out)
-                        if clear:
-                            set_ = [guard for succ, guard in out.items() if not succ >> j & 1]
-                        value = bdd.false
-                        for guard in set_:
-                            here = copied.get(guard)
-                            if here is None:
-                                here = copied[guard] = comp.bdd.copy(guard, bdd)
-                            value = value | here
-                        ones[j][s] = ~value if clear else value
+            ones = _next_bits(bdd, comp, width)
             delta.update({n: _by_state(bdd, names, ones[j]) for j, n in enumerate(names)})
             accepts.append(_by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
             reachable = _by_state(bdd, names, [bdd.true] * comp.num_states)  # every state of an explicit DFA
@@ -493,6 +466,41 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
         for comp_acc in accepts:
             accepting &= comp_acc
     return SymbolicDFA(bdd, atoms, bits, delta, initial, accepting, reachable=reachable, local=local)
+
+
+def _next_bits(bdd: BDD, comp: GuardedDFA, width: int) -> list[list[Function]]:
+    """`ones[j][s]`: the letters (in `bdd`) after which state `s` of the
+    explicit `comp` goes to a successor with bit `j` set."""
+    ones: list[list[Function]] = [[bdd.false] * comp.num_states for _ in range(width)]
+    if not comp.has_edges():  # given by its moves: bit j's letters in one step per state
+        zs = moves_.bits(comp.bdd, "z", width)
+        for s, t in enumerate(comp.moves):
+            for j in range(width):
+                ones[j][s] = comp.bdd.copy(and_exists(comp.bdd, t, comp.bdd.var(zs[j]), zs), bdd)
+        return ones
+    copied: dict[Function, Function] = {}
+    for s, out in enumerate(comp.edges):
+        every, some = -1, 0
+        for succ in out:
+            every &= succ
+            some |= succ
+        for j in range(width):
+            if every >> j & 1:
+                ones[j][s] = bdd.true
+            elif some >> j & 1:  # the guards are disjoint and cover every letter:
+                # the fewer of those into a 1 and into a 0 suffice
+                set_ = [guard for succ, guard in out.items() if succ >> j & 1]
+                clear = len(set_) * 2 > len(out)
+                if clear:
+                    set_ = [guard for succ, guard in out.items() if not succ >> j & 1]
+                value = bdd.false
+                for guard in set_:
+                    here = copied.get(guard)
+                    if here is None:
+                        here = copied[guard] = comp.bdd.copy(guard, bdd)
+                    value = value | here
+                ones[j][s] = ~value if clear else value
+    return ones
 
 
 def _by_state(bdd: BDD, names: Sequence[str], values: Sequence[Function]) -> Function:
