@@ -1,10 +1,36 @@
 """Fixtures shared by test files: the paper's scenes on small roadmaps,
-with their costmaps computed once per test session."""
+with their costmaps computed once per test session.
+
+The suite runs on pytest-xdist workers (pyproject's addopts); work that
+every worker would repeat is done by the first worker that needs it while
+the others wait for its result (`once`)."""
+
+from __future__ import annotations
+
+import fcntl
+import pickle
 
 import pytest
 
-from support.paper import PLANNERS, small
+from support.paper import PLANNERS, SCENES, small
 from symsynth.planning.build import compute_costmaps
+
+
+def once(tmp_path_factory, worker_id: str, name: str, compute):
+    """compute(), done once per run: in one process, directly; under xdist
+    by the first worker to get here, while the others wait on a lock in the
+    run's shared temporary folder and read the pickled result."""
+    if worker_id == "master":
+        return compute()
+    shared = tmp_path_factory.getbasetemp().parent  # the run's folder, above each worker's own
+    result = shared / f"{name}.pickle"
+    with open(shared / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file is closed
+        if result.exists():
+            return pickle.loads(result.read_bytes())
+        value = compute()
+        result.write_bytes(pickle.dumps(value))
+        return value
 
 
 def _paper(name):
@@ -14,12 +40,34 @@ def _paper(name):
 
 
 @pytest.fixture(scope="session")
-def paper_arch():
+def paper_arch(tmp_path_factory, worker_id):
     """(arch scene, {"sg": costmap, "recursive": costmap}) by the pybullet planner."""
-    return _paper("arch")
+    return once(tmp_path_factory, worker_id, "paper_arch", lambda: _paper("arch"))
 
 
 @pytest.fixture(scope="session")
-def paper_line():
+def paper_line(tmp_path_factory, worker_id):
     """(line scene, {"sg": costmap, "recursive": costmap}) by the ompl-fcl planner."""
-    return _paper("line")
+    return once(tmp_path_factory, worker_id, "paper_line", lambda: _paper("line"))
+
+
+@pytest.fixture(scope="session", autouse=True)
+def compiled_kernels_once(request, tmp_path_factory, worker_id):
+    """The compiled solver's numba kernels are compiled on first use and
+    cached on disk (symsynth/solvers/compiled.py: cache=True); on a fresh
+    install that takes about 26 s of CPU, and two workers that both reach
+    the solver before the cache is written both pay it.  So a worker of a
+    run of several test files compiles them up front (a solve of the toy
+    scene compiles all 55 specializations) while the others wait and then
+    load the cache (about 0.5 s)."""
+    if worker_id == "master" or len({item.path for item in request.session.items}) < 2:
+        return
+
+    def solve_toy():
+        from symsynth.scene import load_scene
+        from symsynth.solvers import SOLVERS
+
+        return SOLVERS["compiled"](load_scene(SCENES / "toy.yaml"), k=0).cost_bound
+
+    once(tmp_path_factory, worker_id, "compiled_kernels", solve_toy)
+    solve_toy()  # in a worker that waited: loads the kernels from the cache now
