@@ -63,6 +63,13 @@ def scene_and_planner():
     return scene, planner_class("ompl-fcl")(scene)
 
 
+@pytest.fixture(scope="module")
+def push_sg(scene_and_planner):
+    """push-small's start-goal costmap, built once (about 3 s) for the two
+    tests that read it."""
+    return compute_costmap(scene_and_planner[0], "sg", progress=False)[0]
+
+
 def anchor(planner, scene, name):
     place, _, contact = name.partition("/")
     pose = scene.geometry.places[place] @ scene.geometry.hand_frame(contact).pre_image()
@@ -105,16 +112,14 @@ def test_the_slide_path_is_checked_again_independently(scene_and_planner):
     assert "l3" in touched
 
 
-def test_the_push_scene_is_solved_and_simulated_with_the_slide(tmp_path, monkeypatch, capsys):
+def test_the_push_scene_is_solved_and_simulated_with_the_slide(push_sg, tmp_path, monkeypatch, capsys):
     """Costmap built with the push's slide rule; the strategy pushes (the
     grab costs 100); the simulator carries the slide out and measures it
     at its abstract cost."""
     from symsynth.cli import main
 
     monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path))
-    scene = load_scene(DATA / "push-small.yaml")
-    costmap, _ = compute_costmap(scene, "sg", progress=False)
-    (rule,) = costmap.slide_rules("behind", "l1", "l2")
+    (rule,) = push_sg.slide_rules("behind", "l1", "l2")
     length = float(np.linalg.norm(np.diff(np.asarray(rule.path), axis=0), axis=1).sum())
     assert rule.cost == pytest.approx(length * 10 + 2)  # per_radian 10, the scene's push cost 2
     assert main(["simulate", str(DATA / "push-small.yaml"), "--human", "none", "--json"]) == 0
@@ -154,7 +159,7 @@ def test_the_bundled_push_scene_needs_its_contact(tmp_path, monkeypatch, capsys)
     assert json.loads(capsys.readouterr().out)["cost_bound"] is None
 
 
-def test_costmap_verify_rechecks_slide_evidence(scene_and_planner):
+def test_costmap_verify_rechecks_slide_evidence(scene_and_planner, push_sg):
     """The built slide rule verifies; a forged cost, a path that does not end
     at the goal's anchor and a `free` set that leaves out a swept place are
     each caught."""
@@ -163,7 +168,7 @@ def test_costmap_verify_rechecks_slide_evidence(scene_and_planner):
     from symsynth.scene.costmap import Costmap
 
     scene, planner = scene_and_planner
-    costmap, _ = compute_costmap(scene, "sg", progress=False)
+    costmap = push_sg
     checked, failures = verify_costmap(costmap, scene, planner, 0.01, progress=False)
     assert failures == [] and checked == sum(1 for _ in costmap.all_rules())
     key = ("behind", "l1", "l2")
