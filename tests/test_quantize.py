@@ -11,6 +11,7 @@ resolution divides every cost.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import math
 from fractions import Fraction
@@ -63,13 +64,20 @@ def fractional(scene, factor: str, nudge: float = 0.0):
                                drop_cost=cost(scene.drop_cost))
 
 
+@functools.cache
+def fractional_case(seed: int, nudge: float):
+    """(scene, formula, exact value) of one case, worked out once for all
+    the solvers (the exact value takes most of a second of Fractions)."""
+    scene = fractional(random_scene(seed), "0.37", nudge)
+    formula = parse_ltlf(scene.task)
+    return scene, formula, exact_value(scene, formula, scene.k)
+
+
 @pytest.mark.parametrize("nudge", [0.0, 1e-12])
 @pytest.mark.parametrize("solver", sorted(SOLVERS))
 @pytest.mark.parametrize("seed", range(100, 112))
 def test_units_never_undercut_the_exact_value(solver, seed, nudge):
-    scene = fractional(random_scene(seed), "0.37", nudge)
-    formula = parse_ltlf(scene.task)
-    exact = exact_value(scene, formula, scene.k)
+    scene, formula, exact = fractional_case(seed, nudge)
     largest = max([scene.grab_cost, scene.drop_cost]
                   + [r.cost for rules in scene.costmap.motions.values() for r in rules])
     for resolution in (0.01, 0.1, 0.25, 1.0, 3.0, largest):
