@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import functools
 
 import pytest
 
@@ -45,14 +46,26 @@ def test_relations_give_the_abstractions_moves_and_costs(seed, contacts):
 CROSS_SEEDS = range(240)
 
 
+def cross_scene(seed):
+    return random_scene(1000 + seed, positive=seed % 2 == 0), seed % 4
+
+
+@functools.cache
+def explicit_value(seed):
+    """(units, cost_bound) of the explicit solver on the cross-checked scene
+    `seed`, solved once for the two tests below."""
+    scene, k = cross_scene(seed)
+    explicit = solve_explicit(scene, k=k)
+    return explicit.units, explicit.cost_bound
+
+
 @pytest.mark.parametrize("seed", CROSS_SEEDS)
 def test_same_value_as_the_explicit_solver(seed):
-    scene = random_scene(1000 + seed, positive=seed % 2 == 0)
-    k = seed % 4
+    scene, k = cross_scene(seed)
     symbolic = solve_symbolic(scene, k=k)
-    explicit = solve_explicit(scene, k=k)
-    assert symbolic.units == explicit.units
-    assert symbolic.cost_bound == explicit.cost_bound
+    units, cost_bound = explicit_value(seed)
+    assert symbolic.units == units
+    assert symbolic.cost_bound == cost_bound
     if symbolic.units is not None:
         robot_costs = sum(s.cost for s in symbolic.principal_play if s.who == "robot")
         assert robot_costs == pytest.approx(symbolic.cost_bound)
@@ -61,8 +74,7 @@ def test_same_value_as_the_explicit_solver(seed):
 def test_cross_check_is_not_vacuous():
     """Realizable and unrealizable scenes, each k, and values above a single
     action's cost all occur among the cross-checked scenes."""
-    results = [(seed % 4, solve_explicit(random_scene(1000 + seed, positive=seed % 2 == 0), k=seed % 4).units)
-               for seed in CROSS_SEEDS]
+    results = [(seed % 4, explicit_value(seed)[0]) for seed in CROSS_SEEDS]
     assert sum(units is None for _, units in results) >= 40
     assert sum(units is not None and units > 10 for _, units in results) >= 60
     for k in range(4):
