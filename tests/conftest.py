@@ -16,11 +16,17 @@ from support.paper import PLANNERS, SCENES, small
 from symsynth.planning.build import compute_costmaps
 
 
-def once(tmp_path_factory, worker_id: str, name: str, compute):
+def xdist_worker(config) -> bool:
+    """Whether this process is a pytest-xdist worker (not the only process
+    of a run with -n 0, nor one without the plugin)."""
+    return hasattr(config, "workerinput")
+
+
+def once(config, tmp_path_factory, name: str, compute):
     """compute(), done once per run: in one process, directly; under xdist
     by the first worker to get here, while the others wait on a lock in the
     run's shared temporary folder and read the pickled result."""
-    if worker_id == "master":
+    if not xdist_worker(config):
         return compute()
     shared = tmp_path_factory.getbasetemp().parent  # the run's folder, above each worker's own
     result = shared / f"{name}.pickle"
@@ -40,19 +46,19 @@ def _paper(name):
 
 
 @pytest.fixture(scope="session")
-def paper_arch(tmp_path_factory, worker_id):
+def paper_arch(request, tmp_path_factory):
     """(arch scene, {"sg": costmap, "recursive": costmap}) by the pybullet planner."""
-    return once(tmp_path_factory, worker_id, "paper_arch", lambda: _paper("arch"))
+    return once(request.config, tmp_path_factory, "paper_arch", lambda: _paper("arch"))
 
 
 @pytest.fixture(scope="session")
-def paper_line(tmp_path_factory, worker_id):
+def paper_line(request, tmp_path_factory):
     """(line scene, {"sg": costmap, "recursive": costmap}) by the ompl-fcl planner."""
-    return once(tmp_path_factory, worker_id, "paper_line", lambda: _paper("line"))
+    return once(request.config, tmp_path_factory, "paper_line", lambda: _paper("line"))
 
 
 @pytest.fixture(scope="session", autouse=True)
-def compiled_kernels_once(request, tmp_path_factory, worker_id):
+def compiled_kernels_once(request, tmp_path_factory):
     """The compiled solver's numba kernels are compiled on first use and
     cached on disk (symsynth/solvers/compiled.py: cache=True); on a fresh
     install that takes about 26 s of CPU, and two workers that both reach
@@ -60,7 +66,7 @@ def compiled_kernels_once(request, tmp_path_factory, worker_id):
     run of several test files compiles them up front (a solve of the toy
     scene compiles all 55 specializations) while the others wait and then
     load the cache (about 0.5 s)."""
-    if worker_id == "master" or len({item.path for item in request.session.items}) < 2:
+    if not xdist_worker(request.config) or len({item.path for item in request.session.items}) < 2:
         return
 
     def solve_toy():
@@ -69,5 +75,5 @@ def compiled_kernels_once(request, tmp_path_factory, worker_id):
 
         return SOLVERS["compiled"](load_scene(SCENES / "toy.yaml"), k=0).cost_bound
 
-    once(tmp_path_factory, worker_id, "compiled_kernels", solve_toy)
+    once(request.config, tmp_path_factory, "compiled_kernels", solve_toy)
     solve_toy()  # in a worker that waited: loads the kernels from the cache now
