@@ -19,6 +19,7 @@ from symsynth.automata.invariant import Invariants, invariant_shape
 from symsynth.automata.normal import nnf
 from symsynth.automata.progression import GuardedDFA, Progression, minimize
 from symsynth.logic import ast, atoms, holds, to_string
+from symsynth.automata.bdd import cofactor
 
 SETTINGS = settings(max_examples=150, deadline=None)
 ATOMS = ("a", "b", "c")
@@ -77,7 +78,7 @@ class Runner:
     def step(self, state, letter):
         values = {x: x in letter for x in self.atom_keys}
         bdd = self.dfa.bdd
-        hits = [succ for succ, guard in self.dfa.edges[state].items() if bdd.let(values, guard) == bdd.true]
+        hits = [succ for succ, guard in self.dfa.edges[state].items() if cofactor(bdd, values, guard) == bdd.true]
         assert len(hits) == 1, (state, letter, hits)
         return hits[0]
 

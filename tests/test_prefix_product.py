@@ -15,6 +15,7 @@ from symsynth.automata.compile import explicit_product, prefix_product
 from symsynth.automata.normal import nnf
 from symsynth.automata.progression import GuardedDFA, Progression, minimize
 from symsynth.logic import ast, to_string
+from symsynth.automata.bdd import cofactor
 
 ATOMS = ("a", "b", "c")
 KEYS = list(ATOMS)
@@ -40,7 +41,7 @@ class Runner:
     def step(self, state, letter):
         bdd = self.dfa.bdd
         values = {x: x in letter for x in KEYS}
-        (hit,) = [t for t, g in self.dfa.edges[state].items() if bdd.let(values, g) == bdd.true]
+        (hit,) = [t for t, g in self.dfa.edges[state].items() if cofactor(bdd, values, g) == bdd.true]
         return hit
 
     def is_accepting(self, state):

@@ -32,6 +32,7 @@ from symsynth.scene.propositions import interpret_all
 from symsynth.solvers.bdd.classes import ClassArena
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers.symbolic import solve_symbolic
+from symsynth.automata.bdd import cofactor
 
 
 def with_classes(seeds, contacts=False):
@@ -80,7 +81,7 @@ def test_atoms_read_the_letter(index):
     predicates = {key: arena.enc.proposition(p) for key, p in props.items()}
     for v in real_states(scene):
         values = arena.enc.assignment(v)
-        holds = {key for key, u in predicates.items() if arena.bdd.let(values, u) == arena.bdd.true}
+        holds = {key for key, u in predicates.items() if cofactor(arena.bdd, values, u) == arena.bdd.true}
         assert holds == letter(scene, props, v), v
 
 

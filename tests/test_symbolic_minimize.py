@@ -24,7 +24,7 @@ import pytest
 from support.reference import ReferenceDFA, all_traces, distinguishing_trace, letters
 from support.reference import minimize as moore
 from symsynth.automata import compile_ltlf
-from symsynth.automata.bdd import new_manager
+from symsynth.automata.bdd import cofactor, new_manager
 from symsynth.automata.progression import GuardedDFA
 from symsynth.automata import symbolic
 from symsynth.automata.symbolic import _least_member, product
@@ -125,10 +125,10 @@ def least_by_enumeration(bdd, relation, sources: list[str], targets: list[str]):
     """For each assignment of `sources`, keep only its least target (first most significant)."""
     result = bdd.false
     for values in itertools.product((False, True), repeat=len(sources)):
-        here = bdd.let(dict(zip(sources, values)), relation) if sources else relation
+        here = cofactor(bdd, dict(zip(sources, values)), relation)
         for t_values in itertools.product((False, True), repeat=len(targets)):
             point = dict(zip(targets, t_values))
-            if bdd.let(point, here) == bdd.true:
+            if cofactor(bdd, point, here) == bdd.true:
                 result |= bdd.cube(dict(zip(sources, values)) | point)
                 break
     return result

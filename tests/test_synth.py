@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 from support.reference import reference_dfa
 from support.strategies import formulas
 from symsynth.automata import compile_ltlf
-from symsynth.automata.bdd import lexmin
+from symsynth.automata.bdd import cofactor, lexmin
 from symsynth.cli import main
 from symsynth.logic import ast, parse_ltlf
 from symsynth.synthesis import Partition, read_partition, solve_realizability
@@ -215,7 +215,7 @@ def test_the_machine_follows_the_dfa_letter_by_letter(agent_first):
         assert len(moves) == 2 ** len(game.inputs)
         choices = game.choices(game.rank(dfa.state_cube(state)), dict(zip(dfa.bits, state)))
         for move in moves:
-            allowed = bdd.forall(set(game.inputs), choices) if agent_first else bdd.let(move.input, choices)
+            allowed = bdd.forall(set(game.inputs), choices) if agent_first else cofactor(bdd, move.input, choices)
             assert tuple(move.output.values()) == lexmin(bdd, allowed, game.outputs)
             after = dfa.step(state, {a for a, v in (move.input | move.output).items() if v})
             assert move.next == ("win" if dfa.is_accepting(after) else machine.states.index(after))

@@ -21,6 +21,7 @@ from symsynth.automata import compile_ltlf
 from symsynth.logic import parse_ltlf
 from symsynth.synthesis import Partition, solve_realizability
 from symsynth.synthesis.preimage import CLUSTER_NODES, SUBSTITUTION_STEPS, Preimage
+from symsynth.automata.bdd import cofactor
 
 ATOMS = ("a", "b", "c")
 CLUSTERS = (0, 12, 60, CLUSTER_NODES)
@@ -45,7 +46,7 @@ def letters(atoms):
 
 def holds_at(dfa, f, values) -> bool:
     support = dfa.bdd.support(f)
-    return (dfa.bdd.let({v: values[v] for v in support}, f) if support else f) == dfa.bdd.true
+    return cofactor(dfa.bdd, {v: values[v] for v in support}, f) == dfa.bdd.true
 
 
 @settings(max_examples=80, deadline=None)

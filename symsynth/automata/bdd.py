@@ -62,6 +62,26 @@ def and_exists(bdd: BDD, u: Function, v: Function, qvars: Collection[str]) -> Fu
     return bdd.exist(qvars, u & v)  # pragma: no cover - only without CUDD
 
 
+def cofactor(bdd: BDD, values: Mapping[str, bool], u: Function) -> Function:
+    """`u` with each variable of `values` fixed to its value.
+
+    Not `bdd.let(values, u)`: with Boolean values dd.cudd's `let` is CUDD's
+    `Cudd_Cofactor`, which on long runs leaves CUDD's count of dead nodes
+    wrong (`Cudd_DebugCheck` fails after some 28,000 guards printed from
+    Random/Syft's syft_2/001), and the process then aborts at the next
+    garbage collection ("cuddGarbageCollect: problem in table ... dead
+    count != deleted").  The same cofactors as one `Cudd_bddAndAbstract`
+    with the cube of `values` kept the counts right over twice as many
+    (docs/ltlf.md, "A CUDD abort, and why symsynth never calls
+    `Cudd_Cofactor`").  Every Boolean substitution goes
+    through here."""
+    if not values:
+        return u
+    if BACKEND == "cudd":
+        return _backend.and_exists(u, bdd.cube(dict(values)), values.keys())
+    return bdd.let(dict(values), u)  # pragma: no cover - only without CUDD
+
+
 def exists(bdd: BDD, u: Function, qvars: Sequence[str]) -> Function:
     """\\E qvars: u.  (dd.cudd's `exist` goes through its general
     `quantify`: twice the time of this one call on small BDDs.)"""
@@ -188,8 +208,8 @@ def isop(bdd: BDD, f: Function) -> list[Cube]:
         top = min((u for u in (lower, upper) if not is_constant(bdd, u)), key=lambda u: u.level)
         var = top.var
         x = bdd.var(var)
-        l0, l1 = bdd.let({var: False}, lower), bdd.let({var: True}, lower)
-        u0, u1 = bdd.let({var: False}, upper), bdd.let({var: True}, upper)
+        l0, l1 = _split_on(bdd, lower, top.level)
+        u0, u1 = _split_on(bdd, upper, top.level)
         c0, cubes0 = rec(l0 & ~u1, u0)  # minterms that need x = 0
         c1, cubes1 = rec(l1 & ~u0, u1)  # minterms that need x = 1
         rest_lower = (l0 & ~c0) | (l1 & ~c1)
@@ -201,6 +221,13 @@ def isop(bdd: BDD, f: Function) -> list[Cube]:
         return cover, cubes
 
     return rec(f, f)[1]
+
+
+def _split_on(bdd: BDD, u: Function, level: int) -> tuple[Function, Function]:
+    """The cofactors of `u` on the variable at `level`, at or above `u`'s top."""
+    if is_constant(bdd, u) or u.level != level:
+        return u, u
+    return branches(bdd, u)
 
 
 def format_cubes(cubes: Iterable[Cube], names: Mapping[str, str] | None = None) -> str:

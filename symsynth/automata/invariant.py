@@ -32,7 +32,7 @@ initial state, the prefix and the sink (the caller minimizes).
 from __future__ import annotations
 
 from symsynth.automata import moves as moves_
-from symsynth.automata.bdd import Function, branches
+from symsynth.automata.bdd import Function, branches, cofactor
 from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge
 from symsynth.logic import ast
 
@@ -139,7 +139,7 @@ class Invariants:
         dead = bdd.false in cofactors  # a first letter after which nothing is allowed: the sink's
         if dead:
             cofactors.remove(bdd.false)
-        allowed = [bdd.let(self._unprimed, bdd.let({"#e": False}, node)) for node in cofactors]  # F(x0, y := x)
+        allowed = [bdd.let(self._unprimed, cofactor(bdd, {"#e": False}, node)) for node in cofactors]  # F(x0, y := x)
         sink = k + 1 + len(cofactors)
         has_sink = dead or any(a != bdd.true for a in allowed)
         n = sink + 1 if has_sink else sink
@@ -150,7 +150,7 @@ class Invariants:
             number[bdd.false] = sink
         step = self._relabel(h, {node: cubes[i] for node, i in number.items()})  # Next(x, z)
         accepting = [i >= 1 and prefix[i - 1] is ast.WeakNext for i in range(k + 1)]
-        accepting += [bdd.let({"#e": True}, node) == bdd.true for node in cofactors]
+        accepting += [cofactor(bdd, {"#e": True}, node) == bdd.true for node in cofactors]
         moves = [cubes[i + 1] for i in range(k)] + [step]
         moves += [step if ok == bdd.true else bdd.ite(ok, step, cubes[sink]) for ok in allowed]
         if has_sink:

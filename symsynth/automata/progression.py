@@ -25,7 +25,7 @@ from __future__ import annotations
 from functools import singledispatchmethod
 
 from symsynth.automata import moves as moves_
-from symsynth.automata.bdd import BDD, Function, branches, new_manager, split_letters
+from symsynth.automata.bdd import BDD, Function, branches, cofactor, new_manager, split_letters
 from symsynth.logic import ast
 
 
@@ -215,7 +215,7 @@ class Progression:
     def _accepts(self, state: Function) -> bool:
         # the trace ends here: X f is false, WX f is true
         ending = {name: not self._obligation[name][0] for name in self.bdd.support(state)}
-        return (self.bdd.let(ending, state) if ending else state) == self.bdd.true
+        return cofactor(self.bdd, ending, state) == self.bdd.true
 
     def _successors(self, state: Function, below: dict | None = None) -> dict[Function, Function]:
         """successor state -> guard, by splitting on the atom levels."""

@@ -23,7 +23,7 @@ from collections import Counter
 from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from contextlib import AbstractContextManager, nullcontext
 
-from symsynth.automata.bdd import (BDD, Function, and_exists, children_first, fixed_order, format_cubes, is_constant,
+from symsynth.automata.bdd import (BDD, Function, and_exists, children_first, cofactor, fixed_order, format_cubes, is_constant,
                                    isop, lexmin, restrict)
 from symsynth.automata import moves as moves_
 from symsynth.automata.explicit import ExplicitDFA
@@ -220,7 +220,7 @@ class SymbolicDFA:
         moved_next = bdd.let(self.delta, moved)
         delta = {b: bdd.ite(moved_next, rep[b] if is_constant(bdd, rep[b]) else bdd.let(self.delta, rep[b]),
                             self.delta[b]) for b in self.bits}
-        start = bdd.let(self.initial_assignment, representative)  # Rep(init, q'): one q'
+        start = cofactor(bdd, self.initial_assignment, representative)  # Rep(init, q'): one q'
         initial = {b: start & bdd.var(t) != bdd.false for b, t in primed.items()}
         # the quotient's reachable states are the least members of the classes
         # of reachable states: rep(init) is one, and rep(delta(rep(s), x)) =
@@ -247,8 +247,7 @@ class SymbolicDFA:
         for state in order:
             accepting.append(self.is_accepting(state))
             values = dict(zip(self.bits, state))
-            functions = [bdd.let(values, self.delta[b]) if values else self.delta[b]
-                         for b in self.bits]
+            functions = [cofactor(bdd, values, self.delta[b]) for b in self.bits]
             successors = sorted(_split(bdd, functions),
                                 key=lambda sg: lexmin(bdd, sg[1], self.atoms))
             for succ, guard in successors:
@@ -263,7 +262,7 @@ class SymbolicDFA:
 
 
 def _evaluate(bdd: BDD, values: Mapping[str, bool], u: Function) -> bool:
-    return (bdd.let(values, u) if values else u) == bdd.true
+    return cofactor(bdd, values, u) == bdd.true
 
 
 def _split(bdd: BDD, functions: list[Function]) -> list[tuple[State, Function]]:

@@ -32,7 +32,7 @@ from contextlib import contextmanager
 
 from tqdm import tqdm
 
-from symsynth.automata.bdd import Function, peak_nodes
+from symsynth.automata.bdd import Function, cofactor, peak_nodes
 from symsynth.game.abstraction import (State, initial_state, legal_human_moves,
                                        letter, robot_moves)
 from symsynth.game.graph import PASS
@@ -189,12 +189,12 @@ class _Queries:
         return values
 
     def _holds(self, u: Function, values: dict[str, bool]) -> bool:
-        return (self.bdd.let(values, u) if values else u) == self.bdd.true
+        return cofactor(self.bdd, values, u) == self.bdd.true
 
     def restrict(self, u: Function, position: Position) -> Function:
         v, q, h = position
         values = self._values(v, q, h)
-        return self.bdd.let(values, u) if values else u
+        return cofactor(self.bdd, values, u)
 
     def contains(self, u: Function, position: Position) -> bool:
         """Some budget puts `position` in `u`."""
@@ -237,12 +237,12 @@ class _Queries:
         values = arena.enc.assignment(v)
         moves = []
         for relation in arena.robot.values():
-            options = bdd.let(values, relation)  # over (v', c)
+            options = cofactor(bdd, values, relation)  # over (v', c)
             targets = bdd.exist(set(arena.c.bits), options)
             for bits in bdd.pick_iter(targets, care_vars=set(arena.next_bits)):
                 w = arena.enc.decode(bits, primed=True)
                 # the relation is upward closed in c: the action's cost is its least c
-                cost = arena.c.least(bdd, bdd.let(arena.enc.assignment(w, primed=True), options))
+                cost = arena.c.least(bdd, cofactor(bdd, arena.enc.assignment(w, primed=True), options))
                 if cost is None:  # w was picked from the options: some cost leads there
                     raise ValueError(f"no cost for the robot move from {v} to {w}")
                 moves.append((action_between(arena.scene, v, w), w, cost))
@@ -250,7 +250,7 @@ class _Queries:
 
     def human_moves(self, v: State) -> list[tuple[str, State]]:
         arena, bdd = self.arena, self.bdd
-        options = bdd.let(arena.enc.assignment(v), arena.human)
+        options = cofactor(bdd, arena.enc.assignment(v), arena.human)
         targets = (arena.enc.decode(bits, primed=True)
                    for bits in bdd.pick_iter(options, care_vars=set(arena.next_bits)))
         return sorted(((_move_name(arena.scene, v, w), w) for w in targets), key=lambda m: m[0])

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from symsynth.automata.bdd import BDD, Function
+from symsynth.automata.bdd import BDD, Function, cofactor
 from symsynth.automata.symbolic import SymbolicDFA
 from symsynth.synthesis.partition import Partition
 from symsynth.synthesis.preimage import Preimage
@@ -67,7 +67,7 @@ class Realizability:
         below = self.rounds[rank - 2] if rank >= 2 else bdd.false
         if not dfa.bits:
             return dfa.accepting | below
-        here = {b: bdd.let(state, dfa.delta[b]) for b in dfa.bits}  # delta(state, x, y): small
+        here = {b: cofactor(bdd, state, dfa.delta[b]) for b in dfa.bits}  # delta(state, x, y): small
         return bdd.let(here, dfa.accepting | below)
 
 
@@ -79,7 +79,7 @@ def least_outputs(bdd: BDD, allowed: Function, outputs: tuple[str, ...]) -> dict
     functions = {}
     for i, y in enumerate(outputs):
         rest = set(outputs[i + 1:])
-        zero = bdd.let({y: False}, allowed)
+        zero = cofactor(bdd, {y: False}, allowed)
         f = ~(bdd.exist(rest, zero) if rest else zero)
         allowed = bdd.let({y: f}, allowed)
         functions[y] = f

@@ -15,7 +15,7 @@ import json
 from dataclasses import dataclass
 from typing import Any
 
-from symsynth.automata.bdd import Function, lexmin
+from symsynth.automata.bdd import Function, cofactor, lexmin
 from symsynth.errors import InputError
 from symsynth.synthesis.game import Realizability, least_outputs
 
@@ -97,7 +97,7 @@ def strategy_machine(game: Realizability) -> Machine:
         else:  # an output per input: the least one C allows, as functions of x
             output = least_outputs(bdd, choices, game.outputs)
         # the output and the successor (delta(state, x, output)) at every input letter at once
-        nexts = [bdd.let(values, dfa.delta[b]) for b in dfa.bits]
+        nexts = [cofactor(bdd, values, dfa.delta[b]) for b in dfa.bits]
         if output:
             nexts = [bdd.let(output, f) for f in nexts]
         table = _table(bdd, list(output.values()) + nexts, game.inputs)

@@ -49,7 +49,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from symsynth.automata.bdd import BDD, Function, children_first, new_manager
+from symsynth.automata.bdd import BDD, Function, children_first, cofactor, new_manager
 from symsynth.errors import InputError, read_text
 from symsynth.synthesis.game import Realizability, least_outputs
 
@@ -92,7 +92,7 @@ class SymbolicStrategy:
     def _value(self, f: Function, values: Assignment) -> bool:
         # restrict f to the variables it reads; every one must be valued
         support = self.bdd.support(f)
-        return (self.bdd.let({v: bool(values[v]) for v in support}, f) if support else f) == self.bdd.true
+        return cofactor(self.bdd, {v: bool(values[v]) for v in support}, f) == self.bdd.true
 
     def to_json(self) -> dict[str, Any]:
         roots = {"delta": dict(self.delta), "accepting": self.accepting, "winning": self.winning,
