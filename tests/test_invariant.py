@@ -20,6 +20,7 @@ from symsynth.automata.normal import nnf
 from symsynth.automata.progression import GuardedDFA, Progression, minimize
 from symsynth.logic import ast, atoms, holds, to_string
 from symsynth.automata.bdd import cofactor
+from symsynth.automata.moves import decode_all
 
 SETTINGS = settings(max_examples=150, deadline=None)
 ATOMS = ("a", "b", "c")
@@ -92,7 +93,10 @@ def test_the_direct_construction_accepts_the_language(formula):
     shape = invariant_shape(nnf(formula))
     assert shape is not None, to_string(formula)
     progression = Progression(keys(formula))
-    dfa = minimize(Invariants(progression).dfa(*shape))
+    made = Invariants(progression).dfa(*shape)
+    if made.has_edges():  # sparse: the edges were read off H, and must be what its moves say
+        assert made.edges == decode_all(made.bdd, made.moves), to_string(formula)
+    dfa = minimize(made)
     assert dfa.num_states == minimal_num_states(formula), to_string(formula)
     assert distinguishing_trace(Runner(dfa, keys(formula)), reference_dfa(formula), keys(formula)) is None
 

@@ -86,7 +86,7 @@ MOVES_PAIRS = 1000
 #: its edges would have to be split off its moves first, one guard per edge
 #: (Nim nim_04_01: 3.0 s that way, 1.2 s on the moves; 16, 32 and 64 gave
 #: nim_03_01 0.16, 0.12, 0.12 s and nim_03_02 0.63, 0.69, 0.89 s).
-MOVES_DEGREE = 32
+MOVES_DEGREE = moves_.SPARSE_DEGREE
 
 #: An explicit `&` / `|` with an operand of at most this many states that
 #: looks a bounded number of letters ahead and a larger one is made by

@@ -32,7 +32,7 @@ initial state, the prefix and the sink (the caller minimizes).
 from __future__ import annotations
 
 from symsynth.automata import moves as moves_
-from symsynth.automata.bdd import Function, branches, cofactor
+from symsynth.automata.bdd import Function, branches, cofactor, split_letters
 from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge
 from symsynth.logic import ast
 
@@ -162,7 +162,19 @@ class Invariants:
             raise TooLarge(f"more than {max_edges} edges")
         if max_degree is not None and n >= 100 and count > max_degree * n + 2000:
             raise TooDense(f"more than {max_degree} successors per state")
-        return GuardedDFA(bdd, 0, accepting, moves=moves, degrees=degrees)
+        edges = None
+        if count <= moves_.SPARSE_DEGREE * n:  # its products take its edges: read them off H
+            split = split_letters(bdd, h, self.num_atoms)  # cofactor -> the letters into it
+            after = {number[node]: guard for node, guard in split.items()}
+            edges = [{i + 1: bdd.true} for i in range(k)] + [after]
+            for ok in allowed:
+                out = {t: guard & ok for t, guard in after.items()} if ok != bdd.true else dict(after)
+                if ok != bdd.true:
+                    out[sink] = out[sink] | ~ok if sink in out else ~ok
+                edges.append({t: guard for t, guard in out.items() if guard != bdd.false})
+            if has_sink:
+                edges.append({sink: bdd.true})
+        return GuardedDFA(bdd, 0, accepting, edges, moves=moves, degrees=degrees)
 
     def _cofactors(self, h: Function) -> list[Function]:
         """The nodes where the paths of `h` leave the atom levels, in the

@@ -37,6 +37,9 @@ from dataclasses import dataclass
 
 from symsynth.automata.bdd import BDD, Function, and_exists, branches, exists, split_letters, swap
 
+#: Successors per state on average up to which a DFA's edges (guards) are
+#: the better form for products: past it a product works on the moves.
+SPARSE_DEGREE = 32
 #: Bits per family: DFAs of up to 2^WIDTH states.
 WIDTH = 24
 FAMILIES = ("x", "y", "z", "s", "c")  # in level order
