@@ -6,10 +6,14 @@ import json
 import re
 
 import pytest
+from hypothesis import given, settings
 
-from support.reference import JsonDFA, all_traces, distinguishing_trace, minimal_num_states, reference_dfa
+from support.reference import (JsonDFA, all_traces, distinguishing_trace, minimal_num_states, minimize,
+                               reference_dfa)
+from support.strategies import formulas
+from symsynth.automata import compile_ltlf
 from symsynth.cli import main
-from symsynth.logic import atoms, holds, parse_ltlf
+from symsynth.logic import atoms, holds, parse_ltlf, to_string
 
 
 def run(capsys, *argv):
@@ -159,3 +163,45 @@ def test_bad_options_exit_with_2(capsys, argv):
     err = capsys.readouterr().err
     assert err.strip()
     assert "Traceback" not in err
+
+
+@settings(max_examples=60, deadline=None)
+@given(formulas(max_depth=3))
+def test_the_transitions_counted_are_the_minimal_dfas(formula):
+    """`num_transitions` (one BDD, counted) against the (state, successor)
+    pairs of the reference DFA minimized by brute force."""
+    reference = minimize(reference_dfa(formula))
+    expected = sum(len(set(row)) for row in reference.delta)
+    dfa = compile_ltlf(formula)
+    assert dfa.num_transitions() == expected, to_string(formula)
+    assert len(dfa.to_explicit().transitions) == expected
+
+
+def test_a_dfa_past_the_transition_limit_is_refused_before_it_is_listed(capsys, tmp_path):
+    """G(a -> X b) & F c: 5 states, 15 transitions, counted by hand: the start
+    reaches itself, 'c seen', 'b owed' and 'both' (4); 'c seen' itself and
+    'both' (2); 'b owed' the sink and the start's 4 (5); 'both' the sink,
+    'c seen' and itself (3); the sink itself (1)."""
+    formula = "G(a -> X b) & F c"
+    expected = 15
+    assert sum(len(set(row)) for row in minimize(reference_dfa(parse_ltlf(formula))).delta) == expected
+    code, out, err = run(capsys, "dfa", "--json", "--max-transitions", str(expected - 1), formula)
+    assert code == 2 and out == ""
+    assert f"{expected:,} transitions (more than {expected - 1:,})" in err and "--max-transitions 0" in err
+    assert "Traceback" not in err
+    dot = tmp_path / "dfa.dot"
+    code, out, err = run(capsys, "dfa", "--dot", str(dot), "--max-transitions", str(expected - 1), formula)
+    assert code == 2 and not dot.exists()
+    for limit in (expected, 0):  # at the limit, and no limit
+        code, out, _ = run(capsys, "dfa", "--json", "--max-transitions", str(limit), formula)
+        assert code == 0 and len(json.loads(out)["transitions"]) == expected
+
+
+@pytest.mark.parametrize("value", ["-1", "many", "1.5"])
+def test_a_bad_transition_limit_exits_with_2(capsys, value):
+    try:
+        code = main(["dfa", "--json", "--max-transitions", value, "F a"])
+    except SystemExit as stop:
+        code = stop.code
+    err = capsys.readouterr().err
+    assert code == 2 and "--max-transitions" in err and "Traceback" not in err

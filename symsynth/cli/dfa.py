@@ -7,9 +7,16 @@ import json
 import time
 from pathlib import Path
 
+from tqdm import tqdm
+
 from symsynth.automata import compile_ltlf
-from symsynth.errors import read_text
+from symsynth.automata.explicit import ExplicitDFA
+from symsynth.automata.symbolic import SymbolicDFA, TooManyTransitions
+from symsynth.errors import InputError, read_text
 from symsynth.files import write_atomic
+
+#: Transitions `--json` and `--dot` list at most unless asked (JSON: ~80 bytes each).
+MAX_TRANSITIONS = 200_000
 
 HELP = "compile an LTLf formula to its minimal symbolic DFA"
 DESCRIPTION = """\
@@ -36,7 +43,33 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="meaning of plain X (default: strong; 'weak' as in Lydia, Spot, TLSF)")
     parser.add_argument("--json", action="store_true", help="print the explicit DFA as JSON")
     parser.add_argument("--dot", type=Path, metavar="FILE", help="write the DFA as Graphviz to FILE")
+    parser.add_argument("--max-transitions", type=_count, default=MAX_TRANSITIONS, metavar="N",
+                        help="refuse --json and --dot for a DFA of more than N transitions "
+                        f"(default {MAX_TRANSITIONS:,}; 0: no limit)")
     parser.set_defaults(run=run)
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a whole number of transitions, got {text!r}")
+    return value
+
+
+def _explicit(dfa: SymbolicDFA, limit: int | None) -> ExplicitDFA:
+    """The explicit DFA, with a progress bar past a second; a DFA past
+    `limit` transitions is refused before its guards are printed."""
+    with tqdm(total=dfa.num_states, desc="explicit DFA", unit=" states", delay=1.0, leave=False,
+              disable=None) as bar:
+        try:
+            return dfa.to_explicit(limit, lambda done: bar.update(done - bar.n))
+        except TooManyTransitions as error:
+            raise InputError(f"{error}: too large to list as JSON or DOT; the summary (without "
+                             f"--json and --dot) describes it, or --max-transitions 0 lifts "
+                             f"the limit") from None
 
 
 def read_formula(args: argparse.Namespace) -> tuple[str, str]:
@@ -52,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
     dfa = compile_ltlf(text, next_semantics=args.next, source=source)
     seconds = time.perf_counter() - start
     if args.json or args.dot:
-        explicit = dfa.to_explicit()
+        explicit = _explicit(dfa, args.max_transitions or None)
         if args.dot:
             write_atomic(args.dot, explicit.to_dot(title=text.strip()), "DOT file")
         if args.json:
