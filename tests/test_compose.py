@@ -172,3 +172,45 @@ def test_an_operand_that_decides_its_operator_gives_the_language(f, g, shape, pa
     dfa = compile_ltlf(formula, limits=PATHS[path])
     assert dfa.num_states == minimal_num_states(formula), (to_string(formula), path)
     assert distinguishing_trace(dfa, reference_dfa(formula), keys(formula)) is None, (to_string(formula), path)
+
+
+#: first-letter conditions: Boolean combinations of atoms (no temporal operator)
+conditions = st.builds(lambda op, f, g: op(f, g), st.sampled_from([ast.And, ast.Or, ast.Implies]),
+                       formulas(max_depth=1, leaf_strategy=st.sampled_from([ast.Atom(n) for n in "abc"])),
+                       st.sampled_from([ast.Atom("a"), ast.Not(ast.Atom("b")), ast.Atom("c")]))
+BOOLEAN = [ast.Implies, ast.Or, ast.Equiv, lambda f, g: ast.Not(ast.And(f, g))]
+
+
+@SETTINGS
+@given(conditions, st.sampled_from(BOOLEAN), formulas(max_depth=3), formulas(max_depth=3),
+       st.sampled_from(sorted(PATHS)))
+def test_a_first_letter_condition_pushed_under_the_others_operators(condition, op, left, right, path):
+    """`P & (A op B)` with P propositional: P is conjoined under `->`, `|`,
+    `<->` and `!` (`Composer._pushed`); the minimal DFA is the language's."""
+    formula = ast.And(condition, op(left, right))
+    dfa = compile_ltlf(formula, limits=PATHS[path])
+    assert dfa.num_states == minimal_num_states(formula), (to_string(formula), path)
+    assert distinguishing_trace(dfa, reference_dfa(formula), keys(formula)) is None
+
+
+def test_the_condition_is_pushed_where_the_products_are():
+    """`a & (F(a & b) -> G(a | c))`: the implication's sides are `a & F(a & b)`
+    and `a & G(a | c)`; `a & (F b -> G(a | c))`: only into the side that
+    reads `a`; `a & X(F a -> G c)`: under the operators `expose` pulls up
+    through X, `!WX F a | X G c`, into the side reading `a`, and not inside
+    X (its operand is read a letter later)."""
+    from symsynth.automata.compile import Composer
+    from symsynth.automata.progression import Progression
+
+    def pushed(text):
+        formula = parse_ltlf(text)
+        composer = Composer(Progression(keys(formula)))
+        composer.compose(formula)  # (sets up the composer's sets of subformulas)
+        op, operands = composer.shape(formula)
+        assert op == "and" and operands[0] == a
+        return operands[1]
+
+    a, f = ast.Atom("a"), parse_ltlf
+    assert pushed("a & (F(a & b) -> G(a | c))") == ast.Implies(ast.And(a, f("F(a & b)")), ast.And(a, f("G(a | c)")))
+    assert pushed("a & (F b -> G(a | c))") == ast.Implies(f("F b"), ast.And(a, f("G(a | c)")))
+    assert pushed("a & X(F a -> G c)") == ast.Or(ast.And(a, ast.Not(ast.WeakNext(f("F a")))), ast.Next(f("G c")))

@@ -252,6 +252,7 @@ class Composer:
         propositional, bounded = _plain_nodes(formula)
         self._propositional, self._bounded = propositional, bounded
         self._merged: dict[int, tuple[ast.Formula, list[ast.Formula]]] = {}
+        self._made_nodes: list[ast.Formula] = []  # (formulas made by `_pushed`, whose ids the sets hold)
         # post-order over the skeleton: (op or None, children, results so far)
         stack: list[tuple[str, list, list, ast.Formula]] = []
         result: Result
@@ -386,10 +387,54 @@ class Composer:
                 unique.setdefault(f, None)
         operands = list(unique)
         if op == "and":
-            operands = self._group_invariants(operands)
+            operands = self._pushed(self._group_invariants(operands))
         if len(operands) == 1:
             return self.shape(operands[0]) if id(operands[0]) not in self._propositional else None
         return op, operands
+
+    def _pushed(self, operands: list[ast.Formula]) -> list[ast.Formula]:
+        """The operands of an `&`, its propositional ones `P` (the first
+        letter's conditions) also conjoined under the others' Boolean
+        operators: `P & (A -> B)` is `P & ((P & A) -> (P & B))`, and so
+        for `|`, `<->` and `!` (`P & !A = P & !(P & A)`); A and B are taken
+        apart in turn.  Not into operands that look a bounded number of
+        letters ahead (the counters' `X[!] c -> init`): conjoined with P
+        they were kept apart to the end, for the symbolic product
+        (counters_03: 37 s against 0.06 s); nor into a side that reads
+        none of P's atoms (`P & (P & A)` over disjoint atoms stays a
+        symbolic product, and so would the operator above it).  Either
+        side alone may take P.  The language is the same (P is read at the same
+        position on both sides); the products below the operator no
+        longer pair the states reached by first letters that P rules out
+        (Nim nim_03_01: `Init & (G A -> (G B & U))`, whose product of the
+        implication's sides reached 194 pairs, 28 with Init pushed in:
+        0.083 -> 0.055 s)."""
+        first = [f for f in operands if id(f) in self._propositional and not isinstance(f, ast.Const)]
+        if not first or len(first) == len(operands):
+            return operands
+        keep = lambda f: id(f) in self._propositional  # noqa: E731
+        condition = self._plain(_balanced(ast.And, first), propositional=True)
+        reads = {x.key for x in ast.atoms(condition)}
+        make = {"implies": ast.Implies, "or": ast.Or, "equiv": ast.Equiv, "not": ast.Not}
+        result = []
+        for f in operands:
+            inner = None if id(f) in self._bounded else expose(f, keep)
+            if inner is None or inner[0] not in make:
+                result.append(f)
+                continue
+            op, args = inner
+            result.append(make[op](*[self._plain(ast.And(condition, a), propositional=keep(a))
+                                     if reads & {x.key for x in ast.atoms(a)} else a for a in args]))
+        return result
+
+    def _plain(self, node: ast.Formula, propositional: bool) -> ast.Formula:
+        """`node`, made here, kept alive (the sets hold ids) and, when
+        `propositional`, noted as propositional and bounded."""
+        self._made_nodes.append(node)
+        if propositional:
+            self._propositional.add(id(node))
+            self._bounded.add(id(node))
+        return node
 
     def _group_invariants(self, operands: list[ast.Formula]) -> list[ast.Formula]:
         """The operands of an `&` with its bounded-lookahead invariants merged:
