@@ -5,6 +5,8 @@ an error that lists the installed ones."""
 
 from __future__ import annotations
 
+import os
+
 import pytest
 
 from symsynth import plugins
@@ -39,3 +41,30 @@ def test_registered_humans_are_made_from_a_context():
     humans = {name: HUMANS[name](context) for name in HUMANS}
     assert {name: human.name for name, human in humans.items()} == {
         "none": "none", "random": "random", "adversarial": "adversarial"}
+
+
+def _distribution(folder, name, group, entry):
+    info = folder / f"{name}-1.0.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {name}\nVersion: 1.0\n")
+    (info / "entry_points.txt").write_text(f"[{group}]\n{entry}\n")
+
+
+def test_lookups_see_a_folder_put_on_the_path_and_a_package_installed_into_it(tmp_path, monkeypatch):
+    """Lookups are kept (a scan of the installed packages per lookup cost
+    the suite seconds), but not past a change: a folder new on sys.path,
+    then a second package written into that folder (its modification time
+    moves on; set forward here so the test does not hang on the clock's
+    grain)."""
+    group = "symsynth.test-only"
+    assert plugins.found(group) == {}
+    _distribution(tmp_path, "first_plugin", group, "one = json:dumps")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert {n: ep.value for n, ep in plugins.found(group).items()} == {"one": "json:dumps"}
+    before = tmp_path.stat().st_mtime_ns
+    _distribution(tmp_path, "second_plugin", group, "two = json:loads")
+    os.utime(tmp_path, ns=(before + 10**9, before + 10**9))
+    assert {n: ep.value for n, ep in plugins.found(group).items()} == {"one": "json:dumps", "two": "json:loads"}
+    found = plugins.found(group)
+    found.clear()  # a caller's copy: the kept lookup is not changed through it
+    assert set(plugins.found(group)) == {"one", "two"}
