@@ -39,7 +39,7 @@ _found: dict[tuple[str, tuple], dict[str, EntryPoint]] = {}
 
 
 def _path_state() -> tuple:
-    state = []
+    state: list[tuple[str, int | None]] = []
     for entry in sys.path:
         try:
             state.append((entry, os.stat(entry or ".").st_mtime_ns))
