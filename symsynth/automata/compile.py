@@ -394,37 +394,33 @@ class Composer:
 
     def _pushed(self, operands: list[ast.Formula]) -> list[ast.Formula]:
         """The operands of an `&`, its propositional ones `P` (the first
-        letter's conditions) also conjoined under the others' Boolean
-        operators: `P & (A -> B)` is `P & ((P & A) -> (P & B))`, and so
-        for `|`, `<->` and `!` (`P & !A = P & !(P & A)`); A and B are taken
-        apart in turn.  Not into operands that look a bounded number of
-        letters ahead (the counters' `X[!] c -> init`): conjoined with P
-        they were kept apart to the end, for the symbolic product
-        (counters_03: 37 s against 0.06 s); nor into a side that reads
-        none of P's atoms (`P & (P & A)` over disjoint atoms stays a
-        symbolic product, and so would the operator above it).  Either
-        side alone may take P.  The language is the same (P is read at the same
-        position on both sides); the products below the operator no
-        longer pair the states reached by first letters that P rules out
-        (Nim nim_03_01: `Init & (G A -> (G B & U))`, whose product of the
-        implication's sides reached 194 pairs, 28 with Init pushed in:
-        0.083 -> 0.055 s)."""
+        letter's conditions) also conjoined to the consequent of the others'
+        implications: `P & (A -> B)` is `P & (A -> (P & B))`, the language
+        the same (P is read at the same position on both sides).  The
+        product of A and P & B no longer pairs the states reached by first
+        letters that P rules out (Nim nim_03_01: `Init & (G A -> (G B & U))`,
+        whose product reached 194 pairs, 28 with Init in the consequent:
+        0.084 -> 0.054 s).  Not into a consequent that reads none of P's
+        atoms (`P & B` over disjoint atoms stays a symbolic product, and so
+        would the implication), nor into bounded operands (the counters'
+        `X[!] c -> init`: 37 s against 0.06 s), nor into the antecedent:
+        `P & G A` joined the merge of G A's parts, whose pairing then took
+        a product past the edge limit (nim_03_03: a timeout, 3.8 s
+        without).  B is taken apart in turn."""
         first = [f for f in operands if id(f) in self._propositional and not isinstance(f, ast.Const)]
         if not first or len(first) == len(operands):
             return operands
         keep = lambda f: id(f) in self._propositional  # noqa: E731
         condition = self._plain(_balanced(ast.And, first), propositional=True)
         reads = {x.key for x in ast.atoms(condition)}
-        make = {"implies": ast.Implies, "or": ast.Or, "equiv": ast.Equiv, "not": ast.Not}
         result = []
         for f in operands:
             inner = None if id(f) in self._bounded else expose(f, keep)
-            if inner is None or inner[0] not in make:
+            if inner is None or inner[0] != "implies" or not reads & {x.key for x in ast.atoms(inner[1][1])}:
                 result.append(f)
                 continue
-            op, args = inner
-            result.append(make[op](*[self._plain(ast.And(condition, a), propositional=keep(a))
-                                     if reads & {x.key for x in ast.atoms(a)} else a for a in args]))
+            left, right = inner[1]
+            result.append(ast.Implies(left, self._plain(ast.And(condition, right), propositional=keep(right))))
         return result
 
     def _plain(self, node: ast.Formula, propositional: bool) -> ast.Formula:
