@@ -214,3 +214,31 @@ def test_the_condition_is_pushed_where_the_products_are():
     assert pushed("a & (F(a & b) -> G(a | c))") == ast.Implies(f("F(a & b)"), ast.And(a, f("G(a | c)")))
     assert pushed("a & (F a -> G b)") == f("F a -> G b")
     assert pushed("a & X(F a -> G a)") == f("X(F a -> G a)")
+
+
+@settings(max_examples=40, deadline=None)
+@given(formulas(max_depth=4), st.sampled_from(sorted(PATHS)))
+def test_a_compilation_leaves_no_reference_cycles(formula, path):
+    """compile_ltlf pauses Python's cyclic collector (its full walks cost a
+    third of a 0.05 s compilation): safe only while compiling makes no
+    cycles, which this checks (a cycle left would show as collected
+    objects), and the collector's state is restored, also on an error."""
+    import gc
+    gc.collect()
+    gc.disable()
+    try:
+        compile_ltlf(formula, limits=PATHS[path])
+        assert gc.collect() == 0, to_string(formula)
+    finally:
+        gc.enable()
+    compile_ltlf(formula)
+    assert gc.isenabled()
+    with pytest.raises(Exception):
+        compile_ltlf("a &", source="bad")
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        compile_ltlf(formula)
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
