@@ -12,6 +12,7 @@ from tqdm import tqdm
 from symsynth.automata import compile_ltlf
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.symbolic import SymbolicDFA, TooManyTransitions
+from symsynth.cli.options import count
 from symsynth.errors import InputError, read_text
 from symsynth.files import write_atomic
 
@@ -43,20 +44,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="meaning of plain X (default: strong; 'weak' as in Lydia, Spot, TLSF)")
     parser.add_argument("--json", action="store_true", help="print the explicit DFA as JSON")
     parser.add_argument("--dot", type=Path, metavar="FILE", help="write the DFA as Graphviz to FILE")
-    parser.add_argument("--max-transitions", type=_count, default=MAX_TRANSITIONS, metavar="N",
+    parser.add_argument("--max-transitions", type=count, default=MAX_TRANSITIONS, metavar="N",
                         help="refuse --json and --dot for a DFA of more than N transitions "
                         f"(default {MAX_TRANSITIONS:,}; 0: no limit)")
     parser.set_defaults(run=run)
-
-
-def _count(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = -1
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a whole number of transitions, got {text!r}")
-    return value
 
 
 def _explicit(dfa: SymbolicDFA, limit: int | None) -> ExplicitDFA:
