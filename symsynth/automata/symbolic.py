@@ -23,8 +23,8 @@ from collections import Counter
 from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from contextlib import AbstractContextManager, nullcontext
 
-from symsynth.automata.bdd import (BDD, Function, and_exists, children_first, cofactor, exists, fixed_order, format_cubes, is_constant,
-                                   isop, lexmin, restrict)
+from symsynth.automata.bdd import (BDD, Function, and_exists, children_first, cofactor, exists, fixed_order,
+                                   format_cubes, is_constant, isop, lexmin, restrict)
 from symsynth.automata import moves as moves_
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.progression import GuardedDFA
@@ -111,9 +111,10 @@ class SymbolicDFA:
         values = state if isinstance(state, Mapping) else dict(zip(self.bits, state))
         return self.bdd.cube(values) if values else self.bdd.true
 
-    def relation(self) -> Function:
-        """T(q, x, q') = /\\_b (q'_b <-> delta_b(q, x))."""
-        rel = self.bdd.true
+    def relation(self, within: Function | None = None) -> Function:
+        """T(q, x, q') = /\\_b (q'_b <-> delta_b(q, x)), conjoined from the
+        start with `within` when given (a set of states q keeps T small)."""
+        rel = self.bdd.true if within is None else within
         for b in self.bits:
             rel &= self.bdd.apply("<=>", self.bdd.var(prime(b)), self.delta[b])
         return rel
@@ -284,12 +285,8 @@ class SymbolicDFA:
         as `to_explicit` lists them: the transition relation
         \\E x: Reach(q) /\\ /\\_b (b' <-> delta_b(q, x)), counted (0.05 s for
         Random/Syft's syft_2/001: 2,066 states, 4.2 million pairs)."""
-        bdd = self.bdd
-        relation = self.reachable
-        for b in self.bits:
-            relation &= bdd.apply("<=>", bdd.var(prime(b)), self.delta[b])
-        pairs = exists(bdd, relation, list(self.atoms))
-        return int(bdd.count(pairs, nvars=2 * len(self.bits)))
+        pairs = exists(self.bdd, self.relation(within=self.reachable), list(self.atoms))
+        return int(self.bdd.count(pairs, nvars=2 * len(self.bits)))
 
 
 def _evaluate(bdd: BDD, values: Mapping[str, bool], u: Function) -> bool:
