@@ -394,10 +394,9 @@ class Composer:
         one leaf `G(f1 & f2 & ...)`: their conjunction's states are what the
         next letters must satisfy, which progression keeps canonical, where
         a product of the parts would track each part's copy of it."""
-        keep = lambda f: id(f) in self._propositional  # noqa: E731
-        if keep(node) or id(node) in self._merged:
+        if self._kept(node) or id(node) in self._merged:
             return None
-        shape = expose(node, keep)
+        shape = expose(node, self._kept)
         if shape is None or shape[0] not in ("and", "or"):
             return shape
         op = shape[0]
@@ -405,7 +404,7 @@ class Composer:
         todo = list(reversed(shape[1]))
         while todo:
             f = todo.pop()
-            inner = None if keep(f) else expose(f, keep)
+            inner = None if self._kept(f) else expose(f, self._kept)
             if inner is not None and inner[0] == op:
                 todo.extend(reversed(inner[1]))
             else:
@@ -416,6 +415,11 @@ class Composer:
         if len(operands) == 1:
             return self.shape(operands[0]) if id(operands[0]) not in self._propositional else None
         return op, operands
+
+    def _kept(self, formula: ast.Formula) -> bool:
+        """Whether `formula` is kept whole, a leaf of the skeleton: it has no
+        temporal operator (one explicit DFA of a letter's condition)."""
+        return id(formula) in self._propositional
 
     def _pushed(self, operands: list[ast.Formula]) -> list[ast.Formula]:
         """The operands of an `&`, its propositional ones `P` (the first
@@ -432,20 +436,19 @@ class Composer:
         `P & G A` joined the merge of G A's parts, whose pairing then took
         a product past the edge limit (nim_03_03: a timeout, 3.8 s
         without).  B is taken apart in turn."""
-        first = [f for f in operands if id(f) in self._propositional and not isinstance(f, ast.Const)]
+        first = [f for f in operands if self._kept(f) and not isinstance(f, ast.Const)]
         if not first or len(first) == len(operands):
             return operands
-        keep = lambda f: id(f) in self._propositional  # noqa: E731
         condition = self._plain(_balanced(ast.And, first), propositional=True)
         reads = {x.key for x in ast.atoms(condition)}
         result = []
         for f in operands:
-            inner = None if id(f) in self._bounded else expose(f, keep)
+            inner = None if id(f) in self._bounded else expose(f, self._kept)
             if inner is None or inner[0] != "implies" or not reads & {x.key for x in ast.atoms(inner[1][1])}:
                 result.append(f)
                 continue
             left, right = inner[1]
-            result.append(ast.Implies(left, self._plain(ast.And(condition, right), propositional=keep(right))))
+            result.append(ast.Implies(left, self._plain(ast.And(condition, right), propositional=self._kept(right))))
         return result
 
     def _plain(self, node: ast.Formula, propositional: bool) -> ast.Formula:

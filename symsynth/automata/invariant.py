@@ -167,10 +167,12 @@ class Invariants:
             split = split_letters(bdd, h, self.num_atoms)  # cofactor -> the letters into it
             after = {number[node]: guard for node, guard in split.items()}
             edges = [{i + 1: bdd.true} for i in range(k)] + [after]
-            for ok in allowed:
-                out = {t: guard & ok for t, guard in after.items()} if ok != bdd.true else dict(after)
-                if ok != bdd.true:
-                    out[sink] = out[sink] | ~ok if sink in out else ~ok
+            for ok in allowed:  # allowed(x) ? the letters' successors : the sink
+                if ok == bdd.true:
+                    edges.append(dict(after))
+                    continue
+                out = {t: guard & ok for t, guard in after.items()}
+                out[sink] = out.get(sink, bdd.false) | ~ok
                 edges.append({t: guard for t, guard in out.items() if guard != bdd.false})
             if has_sink:
                 edges.append({sink: bdd.true})
