@@ -174,7 +174,9 @@ def test_the_transitions_counted_are_the_minimal_dfas(formula):
     expected = sum(len(set(row)) for row in reference.delta)
     dfa = compile_ltlf(formula)
     assert dfa.num_transitions() == expected, to_string(formula)
-    assert len(dfa.to_explicit().transitions) == expected
+    done: list[int] = []
+    assert len(dfa.to_explicit(progress=done.append).transitions) == expected
+    assert done == list(range(1, dfa.num_states + 1))  # the progress bar's count: each state once
 
 
 def test_a_dfa_past_the_transition_limit_is_refused_before_it_is_listed(capsys, tmp_path):

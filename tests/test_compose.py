@@ -19,6 +19,7 @@ from support.reference import all_traces, distinguishing_trace, minimal_num_stat
 from support.strategies import formulas, traces
 from symsynth.automata import compile_ltlf
 from symsynth.automata.normal import expose
+from symsynth.errors import LTLfSyntaxError
 from symsynth.logic import ast, atoms, holds, parse_ltlf, to_string
 
 SETTINGS = settings(max_examples=120, deadline=None)
@@ -233,7 +234,7 @@ def test_a_compilation_leaves_no_reference_cycles(formula, path):
         gc.enable()
     compile_ltlf(formula)
     assert gc.isenabled()
-    with pytest.raises(Exception):
+    with pytest.raises(LTLfSyntaxError):
         compile_ltlf("a &", source="bad")
     assert gc.isenabled()
     gc.disable()
