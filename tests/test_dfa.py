@@ -319,3 +319,17 @@ def test_an_until_chain_progresses_in_linear_states():
     raw = Progression([a.key for a in ast.atoms(formula)]).dfa(formula)
     assert compile_ltlf(formula).num_states == n + 1
     assert raw.num_states <= n * n // 2 + n
+
+
+@pytest.mark.parametrize("text", ["G(a -> F b)", "a U (b U (c U d))", "G(a -> X b) & F c",
+                                  "F(a & X(b & X(c & X d)))"])
+def test_state_bits_lie_above_the_atoms(text):
+    """Whatever manager the DFA ends in (a single explicit part is turned
+    into bits in the manager it was built in, with no copy), each state
+    bit and its primed copy lie above every atom, so a transition function
+    is a case split on the state over small guards."""
+    dfa = compile_ltlf(text)
+    levels = {v: dfa.bdd.level_of_var(v) for v in dfa.bdd.vars}
+    bits = [b for bit in dfa.bits for b in (bit, bit + "'")]
+    assert bits and max(levels[b] for b in bits) < min(levels[a] for a in dfa.atoms)
+    assert dfa.num_states == minimal_num_states(parse_ltlf(text))

@@ -36,7 +36,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
-from symsynth.automata.bdd import BDD, Function, and_exists, exists, new_manager, swap
+from symsynth.automata.bdd import BACKEND, BDD, Function, and_exists, exists, new_manager, swap
 from symsynth.automata.invariant import Invariants, invariant_shape
 from symsynth.automata.normal import expose, nnf, split_conjuncts
 from symsynth.automata import moves as moves_
@@ -220,8 +220,12 @@ def _compile(formula: str | ast.Formula, next_semantics: NextSemantics, source: 
         # (symbolic.is_local), set here once: switching reordering off and on again in the
         # middle of the work has left CUDD's dead-node count wrong ("cuddGarbageCollect:
         # problem in table") on Random/Syft syft_4/003
-        local = len(components) > 1 and is_local(atoms_read(components, atom_keys))
-        bdd = new_manager(reordering=len(components) > 1 and not local)
+        if len(components) == 1 and BACKEND == "cudd":
+            # its own manager, the state bits put above the atoms: no guard copied
+            bdd = components[0].bdd
+        else:
+            local = len(components) > 1 and is_local(atoms_read(components, atom_keys))
+            bdd = new_manager(reordering=len(components) > 1 and not local)
     manager = bdd
     index = {id(c): i for i, c in enumerate(components)}
     combine = None if acceptance is None else (lambda accs: _evaluate(acceptance, accs, index, bdd))

@@ -431,7 +431,14 @@ def product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA],
     components, that order is kept: the product is built with dynamic
     reordering suspended and the DFA is `local` (`SymbolicDFA.minimize`
     says why).
+
+    A single component built in `bdd` itself gets its bits inserted above
+    the atoms already there, and its guards are used as they are (copying
+    them to another manager cost a compilation of nim_03_01 a sixth of its
+    time: 8 us a guard, 731 guards).
     """
+    if len(components) == 1 and components[0].bdd is bdd:  # its atoms declared already
+        return _product(bdd, atoms, components, [[]], prefix, combine, False)
     read = [_atoms_read(comp, atoms) for comp in components]
     local = is_local(read)
     with fixed_order(bdd) if local else nullcontext():
@@ -449,8 +456,15 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
     for c, comp in enumerate(components):
         width = (comp.num_states - 1).bit_length()
         names = [f"{prefix}{c}_{j}" for j in range(width)]
-        for name in names:
-            bdd.declare(name, prime(name))
+        if comp.bdd is bdd:  # the component's own manager: its bits go above its atoms
+            top = 0
+            for name in names:
+                bdd.insert_var(name, top)
+                bdd.insert_var(prime(name), top + 1)
+                top += 2
+        else:
+            for name in names:
+                bdd.declare(name, prime(name))
         for atom in read[c]:
             if atom not in bdd.vars:
                 bdd.declare(atom)
@@ -503,7 +517,7 @@ def _next_bits(bdd: BDD, comp: GuardedDFA, width: int) -> list[list[Function]]:
         zs = moves_.bits(comp.bdd, "z", width)
         for s, t in enumerate(comp.moves):
             for j in range(width):
-                ones[j][s] = comp.bdd.copy(and_exists(comp.bdd, t, comp.bdd.var(zs[j]), zs), bdd)
+                ones[j][s] = _copied(and_exists(comp.bdd, t, comp.bdd.var(zs[j]), zs), bdd)
         return ones
     copied: dict[Function, Function] = {}
     for s, out in enumerate(comp.edges):
@@ -524,10 +538,15 @@ def _next_bits(bdd: BDD, comp: GuardedDFA, width: int) -> list[list[Function]]:
                 for guard in set_:
                     here = copied.get(guard)
                     if here is None:
-                        here = copied[guard] = comp.bdd.copy(guard, bdd)
+                        here = copied[guard] = _copied(guard, bdd)
                     value = value | here
                 ones[j][s] = ~value if clear else value
     return ones
+
+
+def _copied(u: Function, bdd: BDD) -> Function:
+    """`u` in `bdd` (itself when it is there already)."""
+    return u if u.bdd is bdd else u.bdd.copy(u, bdd)
 
 
 def _by_state(bdd: BDD, names: Sequence[str], values: Sequence[Function]) -> Function:
