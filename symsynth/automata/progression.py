@@ -323,10 +323,17 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
     rounds recompute every state once per round, and a counter's DFA needs
     as many rounds as it counts: 2^k rounds for k bits.)
 
+    A signature ORs a state's guards class by class, except into the class
+    entered on the most of them: its letters are all the others' complement
+    (the guards of a state are disjoint and cover every letter).  That
+    class is the accepting or the rejecting one for most states in the first
+    round, which is most of the work: nim_03_01 45 -> 34 ms.
+
     A DFA given by its moves only (a dense product's) is minimized on them
     (moves.minimize: a BDD operation per signature, not one per edge).
     """
     bdd = dfa.bdd
+    true, false = bdd.true, bdd.false
     if not dfa.has_edges():
         given = moves_.Machine(dfa.initial, dfa.accepting, dfa.moves, moves_.successors(bdd, dfa.moves),
                                moves_.width(dfa.num_states))
@@ -347,11 +354,29 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
     dirty: dict[int, set[int]] = {b: set(ms) for b, ms in enumerate(members) if ms}
 
     def signature_of(state: int) -> frozenset:
-        into: dict[int, Function] = {}
+        into: dict[int, list[Function]] = {}
         for succ, guard in old_edges[state].items():
             b = block[succ]
-            into[b] = into[b] | guard if b in into else guard
-        return frozenset(into.items())
+            if b in into:
+                into[b].append(guard)
+            else:
+                into[b] = [guard]
+        if len(into) == 1:  # (the guards cover every letter)
+            return frozenset(((next(iter(into)), true),))
+        # the guards are disjoint and cover every letter: the class with the
+        # most of them is entered on the letters the others are not
+        most = max(into, key=lambda b: len(into[b]))
+        rest = false
+        joined: dict[int, Function] = {}
+        for b, guards in into.items():
+            if b != most:
+                union = guards[0]
+                for guard in guards[1:]:
+                    union |= guard
+                joined[b] = union
+                rest |= union
+        joined[most] = ~rest
+        return frozenset(joined.items())
 
     while dirty:
         b, changed = dirty.popitem()
