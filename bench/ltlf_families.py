@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import io
 import os
 import platform
 import math
@@ -189,7 +190,10 @@ def main(argv=None) -> int:
     if args.wall is None:
         args.wall = WALL_FACTOR * args.timeout
     if args.from_csv:
-        rows = [_typed(r) for path in args.from_csv for r in csv.DictReader(open(path))]
+        rows = []
+        for path in args.from_csv:
+            with open(path, newline="") as given:
+                rows += [_typed(r) for r in csv.DictReader(given)]
         args.load = sorted({float(r["load"]) for r in rows if r.get("load")}) or args.load
         write(rows, args)
         return 0
@@ -197,6 +201,7 @@ def main(argv=None) -> int:
     from symsynth.logic import ast, parse_ltlf
     from symsynth.logic.printer import to_string
 
+    measured = commit()
     sym, l2d = Worker("sym-weak", args.timeout, args.wall), Worker("l2d", args.timeout, args.wall)
     work = Path(tempfile.mkdtemp(prefix="ltlf_families_"))
     rows = []
@@ -211,7 +216,7 @@ def main(argv=None) -> int:
                     series, dead = Path(path).stem[:6], {}
                 text = read(args.data, path)
                 name = Path(path).stem if family in SCALING else f"{Path(path).parent.name}/{Path(path).stem}"
-                row = {"family": family, "instance": name, "atoms": None}
+                row = {"family": family, "instance": name, "atoms": None, "commit": measured}
                 formula = parse_ltlf(text, next_semantics="weak")
                 atoms = sorted({a.key for a in ast.atoms(formula)})
                 row["atoms"] = len(atoms)
@@ -268,13 +273,16 @@ def main(argv=None) -> int:
 
 
 def write(rows: list[dict], args) -> None:
+    from symsynth.files import write_atomic
     csv_path = args.out.with_suffix(".csv")
     columns = ["family", "instance", "atoms", "states", "symsynth", "symsynth_status", "mona", "mona_status",
-               "ltlf2dfa", "ltlf2dfa_status", "equivalence", "load", "symsynth_wall", "mona_wall", "ltlf2dfa_wall"]
-    with open(csv_path, "w", newline="") as out:
-        writer = csv.DictWriter(out, columns, extrasaction="ignore")
-        writer.writeheader()
-        writer.writerows(rows)
+               "ltlf2dfa", "ltlf2dfa_status", "equivalence", "load", "symsynth_wall", "mona_wall", "ltlf2dfa_wall",
+               "commit"]
+    table = io.StringIO()
+    writer = csv.DictWriter(table, columns, extrasaction="ignore", lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    write_atomic(csv_path, table.getvalue(), "the benchmark rows")
     mona_version = subprocess.run(["mona", "-v"], capture_output=True, text=True).stdout.strip().splitlines()[:1]
     lines = ["# LTLf to DFA on the public synthesis datasets: symsynth, raw MONA, ltlf2dfa", "",
              f"Command: `python bench/ltlf_families.py --timeout {args.timeout:g}`; data: "
@@ -287,6 +295,7 @@ def write(rows: list[dict], args) -> None:
              f"[{csv_path.name}]({csv_path.name}). Load average (1 min) during the run: "
              f"{min(args.load):.1f} to {max(args.load):.1f} on {os.cpu_count()} cores (shared machine; "
              "the tools of one instance run one after the other, so load weighs on each).", ""]
+    lines += runs(rows)
     tools = ("symsynth", "mona", "ltlf2dfa")
     lines += ["## Summary", "",
               "Median and worst over the instances where both symsynth and MONA finished (n); "
@@ -321,8 +330,37 @@ def write(rows: list[dict], args) -> None:
     notes = args.out.with_suffix(".notes.md")
     if notes.exists():  # the analysis written by hand next to the generated tables
         lines += ["", notes.read_text().rstrip()]
-    args.out.write_text("\n".join(lines) + "\n")
+    write_atomic(args.out, "\n".join(lines) + "\n", "the benchmark table")
     print(f"wrote {args.out} and {csv_path}")
+
+
+def runs(rows: list[dict]) -> list[str]:
+    """A paragraph saying which symsynth commit each family's rows were
+    measured at (rows merged from several runs with --from-csv)."""
+    by_commit: dict[str, list[str]] = {}
+    for r in rows:
+        families = by_commit.setdefault(r.get("commit") or "unrecorded", [])
+        if r["family"] not in families:
+            families.append(r["family"])
+    if len(by_commit) == 1:
+        return [f"symsynth at commit {next(iter(by_commit))}; every family in this one run.", ""]
+    parts = [f"{', '.join(families)} at {commit}" for commit, families in by_commit.items()]
+    return ["Runs (one family per run at most, so each row's tools ran side by side): "
+            + "; ".join(parts) + ".", ""]
+
+
+def commit() -> str:
+    """The symsynth commit measured: the checkout this script runs from,
+    `-dirty` when it has uncommitted changes."""
+    here = Path(__file__).resolve().parent.parent
+    try:
+        head = subprocess.run(["git", "-C", str(here), "rev-parse", "--short", "HEAD"], capture_output=True,
+                              text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(here), "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unrecorded"
+    return head + ("-dirty" if dirty else "")
 
 
 def _typed(row: dict) -> dict:
