@@ -68,6 +68,13 @@ def invariant_shape(formula: ast.Formula) -> tuple[list[type], ast.Formula] | No
     return prefix, node.arg
 
 
+#: H's targets times the states with allowed letters, per state, up to which
+#: a sparse invariant's edges are read off H (`Invariants.dfa`; measured on
+#: the single counters: reading them off H pays up to about 1,000 targets
+#: a state, decoding the moves from 3,000 on)
+SPLIT_TARGETS = 512
+
+
 class Invariants:
     """Builds the DFAs of one-step invariants in a `Progression`'s manager
     (atoms above everything else; guards are BDDs over the atoms)."""
@@ -163,7 +170,13 @@ class Invariants:
         if max_degree is not None and n >= 100 and count > max_degree * n + 2000:
             raise TooDense(f"more than {max_degree} successors per state")
         edges = None
-        if count <= moves_.SPARSE_DEGREE * n:  # its products take its edges: read them off H
+        # its products take its edges (sparse): read them off H, unless the
+        # states with allowed letters times H's targets (a conjunction
+        # each, 0.2 us) pass SPLIT_TARGETS per state (a counter's 4,097
+        # states would cost 16 million: 5.5 s of counter_11's 8 s; decoded
+        # from the moves state by state instead, when a product asks)
+        restricted = sum(ok != bdd.true for ok in allowed)
+        if count <= moves_.SPARSE_DEGREE * n and len(cofactors) * restricted <= SPLIT_TARGETS * n:
             split = split_letters(bdd, h, self.num_atoms)  # cofactor -> the letters into it
             after = {number[node]: guard for node, guard in split.items()}
             edges = [{i + 1: bdd.true} for i in range(k)] + [after]
