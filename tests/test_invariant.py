@@ -14,11 +14,11 @@ from hypothesis import strategies as st
 from support.reference import ReferenceDFA, distinguishing_trace, letters, minimal_num_states, reference_dfa
 from support.reference import minimize as reference_minimize
 from support.strategies import traces
-from symsynth.automata import compile_ltlf
+from symsynth.automata import compile_ltlf, invariant
 from symsynth.automata.invariant import Invariants, invariant_shape
 from symsynth.automata.normal import nnf
 from symsynth.automata.progression import GuardedDFA, Progression, minimize
-from symsynth.logic import ast, atoms, holds, to_string
+from symsynth.logic import ast, atoms, holds, parse_ltlf, to_string
 from symsynth.automata.bdd import cofactor
 from symsynth.automata.moves import decode_all
 
@@ -90,15 +90,38 @@ class Runner:
 @SETTINGS
 @given(invariants)
 def test_the_direct_construction_accepts_the_language(formula):
+    """Both ways to a sparse invariant's edges: read off H (within
+    SPLIT_TARGETS), and decoded from the moves (a bound of 0 leaves every
+    invariant with a restricted state to that)."""
     shape = invariant_shape(nnf(formula))
     assert shape is not None, to_string(formula)
-    progression = Progression(keys(formula))
-    made = Invariants(progression).dfa(*shape)
-    if made.has_edges():  # sparse: the edges were read off H, and must be what its moves say
-        assert made.edges == decode_all(made.bdd, made.moves), to_string(formula)
-    dfa = minimize(made)
-    assert dfa.num_states == minimal_num_states(formula), to_string(formula)
-    assert distinguishing_trace(Runner(dfa, keys(formula)), reference_dfa(formula), keys(formula)) is None
+    default = invariant.SPLIT_TARGETS
+    for bound in (default, 0):
+        invariant.SPLIT_TARGETS = bound
+        try:
+            made = Invariants(Progression(keys(formula))).dfa(*shape)
+        finally:
+            invariant.SPLIT_TARGETS = default
+        if made.has_edges():  # sparse: the edges were read off H, and must be what its moves say
+            assert made.edges == decode_all(made.bdd, made.moves), to_string(formula)
+        dfa = minimize(made)
+        assert dfa.num_states == minimal_num_states(formula), to_string(formula)
+        assert distinguishing_trace(Runner(dfa, keys(formula)), reference_dfa(formula), keys(formula)) is None
+
+
+def test_edges_are_read_off_h_only_within_the_bound():
+    """`G(a -> X b)`: the state after `a` allows only letters with `b`, so
+    its edges cost a conjunction per target of H; with a bound of 0 they are
+    left to the moves (a counter's thousands of states made that quadratic)."""
+    formula = parse_ltlf("G(a -> X b)")
+    shape = invariant_shape(nnf(formula))
+    default = invariant.SPLIT_TARGETS
+    assert Invariants(Progression(keys(formula))).dfa(*shape).has_edges()
+    invariant.SPLIT_TARGETS = 0
+    try:
+        assert not Invariants(Progression(keys(formula))).dfa(*shape).has_edges()
+    finally:
+        invariant.SPLIT_TARGETS = default
 
 
 @SETTINGS
