@@ -29,8 +29,8 @@ from symsynth.automata.symbolic import SymbolicDFA, prime
 
 #: A cluster grows while it has at most this many BDD nodes (Double-Counter
 #: 06, 16,389 states: its monolithic T has 708,000; 07, 65,541 states: 2.8
-#: million, and its 253 rounds take 28.6 s through it against about 350 s
-#: through the three clusters of 0.7-1 million nodes that 2^20 allowed).
+#: million, and its 253 rounds take 28.6 s through it; through the three
+#: clusters of 0.7-1 million nodes that 2^20 allowed, 1.1-1.6 s each).
 CLUSTER_NODES = 1 << 22
 
 #: Before T is built the preimage substitutes delta into G (`bdd.let`),
