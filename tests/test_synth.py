@@ -220,3 +220,17 @@ def test_the_machine_follows_the_dfa_letter_by_letter(agent_first):
             after = dfa.step(state, {a for a, v in (move.input | move.output).items() if v})
             assert move.next == ("win" if dfa.is_accepting(after) else machine.states.index(after))
     assert len(machine.states) > 3
+
+
+def test_the_progress_callback_counts_the_rounds():
+    """`X X a` with the agent owning `a`: the agent wins within three
+    letters and no fewer from the start (its rank is 3).  The callback
+    (synth's progress bar) is told each round's count, and once more
+    when the last round finds nothing new.  (W may grow a round past the
+    start's rank: codes of no state, unreachable, lead to the start.)"""
+    dfa = compile_ltlf(parse_ltlf("X X a"))  # (strong next: three letters)
+    done: list[int] = []
+    game = solve_realizability(dfa, Partition((), ("a",)), progress=done.append)
+    assert game.realizable
+    assert game.rank(dfa.state_cube(dfa.initial_assignment)) == 3
+    assert done == list(range(1, len(game.rounds) + 1)) + [len(game.rounds)]

@@ -9,6 +9,8 @@ import sys
 import time
 from pathlib import Path
 
+from tqdm import tqdm
+
 from symsynth.automata import compile_ltlf
 from symsynth.errors import InputError, read_text
 from symsynth.files import write_atomic
@@ -88,7 +90,9 @@ def run(args: argparse.Namespace) -> int:
     clock = time.perf_counter()
     dfa = compile_ltlf(formula)
     compiled = time.perf_counter() - clock
-    game = solve_realizability(dfa, partition, agent_first=args.agent_first)
+    with tqdm(desc="game", unit=" rounds", delay=1.0, leave=False, disable=None) as bar:
+        game = solve_realizability(dfa, partition, agent_first=args.agent_first,
+                                   progress=lambda done: bar.update(done - bar.n))
     solved = time.perf_counter() - clock - compiled
     print("REALIZABLE" if game.realizable else "UNREALIZABLE")
     if args.json:

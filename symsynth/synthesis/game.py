@@ -32,6 +32,7 @@ How each round is computed (Double-Counter 05, 4,101 states, 61 rounds:
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from symsynth.automata.bdd import BDD, Function, cofactor
@@ -87,10 +88,13 @@ def least_outputs(bdd: BDD, allowed: Function, outputs: tuple[str, ...]) -> dict
 
 
 def solve_realizability(dfa: SymbolicDFA, partition: Partition, *, agent_first: bool = True,
-                        preimage: Preimage | None = None) -> Realizability:
+                        preimage: Preimage | None = None,
+                        progress: Callable[[int], None] | None = None) -> Realizability:
     """The reachability game of the module docstring on `dfa`; variables of
     the partition that the formula does not read play no part.  `preimage`:
-    how G(delta) is computed (preimage.py; by default its own settings)."""
+    how G(delta) is computed (preimage.py; by default its own settings).
+    `progress(i)` is called after round i (the number of rounds is not
+    known in advance: at most the DFA's states)."""
     bdd = dfa.bdd
     inputs = tuple(a for a in dfa.atoms if a in partition.inputs)
     outputs = tuple(a for a in dfa.atoms if a in partition.outputs)
@@ -116,6 +120,8 @@ def solve_realizability(dfa: SymbolicDFA, partition: Partition, *, agent_first: 
         win = win | pre
         if win != old:
             rounds.append(win)
+        if progress is not None:
+            progress(len(rounds))
     initial = dfa.state_cube(dfa.initial_assignment)
     realizable = initial & win != bdd.false
     return Realizability(realizable, agent_first, dfa, inputs, outputs, rounds, preimage)
