@@ -334,7 +334,7 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
     (moves.minimize: a BDD operation per signature, not one per edge).
     """
     bdd = dfa.bdd
-    true, false = bdd.true, bdd.false
+    false = bdd.false
     if not dfa.has_edges():
         given = moves_.Machine(dfa.initial, dfa.accepting, dfa.moves, moves_.successors(bdd, dfa.moves),
                                moves_.width(dfa.num_states))
@@ -362,26 +362,24 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
                 into[b].append(guard)
             else:
                 into[b] = [guard]
-        if len(into) == 1:  # (the guards cover every letter)
-            return frozenset(((next(iter(into)), true),))
         # the guards are disjoint and cover every letter: the class with the
         # most of them is entered on the letters the others are not, which
-        # saves ORs when it has more guards than there are classes
+        # saves ORs when it has more guards than there are classes (one
+        # class: true, no OR at all)
         most = max(into, key=lambda b: len(into[b]))
-        if len(into[most]) <= len(into):
-            most = -1
-        rest = false
+        skip = most if len(into[most]) > len(into) else None
         joined: dict[int, Function] = {}
         for b, guards in into.items():
-            if b != most:
+            if b != skip:
                 union = guards[0]
                 for guard in guards[1:]:
                     union |= guard
                 joined[b] = union
-                if most >= 0:
-                    rest |= union
-        if most >= 0:
-            joined[most] = ~rest
+        if skip is not None:
+            rest = false
+            for union in joined.values():
+                rest |= union
+            joined[skip] = ~rest
         return frozenset(joined.items())
 
     while dirty:
