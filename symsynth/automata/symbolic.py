@@ -457,11 +457,9 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
         width = (comp.num_states - 1).bit_length()
         names = [f"{prefix}{c}_{j}" for j in range(width)]
         if comp.bdd is bdd:  # the component's own manager: its bits go above its atoms
-            top = 0
-            for name in names:
-                bdd.insert_var(name, top)
-                bdd.insert_var(prime(name), top + 1)
-                top += 2
+            for j, name in enumerate(names):
+                bdd.insert_var(name, 2 * j)
+                bdd.insert_var(prime(name), 2 * j + 1)
         else:
             for name in names:
                 bdd.declare(name, prime(name))
