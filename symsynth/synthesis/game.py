@@ -117,7 +117,10 @@ def solve_realizability(dfa: SymbolicDFA, partition: Partition, *, agent_first: 
             pre = bdd.exist(ys, bdd.forall(xs, here)) if ys else bdd.forall(xs, here)  # \E y: \A x
         else:
             pre = bdd.forall(xs, bdd.exist(ys, here)) if xs else bdd.exist(ys, here)  # \A x: \E y
-        win = win | pre
+        # reachable states only: the codes no state reaches (past the last
+        # state of an explicit DFA) step to state 0 and would be won one
+        # round after it, a round no play has
+        win = win | (pre & dfa.reachable)
         if win != old:
             rounds.append(win)
         if progress is not None:
