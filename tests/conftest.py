@@ -63,17 +63,12 @@ def compiled_kernels_once(request, tmp_path_factory):
     cached on disk (symsynth/solvers/compiled.py: cache=True); on a fresh
     install that takes about 26 s of CPU, and two workers that both reach
     the solver before the cache is written both pay it.  So a worker of a
-    run of several test files compiles them up front (a solve of the toy
-    scene compiles all 55 specializations) while the others wait and then
-    load the cache (about 0.5 s)."""
+    run of several test files compiles them up front (`prepare`: a small
+    game's solve compiles every specialization) while the others wait and
+    then load the cache (about 0.3 s)."""
     if not xdist_worker(request.config) or len({item.path for item in request.session.items}) < 2:
         return
+    from symsynth.solvers import prepare
 
-    def solve_toy():
-        from symsynth.scene import load_scene
-        from symsynth.solvers import SOLVERS
-
-        return SOLVERS["compiled"](load_scene(SCENES / "toy.yaml"), k=0).cost_bound
-
-    once(request.config, tmp_path_factory, "compiled_kernels", solve_toy)
-    solve_toy()  # in a worker that waited: loads the kernels from the cache now
+    once(request.config, tmp_path_factory, "compiled_kernels", lambda: prepare("compiled"))
+    prepare("compiled")  # in a worker that waited: loads the kernels from the cache now

@@ -77,6 +77,7 @@ def test_files_and_rows(straight):
     assert header == ",".join(COLUMNS)
     for row in rows:
         assert float(row["seconds_synthesis"]) > 0 and float(row["peak_memory_mb"]) > 10
+        assert float(row["seconds_prepare"]) == 0.0  # symbolic and explicit: nothing to compile
         assert int(row["dfa_states"]) >= 2
         assert json.loads(row["versions"])["symsynth"]
         assert (row["bdd_peak_nodes"] != "") == (row["solver"] == "symbolic")

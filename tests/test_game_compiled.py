@@ -6,6 +6,9 @@ scenes with and without contacts and with interchangeable objects."""
 from __future__ import annotations
 
 import multiprocessing
+import subprocess
+import sys
+from pathlib import Path
 
 import numba
 import numpy as np
@@ -21,6 +24,8 @@ from symsynth.solvers.compiled import Tables, _explore, _human_moves, _letter, s
 from symsynth.solvers.explicit import solve_explicit
 from support.gamegen import alike_scene, random_scene
 from support.games import PICK, make_scene, worst_case_of
+
+ROOT = Path(__file__).resolve().parent.parent
 
 
 @pytest.mark.parametrize("chunk", range(4))
@@ -118,6 +123,43 @@ def test_solving_in_a_forked_child_after_the_parent(monkeypatch):
     child.join(120)
     assert child.exitcode == 0
     assert out.get(timeout=10) == here == solve_explicit(scene, k=k, symmetric=False).units
+
+
+PREPARED = """
+import sys
+from numba.core.registry import CPUDispatcher
+from symsynth.scene import load_scene
+from symsynth.solvers import SOLVERS, prepare
+from symsynth.solvers import compiled
+sys.path.insert(0, "tests")
+from support.gamegen import alike_scene, random_scene
+
+def signatures():
+    return {name: len(getattr(compiled, name).signatures) for name in dir(compiled)
+            if isinstance(getattr(compiled, name), CPUDispatcher)}
+
+assert prepare("explicit") == 0.0 and prepare("symbolic") == 0.0  # no set-up: nothing run
+assert sum(signatures().values()) == 0
+seconds = prepare(sys.argv[1])
+ready = signatures()
+for scene in (random_scene(5, positive=False, contacts=True), alike_scene(2, contacts=False),
+              load_scene("scenes/push-abstract.yaml")):
+    SOLVERS["compiled"](scene)
+print(seconds > 0, {name: count for name, count in signatures().items() if count != ready[name]})
+"""
+
+
+@pytest.mark.parametrize("solver", ["compiled", "auto"])
+def test_prepare_compiles_every_kernel_a_solve_uses(solver):
+    """`prepare` (what comparison runs call before their clock) leaves
+    nothing for a solve to compile: in a fresh process, solving games with
+    and without slides, human moves and interchangeable objects afterwards
+    adds no specialization to any kernel.  (Without it, the first solve
+    compiles `_explore` and `_solve`.)"""
+    done = subprocess.run([sys.executable, "-c", PREPARED, solver], capture_output=True, text=True,
+                          cwd=ROOT, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[-2] == "True {}"
 
 
 @pytest.mark.parametrize("seed", range(30))

@@ -11,10 +11,17 @@ Every solver has the signature of `Solver` and returns a `Solution` whose
 value is semantics §6's `E_p`; they differ in how they compute it.  A
 third-party solver is checked against the same contract by
 `tests/test_game_solvers.py` once it is registered.
+
+A solver with work to do once per process rather than per game (the
+compiled solver's kernels are compiled, or loaded from numba's cache, on
+first use) says so with a `prepare` attribute, a function that does it and
+returns nothing; `prepare(name)` runs it and times it, so that comparison
+runs start their clock after it.
 """
 
 from __future__ import annotations
 
+import time
 from typing import Protocol
 
 from symsynth import plugins
@@ -35,3 +42,14 @@ class Solver(Protocol):
 #: name -> solver, loaded when asked for.
 SOLVERS = plugins.Registry(GROUP, "solver", InputError)
 DEFAULT_SOLVER = "auto"
+
+
+def prepare(name: str) -> float:
+    """Run the registered solver's once-per-process set-up (its `prepare`
+    attribute, when it has one) and return the seconds it took."""
+    hook = getattr(SOLVERS[name], "prepare", None)
+    if hook is None:
+        return 0.0
+    clock = time.perf_counter()
+    hook()
+    return time.perf_counter() - clock

@@ -75,3 +75,13 @@ def solve_auto(scene: Scene, formula: str | ast.Formula | None = None, *, k: int
         break
     reason += "".join(f" ({other} refused it: {why})" for other, why in refused.items())
     return dataclasses.replace(solution, stats=dict(solution.stats) | {"auto": name, "auto_reason": reason})
+
+
+def _prepare() -> None:
+    """The compiled solver's set-up, `auto`'s usual choice."""
+    from symsynth.solvers import prepare
+
+    prepare("compiled")
+
+
+solve_auto.prepare = _prepare  # type: ignore[attr-defined]  # symsynth.solvers.prepare
