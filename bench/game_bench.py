@@ -56,6 +56,9 @@ from pathlib import Path
 from tqdm import tqdm
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from provenance import commit  # noqa: E402
+
 ROOT = HERE.parent
 DEFAULT_OUT = HERE / "results" / "game.md"
 SIZES = [(1, 2), (2, 3), (2, 4), (3, 4), (3, 5), (4, 6), (5, 7), (6, 8), (7, 10), (8, 12)]
@@ -379,7 +382,7 @@ def _target_size(sizes, cells, solvers, args, solver):
 
 
 def environment(args):
-    meta = {"date": time.strftime("%Y-%m-%d %H:%M:%S %Z"),
+    meta = {"date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "symsynth commit": commit(),
             "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, {platform.platform()}",
             "python": platform.python_version()}
     try:

@@ -61,6 +61,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ltlf_bench import MONA_FLAGS, WALL_FACTOR, Worker, parse_mona, read_mona  # noqa: E402
+from provenance import commit  # noqa: E402
 
 MIRROR = Path("/work/.mirror/whitemech+finite-synthesis-datasets/repo")
 #: letters x symsynth's states up to which the product search tries every letter
@@ -347,20 +348,6 @@ def runs(rows: list[dict]) -> list[str]:
     parts = [f"{', '.join(families)} at {commit}" for commit, families in by_commit.items()]
     return ["Runs (one family per run at most, so each row's tools ran side by side): "
             + "; ".join(parts) + ".", ""]
-
-
-def commit() -> str:
-    """The symsynth commit measured: the checkout this script runs from,
-    `-dirty` when it has uncommitted changes."""
-    here = Path(__file__).resolve().parent.parent
-    try:
-        head = subprocess.run(["git", "-C", str(here), "rev-parse", "--short", "HEAD"], capture_output=True,
-                              text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(here), "status", "--porcelain", "--untracked-files=no"],
-                               capture_output=True, text=True, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unrecorded"
-    return head + ("-dirty" if dirty else "")
 
 
 def _typed(row: dict) -> dict:

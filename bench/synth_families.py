@@ -58,7 +58,6 @@ import os
 import platform
 import resource
 import signal
-import subprocess
 import sys
 import tempfile
 import time
@@ -67,6 +66,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ltlf_families import MIRROR, _list, read  # noqa: E402
+from provenance import commit  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 VERDICTS = ROOT / "tests" / "data" / "synth-verdicts" / "verdicts.csv"
@@ -237,7 +237,7 @@ def main(argv=None) -> int:
             again = ("", "not run") + (("wall", "skipped") if args.retry_wall else ())
             done = {r["path"]: r for r in csv.DictReader(file) if r["status"] not in again}
     meta = {"load_start": os.getloadavg(), "started": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-            "commit": _commit(), "args": args}
+            "commit": commit(), "args": args}
     work = Path(tempfile.mkdtemp(prefix="synth_families_"))
     dead = [r for r in done.values() if r["family"] in SCALING and r["status"] in OUT]  # ran out
     clock = time.perf_counter()
@@ -292,14 +292,6 @@ def _agrees(row: dict) -> str:
     if row["status"] not in ("realizable", "unrealizable") or not row["expected"]:
         return ""
     return "yes" if row["status"] == row["expected"] else "no"
-
-
-def _commit() -> str:
-    try:
-        return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
-                              text=True, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
 
 
 def write(rows: list[dict], done: dict[str, dict], meta: dict, csv_path: Path, out: Path) -> None:

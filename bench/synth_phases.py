@@ -36,7 +36,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ltlf_families import MIRROR, read  # noqa: E402
-from synth_families import _commit  # noqa: E402
+from provenance import commit  # noqa: E402
 
 from symsynth.automata import compile_ltlf  # noqa: E402
 from symsynth.logic import parse_ltlf  # noqa: E402
@@ -129,7 +129,7 @@ def main(argv=None) -> int:
                      + " | ".join(cell(row, p) for p in PHASES)
                      + f" | {row['relation']} |")
     text = (f"`python bench/synth_phases.py{''.join(' ' + a for a in (argv or sys.argv[1:]))}`; symsynth commit "
-            f"{_commit()}; started {started}; load average (1/5/15 min) at start "
+            f"{commit()}; started {started}; load average (1/5/15 min) at start "
             f"{'/'.join(f'{x:.1f}' for x in load_start)}, at end {'/'.join(f'{x:.1f}' for x in load_end)}; "
             "CPU seconds per phase (module doc of bench/synth_phases.py).\n\n" + "\n".join(lines) + "\n")
     print(text)
