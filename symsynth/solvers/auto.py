@@ -7,10 +7,11 @@ The rule follows side-by-side measurements on this project's game families
 1. a time limit: the forward search, the only solver that answers anytime
    (a proven interval and a strategy for its upper end);
 2. a game the compiled solver can hold (at most 16 task atoms, a position
-   in 62 bits): the compiled solver, the fastest wherever it fits (pattern
-   family 5 x 7: 1.4 s against 28.7 s for the forward search and 44 s for
-   the symbolic one; sorting family 6 x 8: 2 s against 18 s and 149 s; the
-   arch: 0.02 s of search);
+   in 62 bits): the compiled solver, the fastest wherever it fits (side by
+   side on a quiet machine, pattern family 5 x 7: 0.43 s against 27.6 s for
+   the forward search and 50 s for the symbolic one; sorting family 7 x 10:
+   2.6 s against 191 s for the symbolic one and 327 s for the explicit one;
+   the arch: 0.02 s of search);
 3. otherwise a task of the form F(conjunction of atoms), which the forward
    solver's lower bound guides: the forward search;
 4. any other task (the bound is 0 there, and the forward search slows
