@@ -55,7 +55,9 @@ def test_a_file_size_limit_keeps_the_old_file(tmp_path):
 
     def limit():
         resource.setrlimit(resource.RLIMIT_FSIZE, (2048, 2048))
-    result = subprocess.run([sys.executable, "-m", "symsynth.cli", "solve", TOY, "-o", str(target)],
+    # (the explicit solver: the compiled one would write numba's cache if it is cold)
+    result = subprocess.run([sys.executable, "-m", "symsynth.cli", "solve", TOY, "--solver", "explicit",
+                             "-o", str(target)],
                             capture_output=True, text=True, preexec_fn=limit, timeout=120)
     assert result.returncode == 2, result.stderr
     assert f"cannot write strategy file {target}: File too large" in result.stderr

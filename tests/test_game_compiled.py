@@ -5,9 +5,11 @@ scenes with and without contacts and with interchangeable objects."""
 
 from __future__ import annotations
 
+import io
 import multiprocessing
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numba
@@ -160,6 +162,59 @@ def test_prepare_compiles_every_kernel_a_solve_uses(solver):
                           cwd=ROOT, timeout=600)
     assert done.returncode == 0, done.stderr
     assert done.stdout.split("\n")[-2] == "True {}"
+
+
+FIRST_SOLVE = """
+import sys
+from symsynth.scene import load_scene
+from symsynth.solvers.compiled import solve_compiled
+scene = load_scene("scenes/toy.yaml")
+first, second = solve_compiled(scene), solve_compiled(scene)
+print(sorted(first.seconds), sorted(second.seconds), first.units == second.units == 50)
+"""
+
+
+def test_the_first_solve_of_a_process_shows_compiling_apart():
+    """In a fresh process the first solve reports the kernels' compiling
+    (or loading) as a phase of its own, `compile`, and later ones do not;
+    the toy's value is the hand-solved 50 either way."""
+    done = subprocess.run([sys.executable, "-c", FIRST_SOLVE], capture_output=True, text=True,
+                          cwd=ROOT, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[-2] == ("['compile', 'explore', 'solve', 'tables'] "
+                                            "['explore', 'solve', 'tables'] True")
+    assert done.stderr == ""  # no terminal: no notice
+
+
+class _Terminal(io.StringIO):
+    def isatty(self):
+        return True
+
+
+@pytest.mark.parametrize("takes, said", [(1.3, True), (0.0, False)])
+def test_a_terminal_is_told_when_compiling_takes_long(monkeypatch, takes, said):
+    """On a terminal, compiling that takes over a second gets a line on
+    stderr (a fresh install's first solve takes about 20 s)."""
+    monkeypatch.setattr(compiled, "_compiled", False)
+    monkeypatch.setattr(compiled, "compile_kernels", lambda: time.sleep(takes))
+    monkeypatch.setattr(sys, "stderr", _Terminal())
+    seconds = compiled._compiled_once()
+    assert seconds["compile"] >= takes
+    assert ("compiling the compiled solver's kernels" in sys.stderr.getvalue()) == said
+
+
+def test_a_cache_that_cannot_be_written_is_said_so(monkeypatch):
+    """numba writes each kernel to its cache as it compiles it; a cache it
+    cannot write (a full disk, `ulimit -f`) is one message naming the way
+    out, not a traceback, and the next solve tries again."""
+    def cannot_write():
+        raise OSError(27, "File too large")
+    monkeypatch.setattr(compiled, "_compiled", False)
+    monkeypatch.setattr(compiled, "compile_kernels", cannot_write)
+    with pytest.raises(InputError, match=r"numba could not write its cache \(File too large\); "
+                                         "set NUMBA_CACHE_DIR"):
+        compiled._compiled_once()
+    assert not compiled._compiled
 
 
 @pytest.mark.parametrize("seed", range(30))

@@ -67,6 +67,7 @@ from __future__ import annotations
 import math
 import os
 import sys
+import threading
 import time
 from collections.abc import Iterator, Mapping
 
@@ -82,6 +83,7 @@ from symsynth.game.solution import (OutOfReach, Position, Solution, Step, check_
                                     verdict, won_at_start)
 from symsynth.game.symmetry import Symmetry
 from symsynth.automata.shared import dfa_of
+from symsynth.errors import InputError
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, Scene
 from symsynth.scene.propositions import interpret_all
@@ -118,12 +120,13 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
                    resolution: float = 1.0, symmetric: bool = True) -> Solution:
     """E_p, a strategy and plays, as `solve_explicit` computes them."""
     k = check_parameters(scene, k, resolution)
+    seconds = _compiled_once()
     clock = time.perf_counter()
     formula = task_formula(scene, formula)
     symmetry = Symmetry.of(scene, formula) if symmetric else None
     tables = Tables(scene, formula, resolution, symmetry, k)
     _check_width(tables, k)
-    seconds = {"tables": time.perf_counter() - clock}
+    seconds["tables"] = time.perf_counter() - clock
     v0 = initial_state(scene)
     q0 = tables.step(tables.dfa_index[tables.dfa.initial], tables.pack(v0))
     if tables.accepting[q0]:
@@ -164,6 +167,34 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
     return solution if symmetry is None else symmetry.realize(solution)
 
 
+_compiled = False  # compile_kernels has run in this process
+
+
+def _compiled_once() -> dict[str, float]:
+    """The first solve of a process compiles the kernels (or loads them from
+    the cache) on a game of its own first, so that its `seconds` show that
+    as `compile` rather than inside `explore` and `solve`; on a terminal, a
+    line on stderr says so when it takes more than a second (a fresh
+    install's first solve, about 20 s)."""
+    if _compiled:
+        return {}
+    clock = time.perf_counter()
+    notice = threading.Timer(1.0, lambda: print(
+        "compiling the compiled solver's kernels: once per install, about 20 s, cached afterwards",
+        file=sys.stderr, flush=True))
+    if sys.stderr.isatty():
+        notice.start()
+    try:
+        compile_kernels()
+    except OSError as error:  # numba writes the compiled kernels to its cache as it goes
+        raise InputError(f"cannot compile the compiled solver's kernels: numba could not write its cache "
+                         f"({error.strerror or error}); set NUMBA_CACHE_DIR to a writable folder with room, "
+                         "or choose another solver (--solver explicit)") from None
+    finally:
+        notice.cancel()
+    return {"compile": time.perf_counter() - clock}
+
+
 def compile_kernels() -> None:
     """Compile the kernels now (or load them from numba's disk cache) by
     solving a game of two interchangeable blocks and one human move.  A
@@ -186,7 +217,14 @@ def compile_kernels() -> None:
         "primitives": {"grab": 1, "drop": 1}, "human": {"k": 1},
         "task": "F(at(block, l2) & at(block, l3))",
         "costmap": {"format": "symsynth.costmap/1", "motions": motions}})
-    if solve_compiled(scene).cost_bound is None:  # a game the robot wins: every kernel ran
+    global _compiled
+    _compiled = True  # the solve below must not come back here
+    try:
+        won = solve_compiled(scene).cost_bound is not None  # a game the robot wins: every kernel ran
+    except BaseException:
+        _compiled = False
+        raise
+    if not won:
         raise RuntimeError("internal error: the compiled solver's warm-up game was not won")
 
 
