@@ -1231,11 +1231,11 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
     r_move = np.empty(1 << 18, np.int32)
     lo = np.zeros(k + 1, np.int64)
     hi = np.zeros(k + 1, np.int64)
-    bits = 17
+    bits = np.int64(17)  # not the literal 17: numba would compile every callee for it apart
     table = _table(bits)  # open addressing: (key, index), -1 empty
     keys[0] = start
     hflag[0] = 1
-    _insert(table, bits, start, 0)
+    _insert(table, bits, start, np.int64(0))
     count = 1
     obj_class = np.full(n, -1, np.int64)  # each object's class and place in it
     obj_pos = np.zeros(n, np.int64)
@@ -1284,7 +1284,7 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
             break
         # the human's moves from layer h: the seeds of layer h - 1
         lo[h - 1] = st[1]
-        bits = 17
+        bits = np.int64(17)
         table = _table(bits)
         st[0] = lo[h]
         b1 = lo[h]
@@ -1336,7 +1336,7 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
     _huge(rval)
     rval[:] = INF
     choice = np.full(N, -1, np.int16)
-    C = 1
+    C = np.int64(1)  # (numba literals are compiled for apart: np.int64 where a callee gets them)
     for e in range(len(r_move)):
         if (r_move[e] >> code_bits) + 1 > C:
             C = (r_move[e] >> code_bits) + 1
@@ -1364,7 +1364,7 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
                         best = v
                 K[i - a] = best
         elif h > 0:
-            bits = 17
+            bits = np.int64(17)
             while (1 << bits) < 2 * (hi[h - 1] - lo[h - 1]):
                 bits += 1
             table = _table(bits)  # layer h - 1's keys with their values
@@ -1373,7 +1373,7 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
             missing += _human_values_par(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits,
                                          atom_at, free_at, free_all, trans, accepting, obj_class, obj_pos,
                                          class_members, class_offsets, place_rank, rank_place, room)
-            table = _table(1)  # freed before the layer's scratch is taken
+            table = _table(np.int64(1))  # freed before the layer's scratch is taken
             missing &= (1 << 32) - 1
         moves = r_off[b] - r_off[a]
         hval = np.full(size, INF, np.int64)
