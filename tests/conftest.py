@@ -61,7 +61,7 @@ def paper_line(request, tmp_path_factory):
 def compiled_kernels_once(request, tmp_path_factory):
     """The compiled solver's numba kernels are compiled on first use and
     cached on disk (symsynth/solvers/compiled.py: cache=True); on a fresh
-    install that takes about 26 s of CPU, and two workers that both reach
+    install that takes about 19 s of CPU, and two workers that both reach
     the solver before the cache is written both pay it.  So a worker of a
     run of several test files compiles them up front (`prepare`: a small
     game's solve compiles every specialization) while the others wait and
