@@ -86,7 +86,6 @@ def worker(solver: str, n: int, m: int, k: int, seed: int, out: str, colours: in
 
     result: dict = {"solver": solver}
     try:
-        sys.path.insert(0, str(HERE))
         from gamefamily import pattern_scene
         from symsynth.solvers import SOLVERS, prepare
 

@@ -33,8 +33,8 @@ COLUMNS = (
     "roadmaps", "roadmap_vertices", "roadmap_edges", "edge_checks", "graph_searches", "costmap_rules",
     "costmap_cached", "planner_workers",
     # synthesis
-    "seconds_prepare", "seconds_synthesis", "synthesis_phases", "E_p", "units", "realizable", "positions", "bdd_peak_nodes",
-    "dfa_states",
+    "seconds_prepare", "seconds_synthesis", "synthesis_phases", "E_p", "units", "realizable", "positions",
+    "bdd_peak_nodes", "dfa_states",
     # the machine
     "peak_memory_mb", "versions", "host", "cpus", "load", "started", "seconds_run",
 )

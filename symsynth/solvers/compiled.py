@@ -120,7 +120,8 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
                    resolution: float = 1.0, symmetric: bool = True) -> Solution:
     """E_p, a strategy and plays, as `solve_explicit` computes them."""
     k = check_parameters(scene, k, resolution)
-    seconds = _compiled_once()
+    took = compile_kernels()  # the first solve of the process only
+    seconds = {} if took is None else {"compile": took}
     clock = time.perf_counter()
     formula = task_formula(scene, formula)
     symmetry = Symmetry.of(scene, formula) if symmetric else None
@@ -170,41 +171,20 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
 _compiled = False  # compile_kernels has run in this process
 
 
-def _compiled_once() -> dict[str, float]:
-    """The first solve of a process compiles the kernels (or loads them from
-    the cache) on a game of its own first, so that its `seconds` show that
-    as `compile` rather than inside `explore` and `solve`; on a terminal, a
-    line on stderr says so when it takes more than a second (a fresh
-    install's first solve, about 20 s)."""
-    if _compiled:
-        return {}
-    clock = time.perf_counter()
-    notice = threading.Timer(1.0, lambda: print(
-        "compiling the compiled solver's kernels: once per install, about 20 s, cached afterwards",
-        file=sys.stderr, flush=True))
-    if sys.stderr.isatty():
-        notice.start()
-    try:
-        compile_kernels()
-    except OSError as error:  # numba writes the compiled kernels to its cache as it goes
-        raise InputError(f"cannot compile the compiled solver's kernels: numba could not write its cache "
-                         f"({error.strerror or error}); set NUMBA_CACHE_DIR to a writable folder with room, "
-                         "or choose another solver (--solver explicit)") from None
-    finally:
-        notice.cancel()
-    return {"compile": time.perf_counter() - clock}
-
-
-def compile_kernels() -> None:
+def compile_kernels() -> float | None:
     """Compile the kernels now (or load them from numba's disk cache) by
-    solving a game of two interchangeable blocks and one human move.  A
-    fresh install's first solve pays the compiling (about 20 s of CPU), a
-    cached one a third of a second to load; comparison runs call this
-    (`solve_compiled.prepare`) before their clock starts, so that a run
-    times the solver and not the compiler.  Done once per process."""
+    solving a game of two interchangeable blocks and one human move; the
+    seconds it took, or None when this process has done it already.
+
+    The first solve of a process calls it, so that its `seconds` show the
+    compiling as `compile` rather than inside `explore` and `solve`;
+    comparison runs call it (`solve_compiled.prepare`) before their clock
+    starts.  A fresh install pays about 20 s of CPU here, a cached one a
+    third of a second; on a terminal a line on stderr says so when it takes
+    more than a second.  A cache numba cannot write is an `InputError`."""
     global _compiled
     if _compiled:
-        return
+        return None
     from symsynth.scene.load import scene_from_data
 
     places, grasp = ["l1", "l2", "l3", "e1"], "top"
@@ -220,14 +200,28 @@ def compile_kernels() -> None:
         "primitives": {"grab": 1, "drop": 1}, "human": {"k": 1},
         "task": "F(at(block, l2) & at(block, l3))",
         "costmap": {"format": "symsynth.costmap/1", "motions": motions}})
+    clock = time.perf_counter()
+    notice = threading.Timer(1.0, lambda: print(
+        "compiling the compiled solver's kernels: once per install, about 20 s, cached afterwards",
+        file=sys.stderr, flush=True))
+    if sys.stderr.isatty():
+        notice.start()
     _compiled = True  # the solve below must not come back here
     try:
         won = solve_compiled(scene).cost_bound is not None  # a game the robot wins: every kernel ran
+    except OSError as error:  # numba writes the compiled kernels to its cache as it goes
+        _compiled = False
+        raise InputError(f"cannot compile the compiled solver's kernels: numba could not write its cache "
+                         f"({error.strerror or error}); set NUMBA_CACHE_DIR to a writable folder with room, "
+                         "or choose another solver (--solver explicit)") from None
     except BaseException:
         _compiled = False
         raise
+    finally:
+        notice.cancel()
     if not won:
         raise RuntimeError("internal error: the compiled solver's warm-up game was not won")
+    return time.perf_counter() - clock
 
 
 solve_compiled.prepare = compile_kernels  # type: ignore[attr-defined]  # symsynth.solvers.prepare
