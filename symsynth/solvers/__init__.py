@@ -14,9 +14,9 @@ third-party solver is checked against the same contract by
 
 A solver with work to do once per process rather than per game (the
 compiled solver's kernels are compiled, or loaded from numba's cache, on
-first use) says so with a `prepare` attribute, a function that does it and
-returns nothing; `prepare(name)` runs it and times it, so that comparison
-runs start their clock after it.
+first use) says so with a `prepare` attribute, a function of no arguments
+that does it (what it returns is ignored); `prepare(name)` runs it and
+times it, so that comparison runs start their clock after it.
 """
 
 from __future__ import annotations
