@@ -24,8 +24,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from symsynth.execution import primitives as world_primitives
-from symsynth.planning.primitive import SlideRule
+from symsynth.execution import hand_motions
+from symsynth.planning.primitive_protocol import SlideRule
 from symsynth.planning.protocol import Config, Planner
 from symsynth.planning.slides import direction, slide_rule
 from symsynth.scene.model import Scene, geometry_of
@@ -80,7 +80,7 @@ class _Slide:
         return farther == self.outward
 
     def execute(self, world: Any, move: Any, path: tuple[Config, ...]) -> Any:
-        return world_primitives.slide(world, move, path)
+        return hand_motions.slide(world, move, path)
 
 
 class Push(_Slide):

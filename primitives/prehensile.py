@@ -1,7 +1,7 @@
 """Grab and drop: the hand closes on a grasp, or opens over a location.
 
 The game charges the scene's fixed costs (`costs: {grab, drop}`); the
-simulator carries them out with `execution.primitives` (approach along the
+simulator carries them out with `execution.hand_motions` (approach along the
 grasp's axis, close or open, retreat).
 
 `Grab.holds` says which objects a grasp can close on: those no wider,
@@ -20,7 +20,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from symsynth.execution import primitives as world_primitives
+from symsynth.execution import hand_motions
 from symsynth.planning.slides import straight
 from symsynth.scene.geometry import Geometry
 
@@ -30,7 +30,7 @@ class Grab:
     kind: ClassVar[str] = "prehensile"
 
     def execute(self, world: Any, approaches: Any, move: Any) -> Any:
-        return world_primitives.grab(world, approaches, move.obj, move.grasp)
+        return hand_motions.grab(world, approaches, move.obj, move.grasp)
 
     def reaches(self, scene: Any, planner: Any, place: str, grasp: str, anchor: Any) -> bool:
         """Whether the hand, empty, goes straight from the anchor `place/grasp`
@@ -66,4 +66,4 @@ class Drop:
     kind: ClassVar[str] = "prehensile"
 
     def execute(self, world: Any, approaches: Any, move: Any) -> Any:
-        return world_primitives.drop(world, approaches, move.location)
+        return hand_motions.drop(world, approaches, move.location)

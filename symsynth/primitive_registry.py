@@ -1,6 +1,6 @@
 """The registry of motion primitives: the entry-point group
 `symsynth.primitives`, built-ins and third-party plugins alike (what a
-primitive does is `planning.primitive`'s protocols; the lookup is
+primitive does is `planning.primitive_protocol`'s protocols; the lookup is
 `plugins`').
 
 It sits at the bottom of the package, so that a scene can check the

@@ -11,7 +11,7 @@ import pytest
 
 from support.primitive_conformance import check_displacement
 from symsynth.planning.registry import planner_class
-from symsynth.primitives import displacement
+from symsynth.primitive_registry import displacement
 from symsynth.scene import load_scene
 
 DATA = Path(__file__).parent / "data"

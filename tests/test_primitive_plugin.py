@@ -58,7 +58,7 @@ def test_solve_and_simulate_use_the_installed_plugin(installed, tmp_path):
 def test_the_plugin_conforms(installed, monkeypatch):
     monkeypatch.syspath_prepend(str(installed))
     from symsynth.planning.registry import planner_class
-    from symsynth.primitives import displacement
+    from symsynth.primitive_registry import displacement
     from symsynth.scene import load_scene
 
     scene = load_scene(SCENE)

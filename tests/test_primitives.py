@@ -16,7 +16,7 @@ from symsynth.planning.build import compute_costmap
 from symsynth.planning.protocol import Mode
 from symsynth.planning.registry import planner_class
 from symsynth.planning.slides import MAX_JUMP, slide_path
-from symsynth.primitives import PrimitiveError, displacement, primitive, primitive_names
+from symsynth.primitive_registry import PrimitiveError, displacement, primitive, primitive_names
 from symsynth.scene import load_scene, scene_from_data
 
 DATA = Path(__file__).parent / "data"

@@ -27,7 +27,7 @@ from symsynth.execution import motion as motion_module
 from symsynth.execution.human import (AdversarialHuman, NoHuman, RandomHuman, Request, ScriptedHuman, Turn,
                                       read_script)
 from symsynth.execution.observe import observe
-from symsynth.execution.primitives import APPROACH_STEPS
+from symsynth.execution.hand_motions import APPROACH_STEPS
 from symsynth.execution.record import Recorder
 from symsynth.execution.simulate import Policy, Simulator
 from symsynth.execution.world import SimWorld

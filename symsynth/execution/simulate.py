@@ -9,7 +9,7 @@ A run alternates turns as the game does (semantics §6), human first:
 2. **Robot turn.**  The strategy is asked for its action at the observed
    position (abstract state, DFA state, human moves left).  Transits and
    transfers follow an evidence path or a path planned at run time
-   (`motion.py`); grab and drop are primitives (`primitives.py`).  The
+   (`motion.py`); grab and drop are primitives (`hand_motions.py`).  The
    world is observed again and the DFA reads the new letter.
 
 The run ends when the DFA accepts (completed), when the strategy has no
@@ -48,7 +48,7 @@ from typing import Any
 
 from symsynth.errors import SymsynthError
 from symsynth.execution import motion as motions
-from symsynth.execution import primitives
+from symsynth.execution import hand_motions
 from symsynth.execution.human import Human, Option, Request, ScriptedHuman, Turn
 from symsynth.execution.observe import observe, place_at
 from symsynth.execution.record import STRIDE, Recorder
@@ -61,7 +61,7 @@ from symsynth.game.strategy import format_position, format_state
 from symsynth.logic import ast
 from symsynth.planning.anchors import anchor_configs
 from symsynth.planning.protocol import Mode, Planner
-from symsynth.primitives import displacement, primitive
+from symsynth.primitive_registry import displacement, primitive
 from symsynth.scene.geometry import Pose, point_text
 from symsynth.scene.model import ELSE, HOME, Scene
 
@@ -193,7 +193,7 @@ class Simulator:
         self.policy = policy
         self.planner = planner
         self.anchors = anchor_configs(planner, scene)
-        self.approaches = primitives.Approaches(planner)  # grab and drop paths, shared by the runs
+        self.approaches = hand_motions.Approaches(planner)  # grab and drop paths, shared by the runs
         self.per_radian = scene.geometry.per_radian
         self.planner_step = scene.geometry.planner.check_step  # radians; `resolution` quantizes costs
 
@@ -248,7 +248,7 @@ class _Episode:
             run.best_effort += best_effort
             try:
                 v = self._robot_turn(v, action)
-            except (ActionFailed, primitives.PrimitiveFailed) as error:
+            except (ActionFailed, hand_motions.PrimitiveFailed) as error:
                 return self._end(False, f"{action} failed: {error}")
             q = self.game.read(q, v)
             if self.game.accepts(q):

@@ -26,7 +26,7 @@ from symsynth.planning.methods import METHODS, costmap_for_mode
 from symsynth.planning.anchors import anchor_configs, mode_queries
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
 from symsynth.planning.registry import planner_class, planner_version
-from symsynth.primitives import displacement, primitive
+from symsynth.primitive_registry import displacement, primitive
 from symsynth.scene.costmap import Costmap, CostmapError, Provenance, Rule, SlideKey, costmap_from_data
 from symsynth.scene.load import costmap_problems
 from symsynth.scene.model import Scene, geometry_of
@@ -178,7 +178,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
 
 def slide_rules(scene: Scene, planner: Planner, configs: dict[str, Config]) -> dict[SlideKey, tuple[Rule, ...]]:
     """The slide rules of every contact, from its displacement primitive
-    (`planning.primitive`); the same for every costmap method: a slide is
+    (`planning.primitive_protocol`); the same for every costmap method: a slide is
     one Cartesian path, not a roadmap search."""
     found: dict[SlideKey, list[Rule]] = {}
     for contact, spec in sorted(geometry_of(scene).contacts.items()):

@@ -15,7 +15,7 @@ Two kinds, the two the game knows (docs/game-semantics.md §4, §4b):
 
 A plugin is a class with the attributes and methods of `Prehensile` or
 `Displacement`; `tests/support/primitive_conformance.py` pins what they mean.  The
-registry itself (`symsynth.primitives`) sits below the scene, which checks
+registry itself (`symsynth.primitive_registry`) sits below the scene, which checks
 the primitive each contact names.
 """
 
@@ -26,7 +26,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol, runtime_checkable
 
 from symsynth.planning.protocol import Config, Planner
-from symsynth.primitives import KINDS, PrimitiveError, displacement, primitive, primitive_names
+from symsynth.primitive_registry import KINDS, PrimitiveError, displacement, primitive, primitive_names
 from symsynth.scene.model import Scene
 
 __all__ = ["KINDS", "Displacement", "Prehensile", "PrimitiveError", "SlideRule", "displacement", "primitive",
@@ -80,5 +80,5 @@ class Displacement(Protocol):
         """Carry out the slide `move` (the game's `Move`: object, contact,
         target location) in the simulator's world along `path`, the evidence
         of its slide rule: the object moves with the contact, kinematically.
-        Returns what `execution.primitives` returns (`path`, `touched`,
+        Returns what `execution.hand_motions` returns (`path`, `touched`,
         `radians`)."""

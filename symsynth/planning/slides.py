@@ -34,7 +34,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from symsynth.planning.primitive import SlideRule
+from symsynth.planning.primitive_protocol import SlideRule
 from symsynth.planning.protocol import Config, Contacts, Mode, Planner
 from symsynth.scene.geometry import Pose, vec3
 from symsynth.scene.model import Scene, geometry_of

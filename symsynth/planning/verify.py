@@ -41,7 +41,7 @@ from symsynth.planning.methods import Query
 from symsynth.planning.protocol import Mode, Planner
 from symsynth.planning.registry import planner_names
 from symsynth.planning.slides import swept_places
-from symsynth.primitives import displacement
+from symsynth.primitive_registry import displacement
 from symsynth.scene.costmap import Costmap
 from symsynth.scene.geometry import point_text
 from symsynth.scene.model import Scene, geometry_of

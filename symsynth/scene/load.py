@@ -22,7 +22,7 @@ import jsonschema
 from symsynth.errors import InputError, LTLfSyntaxError, SymsynthWarning
 from symsynth.logic import ast
 from symsynth.logic.parser import parse_ltlf
-from symsynth.primitives import PrimitiveError, displacement
+from symsynth.primitive_registry import PrimitiveError, displacement
 from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data, load_costmap
 from symsynth.scene import physical
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, ObjectSpec, Scene

@@ -1,4 +1,4 @@
-"""What every displacement primitive plugin must do (`planning.primitive`),
+"""What every displacement primitive plugin must do (`planning.primitive_protocol`),
 as `planner_conformance.py` is for planners.  `check_displacement` runs the
 whole contract on one scene, planner and contact; it is used for the
 built-ins (tests/test_primitive_conformance.py) and for a third-party
@@ -29,7 +29,7 @@ import numpy as np
 from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import Move
 from symsynth.planning.anchors import anchor_configs
-from symsynth.planning.primitive import SlideRule
+from symsynth.planning.primitive_protocol import SlideRule
 from symsynth.planning.protocol import Mode
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from symsynth.execution.primitives import slide
+from symsynth.execution.hand_motions import slide
 from symsynth.planning.slides import direction, slide_rule
 
 
