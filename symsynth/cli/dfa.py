@@ -7,12 +7,11 @@ import json
 import time
 from pathlib import Path
 
-from tqdm import tqdm
-
 from symsynth.automata import compile_ltlf
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.symbolic import SymbolicDFA, TooManyTransitions
 from symsynth.cli.options import count
+from symsynth.cli.progress import bar as progress_bar
 from symsynth.errors import InputError, read_text
 from symsynth.files import write_atomic
 
@@ -53,8 +52,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _explicit(dfa: SymbolicDFA, limit: int | None) -> ExplicitDFA:
     """The explicit DFA, with a progress bar past a second; a DFA past
     `limit` transitions is refused before its guards are printed."""
-    with tqdm(total=dfa.num_states, desc="explicit DFA", unit=" states", delay=1.0, leave=False,
-              disable=None) as bar:
+    with progress_bar(total=dfa.num_states, desc="explicit DFA", unit=" states", delay=1.0) as bar:
         try:
             return dfa.to_explicit(limit, lambda done: bar.update(done - bar.n))
         except TooManyTransitions as error:

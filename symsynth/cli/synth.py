@@ -9,9 +9,8 @@ import sys
 import time
 from pathlib import Path
 
-from tqdm import tqdm
-
 from symsynth.automata import compile_ltlf
+from symsynth.cli.progress import bar as progress_bar
 from symsynth.errors import InputError, read_text
 from symsynth.files import write_atomic
 from symsynth.logic import ast, parse_ltlf
@@ -90,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
     clock = time.perf_counter()
     dfa = compile_ltlf(formula)
     compiled = time.perf_counter() - clock
-    with tqdm(desc="game", unit=" rounds", delay=1.0, leave=False, disable=None) as bar:
+    with progress_bar(desc="game", unit=" rounds", delay=1.0) as bar:
         game = solve_realizability(dfa, partition, agent_first=args.agent_first,
                                    progress=lambda done: bar.update(done - bar.n))
     solved = time.perf_counter() - clock - compiled
@@ -99,9 +98,10 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps({"realizable": game.realizable, "agent_first": game.agent_first,
                           "dfa_states": dfa.num_states, "rounds": len(game.rounds),
                           "seconds": {"dfa": round(compiled, 6), "game": round(solved, 6)}}))
-    if args.output is not None:
-        if not game.realizable:
-            raise InputError(f"-o {args.output}: unrealizable, there is no winning strategy to write")
+    if args.output is not None and not game.realizable:  # the verdict stands: exit 20, not 2
+        print(f"symsynth synth: -o {args.output}: unrealizable, there is no winning strategy to write "
+              "(nothing written)", file=sys.stderr)
+    elif args.output is not None:
         write_atomic(args.output, _strategy_text(game, args), "strategy")
     return REALIZABLE if game.realizable else UNREALIZABLE
 
