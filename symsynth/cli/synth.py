@@ -26,8 +26,9 @@ whatever the environment does (traces are finite and non-empty; the agent
 wins once the trace read so far satisfies the formula).
 
 The agent moves first in each step by default (--env-first: the environment).
-Plain X is weak next by default, as in Lydia and the LTLf synthesis datasets
-(X[!] is strong next); --next strong reads X as strong.
+Plain X is weak next by default, as in Lydia, SYNTCOMP's TLSF and the LTLf
+synthesis datasets, and as `symsynth dfa` reads it (X[!] is strong next,
+WX weak); --next strong reads X as strong.
 
 Output as in SYNTCOMP: the first line is REALIZABLE or UNREALIZABLE, exit
 status 10 or 20 (2 for bad input).  -o FILE writes a winning strategy: a
@@ -62,7 +63,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     first.add_argument("--env-first", dest="agent_first", action="store_false",
                        help="the environment moves first in each step")
     parser.add_argument("--next", choices=("strong", "weak"), default="weak",
-                        help="meaning of plain X (default: weak, as the datasets mean it)")
+                        help="meaning of plain X (default: weak, as in the datasets and `symsynth dfa`; "
+                             "X[!] is always strong)")
     parser.add_argument("-o", "--output", type=Path, metavar="FILE",
                         help="write a winning strategy to FILE (.json or .dot)")
     parser.add_argument("--strategy", choices=("auto", "machine", "bdd"), default="auto",
