@@ -82,9 +82,9 @@ def test_dot_file_is_written(capsys, tmp_path):
 
 def test_dot_and_json_together(capsys, tmp_path):
     target = tmp_path / "x.dot"
-    code, out, _ = run(capsys, "dfa", "--json", "--dot", str(target), "X true")
+    code, out, _ = run(capsys, "dfa", "--json", "--dot", str(target), "X[!] true")
     assert code == 0
-    check_json_language(json.loads(out), parse_ltlf("X true"))
+    check_json_language(json.loads(out), parse_ltlf("X[!] true"))
     assert "digraph" in target.read_text(encoding="utf-8")
 
 
@@ -100,12 +100,14 @@ def test_formula_from_a_file_with_comments_and_line_breaks(capsys, tmp_path):
     assert re.search(r"states\D*\b3\b", out, re.I)
 
 
-def test_next_weak_changes_the_meaning_of_x(capsys):
-    code, out, _ = run(capsys, "dfa", "--json", "X a")
+def test_next_strong_changes_the_meaning_of_x(capsys):
+    code, out, _ = run(capsys, "dfa", "--json", "--next", "strong", "X a")
     assert code == 0
     strong = JsonDFA(json.loads(out))
-    code, out, _ = run(capsys, "dfa", "--json", "--next", "weak", "X a")
+    code, default, _ = run(capsys, "dfa", "--json", "X a")  # weak by default, as `synth` reads it
     assert code == 0
+    code, out, _ = run(capsys, "dfa", "--json", "--next", "weak", "X a")
+    assert json.loads(out) == json.loads(default)
     weak = JsonDFA(json.loads(out))
     # a trace of length 1 has no next position: strong X fails, weak X holds
     assert not strong.accepts([{"a"}])
@@ -180,11 +182,11 @@ def test_the_transitions_counted_are_the_minimal_dfas(formula):
 
 
 def test_a_dfa_past_the_transition_limit_is_refused_before_it_is_listed(capsys, tmp_path):
-    """G(a -> X b) & F c: 5 states, 15 transitions, counted by hand: the start
+    """G(a -> X[!] b) & F c: 5 states, 15 transitions, counted by hand: the start
     reaches itself, 'c seen', 'b owed' and 'both' (4); 'c seen' itself and
     'both' (2); 'b owed' the sink and the start's 4 (5); 'both' the sink,
     'c seen' and itself (3); the sink itself (1)."""
-    formula = "G(a -> X b) & F c"
+    formula = "G(a -> X[!] b) & F c"
     expected = 15
     assert sum(len(set(row)) for row in minimize(reference_dfa(parse_ltlf(formula))).delta) == expected
     code, out, err = run(capsys, "dfa", "--json", "--max-transitions", str(expected - 1), formula)
@@ -207,3 +209,26 @@ def test_a_bad_transition_limit_exits_with_2(capsys, value):
         code = stop.code
     err = capsys.readouterr().err
     assert code == 2 and "--max-transitions" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("formula, column, hint", [
+    ("Fa", 1, "did you mean 'F a'?"),
+    ("G(a -> Xb)", 8, "did you mean 'X b'?"),
+    ("Ga", 1, "did you mean 'G a'?"),
+    ("GFp1 & q", 1, "did you mean 'G F p1'?"),
+    ("F(go) & Xpos & pos", 9, "did you mean 'X pos'?"),   # the rest is an atom of the formula
+])
+def test_an_operator_glued_to_an_atom_is_refused_with_a_hint(capsys, formula, column, hint):
+    code, out, err = run(capsys, "dfa", formula)
+    assert code == 2 and out == ""
+    assert f"<formula>:1:{column}: syntax error: " in err and hint in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("formula, atoms", [
+    ("Found & Xpos", {"Found", "Xpos"}),       # a long name: an atom
+    ("Gripper U heap_1_2", {"Gripper", "heap_1_2"}),
+    ("F a & X[!] b", {"a", "b"}),
+])
+def test_names_that_only_start_like_an_operator_are_atoms(capsys, formula, atoms):
+    code, out, _ = run(capsys, "dfa", "--json", formula)
+    assert code == 0 and set(json.loads(out)["atoms"]) == atoms

@@ -84,13 +84,13 @@ def test_parse_print_parse_is_stable(text_and_formula):
     ("G F a", Always(Eventually(a))),
     ("G(a -> F b)", Always(Implies(a, Eventually(b)))),
     # keywords versus identifiers
-    ("Fa", Atom("Fa")),
+    ("Found", Atom("Found")),
     ("F a", Eventually(a)),
     ("F(a)", Eventually(a)),
-    ("Fa U Gb", Until(Atom("Fa"), Atom("Gb"))),
+    ("Found U Gripper", Until(Atom("Found"), Atom("Gripper"))),
     ("lastly", Atom("lastly")),
     ("true_or_false", Atom("true_or_false")),
-    ("WXa", Atom("WXa")),
+    ("WXab", Atom("WXab")),
     ("last", Last()),
     ("true", TRUE),
     ("false", FALSE),
@@ -189,6 +189,9 @@ MISTAKES = [
     ("X[ a", 1, 2),                 # X[ without !]
     ("a b", 1, 3),                  # two atoms side by side
     ("GF a", 1, 4),                 # glued operators form one identifier
+    ("Fa", 1, 1),                   # an operator glued to a short atom: refused with a hint
+    ("a U\n  GFb", 2, 3),           # ... on line 2
+    ("Xpos -> G pos", 1, 1),        # ... to an atom of the formula
     ("at(black, top", 1, 14),       # unclosed predicate atom
     ("at(a,)", 1, 6),               # missing argument
     ("a)", 1, 2),                   # unbalanced closing parenthesis

@@ -184,8 +184,11 @@ def test_bad_formulas_and_files(tmp_path, capsys):
     bad(capsys, ["synth", str(tmp_path / "s.ltlf"), "--part", str(tmp_path / "s.part"), "-o", "x.dot",
                  "--strategy", "bdd"], "the BDDs are written as JSON")
     (tmp_path / "never.ltlf").write_text("F(a)")
-    bad(capsys, ["synth", str(tmp_path / "never.ltlf"), "--part", str(tmp_path / "s.part"), "-o",
-                 str(tmp_path / "x.json")], "unrealizable, there is no winning strategy to write")
+    code = main(["synth", str(tmp_path / "never.ltlf"), "--part", str(tmp_path / "s.part"), "-o",
+                 str(tmp_path / "x.json")])
+    out, err = capsys.readouterr()
+    assert code == 20 and out == "UNREALIZABLE\n"  # the verdict's code, as without -o
+    assert "unrealizable, there is no winning strategy to write" in err and "Traceback" not in err
     assert not (tmp_path / "x.json").exists()
 
 

@@ -1,14 +1,19 @@
 """The `symsynth` command: `main(argv) -> int`.
 
 Each subcommand lives in its own module with `register(subparsers)` that
-adds its parser and sets `run`.  Only `SymsynthError` is caught here: it
-becomes one message on stderr and exit code 2.  Anything else is a bug
-and keeps its traceback.
+adds its parser and sets `run`.  Only the module of the subcommand chosen
+is imported (`COMMANDS` names them): `symsynth dfa` loads the LTLf
+compiler, not the solvers, the scene or numba, so it starts in a tenth of
+a second.  `symsynth --help` (or a command line without a known
+subcommand) imports them all, to list each with its help.  Only
+`SymsynthError` is caught here: it becomes one message on stderr and exit
+code 2.  Anything else is a bug and keeps its traceback.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import signal
 import sys
 import threading
@@ -18,10 +23,11 @@ from contextlib import contextmanager
 from typing import NoReturn
 
 from symsynth import __version__
-from symsynth.cli import bench, costmap, dfa, show, simulate, solve, synth
 from symsynth.errors import SymsynthError, SymsynthWarning
 
-COMMANDS = (dfa, solve, costmap, show, simulate, synth, bench)
+#: The subcommands in the order `--help` lists them: each is the module
+#: `symsynth.cli.NAME`, imported only when it is chosen (or listed).
+COMMANDS = ("dfa", "solve", "costmap", "show", "simulate", "synth", "bench")
 
 
 class Parser(argparse.ArgumentParser):
@@ -49,7 +55,20 @@ def _is_number(text: str) -> bool:
     return True
 
 
-def build_parser() -> argparse.ArgumentParser:
+def chosen(argv: Sequence[str]) -> str | None:
+    """The subcommand a command line names: its first argument that is not
+    an option, when that is a subcommand (None otherwise: `--help`, a
+    typo, nothing)."""
+    for arg in argv:
+        if not arg.startswith("-"):
+            return arg if arg in COMMANDS else None
+    return None
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The parser with every subcommand registered, or, given `command`,
+    only that one in full (the others by name: their modules stay
+    unimported, and argparse only reads the chosen one's options)."""
     parser = Parser(
         prog="symsynth",
         description="Symbolic reactive synthesis for robot manipulation: LTLf tasks, "
@@ -59,14 +78,17 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"symsynth {__version__}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for command in COMMANDS:
-        command.register(subparsers)
+    for name in COMMANDS:
+        if command is None or name == command:
+            importlib.import_module(f"symsynth.cli.{name}").register(subparsers)
+        else:
+            subparsers.add_parser(name)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
     Parser.argv = list(sys.argv[1:] if argv is None else argv)
+    parser = build_parser(chosen(Parser.argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exit_:  # --help, --version, or a usage error (already printed)

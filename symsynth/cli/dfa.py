@@ -7,12 +7,11 @@ import json
 import time
 from pathlib import Path
 
-from tqdm import tqdm
-
 from symsynth.automata import compile_ltlf
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.symbolic import SymbolicDFA, TooManyTransitions
 from symsynth.cli.options import count
+from symsynth.cli.progress import bar as progress_bar
 from symsynth.errors import InputError, read_text
 from symsynth.files import write_atomic
 
@@ -26,7 +25,12 @@ Compile an LTLf formula (finite, non-empty traces) to its minimal complete DFA.
 Syntax, tightest first: unary ! ~ X X[!] WX N F <> G []; then U, R (V), W
 (right-associative); then & &&; then | ||; then -> => (right-associative);
 then <-> <=>.  Atoms are identifiers or predicates such as at(black, top);
-true, false and last are constants.  X is strong next unless --next weak.
+true, false and last are constants.
+
+Plain X is weak next by default (true at the last position), as in the LTLf
+synthesis datasets, Lydia and SYNTCOMP's TLSF, and as `symsynth synth` reads
+it; X[!] is strong next and WX (N) weak next whatever --next says.  An atom
+named like operators glued to an atom (Fa, Xb, GFa) is refused with a hint.
 
 By default a summary is printed (states, BDD nodes, seconds).  --json prints
 the explicit DFA: {"atoms", "initial", "accepting", "transitions": [{"from",
@@ -40,8 +44,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     source.add_argument("formula", nargs="?", help="the LTLf formula, quoted")
     source.add_argument("-f", "--file", type=Path, help="read the formula from FILE "
                         "('#' starts a comment)")
-    parser.add_argument("--next", choices=("strong", "weak"), default="strong",
-                        help="meaning of plain X (default: strong; 'weak' as in Lydia, Spot, TLSF)")
+    parser.add_argument("--next", choices=("strong", "weak"), default="weak",
+                        help="meaning of plain X (default: weak, as in the datasets, Lydia, TLSF and "
+                             "`symsynth synth`; X[!] is always strong)")
     parser.add_argument("--json", action="store_true", help="print the explicit DFA as JSON")
     parser.add_argument("--dot", type=Path, metavar="FILE", help="write the DFA as Graphviz to FILE")
     parser.add_argument("--max-transitions", type=count, default=MAX_TRANSITIONS, metavar="N",
@@ -53,8 +58,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _explicit(dfa: SymbolicDFA, limit: int | None) -> ExplicitDFA:
     """The explicit DFA, with a progress bar past a second; a DFA past
     `limit` transitions is refused before its guards are printed."""
-    with tqdm(total=dfa.num_states, desc="explicit DFA", unit=" states", delay=1.0, leave=False,
-              disable=None) as bar:
+    with progress_bar(total=dfa.num_states, desc="explicit DFA", unit=" states", delay=1.0) as bar:
         try:
             return dfa.to_explicit(limit, lambda done: bar.update(done - bar.n))
         except TooManyTransitions as error:

@@ -9,9 +9,8 @@ import sys
 import time
 from pathlib import Path
 
-from tqdm import tqdm
-
 from symsynth.automata import compile_ltlf
+from symsynth.cli.progress import bar as progress_bar
 from symsynth.errors import InputError, read_text
 from symsynth.files import write_atomic
 from symsynth.logic import ast, parse_ltlf
@@ -27,8 +26,9 @@ whatever the environment does (traces are finite and non-empty; the agent
 wins once the trace read so far satisfies the formula).
 
 The agent moves first in each step by default (--env-first: the environment).
-Plain X is weak next by default, as in Lydia and the LTLf synthesis datasets
-(X[!] is strong next); --next strong reads X as strong.
+Plain X is weak next by default, as in Lydia, SYNTCOMP's TLSF and the LTLf
+synthesis datasets, and as `symsynth dfa` reads it (X[!] is strong next,
+WX weak); --next strong reads X as strong.
 
 Output as in SYNTCOMP: the first line is REALIZABLE or UNREALIZABLE, exit
 status 10 or 20 (2 for bad input).  -o FILE writes a winning strategy: a
@@ -63,7 +63,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     first.add_argument("--env-first", dest="agent_first", action="store_false",
                        help="the environment moves first in each step")
     parser.add_argument("--next", choices=("strong", "weak"), default="weak",
-                        help="meaning of plain X (default: weak, as the datasets mean it)")
+                        help="meaning of plain X (default: weak, as in the datasets and `symsynth dfa`; "
+                             "X[!] is always strong)")
     parser.add_argument("-o", "--output", type=Path, metavar="FILE",
                         help="write a winning strategy to FILE (.json or .dot)")
     parser.add_argument("--strategy", choices=("auto", "machine", "bdd"), default="auto",
@@ -90,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
     clock = time.perf_counter()
     dfa = compile_ltlf(formula)
     compiled = time.perf_counter() - clock
-    with tqdm(desc="game", unit=" rounds", delay=1.0, leave=False, disable=None) as bar:
+    with progress_bar(desc="game", unit=" rounds", delay=1.0) as bar:
         game = solve_realizability(dfa, partition, agent_first=args.agent_first,
                                    progress=lambda done: bar.update(done - bar.n))
     solved = time.perf_counter() - clock - compiled
@@ -99,9 +100,10 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps({"realizable": game.realizable, "agent_first": game.agent_first,
                           "dfa_states": dfa.num_states, "rounds": len(game.rounds),
                           "seconds": {"dfa": round(compiled, 6), "game": round(solved, 6)}}))
-    if args.output is not None:
-        if not game.realizable:
-            raise InputError(f"-o {args.output}: unrealizable, there is no winning strategy to write")
+    if args.output is not None and not game.realizable:  # the verdict stands: exit 20, not 2
+        print(f"symsynth synth: -o {args.output}: unrealizable, there is no winning strategy to write "
+              "(nothing written)", file=sys.stderr)
+    elif args.output is not None:
         write_atomic(args.output, _strategy_text(game, args), "strategy")
     return REALIZABLE if game.realizable else UNREALIZABLE
 

@@ -177,6 +177,7 @@ def parse_ltlf(text: str, *, source: str = "<formula>",
         formula = _done(_parser(next_semantics).parse(text))
     except lark.UnexpectedInput as error:
         raise _syntax_error(text, source, error) from None
+    _refuse_glued_operators(formula, text, source)
     depth = ast.depth(formula)
     if depth > MAX_DEPTH:
         raise LTLfTooDeep(f"{source}: the formula nests {depth} operators deep; symsynth reads at most "
@@ -188,6 +189,48 @@ class LTLfTooDeep(InputError):
     """A formula nested beyond `MAX_DEPTH`."""
 
 
+#: An identifier that is unary operators glued to an atom: `Fa`, `Xb`, `GFa`, `WXp1`.
+_GLUED = re.compile(r"((?:WX|[XFGN])+)([A-Za-z_][A-Za-z0-9_]*)")
+#: ... refused when the atom is a short name (a letter and digits, as in `Fp3`).
+_SHORT = re.compile(r"[a-z][0-9]*")
+
+
+def _refuse_glued_operators(formula: ast.Formula, text: str, source: str) -> None:
+    """An `LTLfSyntaxError` for an atom named like unary operators glued to
+    an atom (`Fa`, `Xb`, `GFa`): an identifier is read whole, so `Fa` would
+    silently be an atom, not "eventually a".  Refused when the rest is an
+    atom of the formula too (`G(a -> Fb) & b`) or a short name (a letter and
+    digits: `Fa`, `Xp12`); `Found`, `Xpos` or `Gripper` stay atoms.  No atom
+    of the public LTLf synthesis datasets or of symsynth's scenes has this
+    form (they are lower case: `p12`, `heap_1_2`, `at(black, top)`)."""
+    names = {a.name for a in ast.atoms(formula)}
+    for atom in ast.atoms(formula):
+        glued = _GLUED.fullmatch(atom.name)
+        if glued is None or not (glued[2] in names or _SHORT.fullmatch(glued[2])):
+            continue
+        spaced = " ".join(re.findall(r"WX|[XFGN]", glued[1])) + " " + glued[2]
+        found = re.search(rf"(?<![A-Za-z0-9_]){atom.name}(?![A-Za-z0-9_])", re.sub(r"#[^\n]*", _blank, text))
+        raise _located(text, source, found.start() if found else 0,
+                       f"'{atom.name}' would be one atom: did you mean '{spaced}'? (symsynth refuses "
+                       f"atoms named like operators glued to an atom)")
+
+
+def _blank(comment: re.Match) -> str:
+    return " " * len(comment[0])
+
+
+def _located(text: str, source: str, pos: int, message: str) -> LTLfSyntaxError:
+    """The syntax error `message` at offset `pos` of `text`: line, column,
+    and the line with a caret under the place."""
+    line = text.count("\n", 0, pos) + 1
+    line_start = text.rfind("\n", 0, pos) + 1
+    column = pos - line_start + 1
+    line_end = text.find("\n", pos)
+    line_text = text[line_start: None if line_end < 0 else line_end]
+    context = f"    {line_text}\n    {' ' * (column - 1)}^"
+    return LTLfSyntaxError(source, line, column, context, message)
+
+
 def _syntax_error(text: str, source: str, error: lark.UnexpectedInput) -> LTLfSyntaxError:
     if not re.sub(r"#[^\n]*", "", text).strip():
         return LTLfSyntaxError(source, 1, 1, "", "empty formula: expected a formula")
@@ -197,13 +240,7 @@ def _syntax_error(text: str, source: str, error: lark.UnexpectedInput) -> LTLfSy
         pos = len(text.rstrip())
     if pos is None:
         pos = len(text)
-    line = text.count("\n", 0, pos) + 1
-    line_start = text.rfind("\n", 0, pos) + 1
-    column = pos - line_start + 1
-    line_end = text.find("\n", pos)
-    line_text = text[line_start: None if line_end < 0 else line_end]
-    context = f"    {line_text}\n    {' ' * (column - 1)}^"
-    return LTLfSyntaxError(source, line, column, context, _explain(text, pos, error))
+    return _located(text, source, pos, _explain(text, pos, error))
 
 
 def _explain(text: str, pos: int, error: lark.UnexpectedInput) -> str:

@@ -67,7 +67,7 @@ def weaken(f: ast.Formula) -> ast.Formula:
 # --------------------------------------------------------- formula texts
 
 # Identifiers that start like keywords but are not keywords.
-TRICKY_NAMES = ("a", "b", "Fa", "Xb", "GF", "WXc", "Nope", "last1", "true_", "Un", "_x", "X1")
+TRICKY_NAMES = ("a", "b", "Found", "Xbox", "GF", "WXcc", "Nope", "last1", "true_", "Un", "_x", "X1")
 PREDICATES = (
     ast.Atom("at", ("black", "top")),
     ast.Atom("at", ("white", "1")),
