@@ -14,7 +14,7 @@ Two kinds, the two the game knows (docs/game-semantics.md §4, §4b):
   costmap's slide rules (`SlideRule`).
 
 A plugin is a class with the attributes and methods of `Prehensile` or
-`Displacement`; `tests/support/primitive_conformance.py` pins what they mean.  The
+`Displacement`; `symsynth.testing.primitive` pins what they mean.  The
 registry itself (`symsynth.primitive_registry`) sits below the scene, which checks
 the primitive each contact names.
 """
