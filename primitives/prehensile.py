@@ -4,14 +4,15 @@ The game charges the scene's fixed costs (`costs: {grab, drop}`); the
 simulator carries them out with `execution.hand_motions` (approach along the
 grasp's axis, close or open, retreat).
 
-`Grab.holds` says which objects a grasp can close on: those no wider,
+`holds` says which objects a grasp can close on: those no wider,
 across the fingers (the hand's y axis), than the robot's `opening`.  The
 costmap has no motion holding an object the hand cannot close on, so such
 an object is never carried (a box wider than the gripper opens can still
-be pushed).  `Grab.reaches` says where a grasp can close at all: where the
+be pushed).  `reaches` says where a grasp can close at all: where the
 hand's straight approach from the anchor down to the grasp pose meets no
 static obstacle (under a low shelf it does not); the costmap has no motion
-holding anything at a place it cannot reach."""
+holding anything at a place it cannot reach.  Drop answers both as grab
+does: it comes down the same approach and opens the hand that closed."""
 
 from __future__ import annotations
 
@@ -25,12 +26,12 @@ from symsynth.planning.slides import straight
 from symsynth.scene.geometry import Geometry
 
 
-class Grab:
-    name: ClassVar[str] = "grab"
-    kind: ClassVar[str] = "prehensile"
+class _Hand:
+    """What grab and drop share: the hand comes straight down from the anchor
+    to the grasp pose and back, closing on the object or opening around it,
+    so they act on the same objects (`holds`) at the same places (`reaches`)."""
 
-    def execute(self, world: Any, approaches: Any, move: Any) -> Any:
-        return hand_motions.grab(world, approaches, move.obj, move.grasp)
+    kind: ClassVar[str] = "prehensile"
 
     def reaches(self, scene: Any, planner: Any, place: str, grasp: str, anchor: Any) -> bool:
         """Whether the hand, empty, goes straight from the anchor `place/grasp`
@@ -49,6 +50,13 @@ class Grab:
         return opening is None or width is None or width <= opening + 1e-9
 
 
+class Grab(_Hand):
+    name: ClassVar[str] = "grab"
+
+    def execute(self, world: Any, approaches: Any, move: Any) -> Any:
+        return hand_motions.grab(world, approaches, move.obj, move.grasp)
+
+
 def _width(geometry: Geometry, obj: str, grasp: str) -> float | None:
     """The object's extent along the hand's y axis (the fingers' closing
     direction) at the grasp, in the object's frame."""
@@ -61,9 +69,8 @@ def _width(geometry: Geometry, obj: str, grasp: str) -> float | None:
     return None
 
 
-class Drop:
+class Drop(_Hand):
     name: ClassVar[str] = "drop"
-    kind: ClassVar[str] = "prehensile"
 
     def execute(self, world: Any, approaches: Any, move: Any) -> Any:
         return hand_motions.drop(world, approaches, move.location)

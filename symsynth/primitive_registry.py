@@ -17,6 +17,11 @@ from symsynth.errors import InputError
 
 GROUP = "symsynth.primitives"
 KINDS = ("prehensile", "displacement")
+#: What a plugin of each kind must have (`planning.primitive_protocol`).
+MEMBERS = {"prehensile": ("holds", "reaches", "execute"), "displacement": ("fixed_cost", "slides", "execute")}
+#: The game's prehensile actions (semantics §4): each is carried out by the
+#: prehensile primitive registered under its name.
+PREHENSILE_ACTIONS = ("grab", "drop")
 
 
 class PrimitiveError(InputError):
@@ -35,6 +40,10 @@ def primitive(name: str) -> Any:
     if getattr(cls, "kind", None) not in KINDS or not isinstance(getattr(cls, "name", None), str):
         raise PrimitiveError(f"primitive plugin {name!r} ({plugins.found(GROUP)[name].value}) is not a "
                              f"primitive: it needs a 'name' and a 'kind' ({' or '.join(KINDS)})")
+    missing = [m for m in MEMBERS[cls.kind] if not hasattr(cls, m)]
+    if missing:
+        raise PrimitiveError(f"primitive plugin {name!r} ({plugins.found(GROUP)[name].value}) is a {cls.kind} "
+                             f"primitive without {', '.join(missing)} (planning/primitive_protocol.py)")
     return cls()
 
 
@@ -44,4 +53,15 @@ def displacement(name: str) -> Any:
     if found.kind != "displacement":
         raise PrimitiveError(f"{name!r} is a {found.kind} primitive; a contact needs a displacement primitive "
                              f"({', '.join(primitive_names('displacement')) or 'none are installed'})")
+    return found
+
+
+def prehensile_primitives() -> tuple[Any, ...]:
+    """The primitives that carry out the game's prehensile actions
+    (`PREHENSILE_ACTIONS`), each checked to be prehensile."""
+    found = tuple(primitive(name) for name in PREHENSILE_ACTIONS)
+    for name, plugin in zip(PREHENSILE_ACTIONS, found):
+        if plugin.kind != "prehensile":
+            raise PrimitiveError(f"the game's {name} action needs a prehensile primitive named {name!r}; "
+                                 f"the one installed is a {plugin.kind} primitive")
     return found

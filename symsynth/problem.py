@@ -200,7 +200,7 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
     E_p is infinite or above `budget`, nothing runs unless `best_effort`
     (where the strategy has no action, the explicit solver's action with
     fewer human moves left is played).  `record`: a GIF of the first run."""
-    from symsynth.execution.human import HUMANS, HumanContext, ScriptedHuman
+    from symsynth.execution.human import HUMANS, HumanContext, ScriptedHuman, human_needs
     from symsynth.execution.record import Recorder
     from symsynth.execution.simulate import Policy, Simulator
 
@@ -210,6 +210,7 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
     planner_type = planner_class(simulation_planner(scene, planner))
     if isinstance(human, str) and human not in HUMANS:
         raise InputError(f"unknown human {human!r}; installed humans: {', '.join(HUMANS)}")
+    needs = frozenset() if isinstance(human, ScriptedHuman) else human_needs(human)
     given, table, solution = problem.strategy, None, None
     if given is not None:  # what it claims is checked now that the costmap gives the costs
         table = given.table
@@ -219,7 +220,7 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
             raise InputError(f"{given.path}: not a strategy for scene {scene.name!r}: {error}") from None
     else:
         solution = solve(problem, solver, budget=budget)
-        if human == "adversarial":  # it weighs its moves by the budgets of every position reached
+        if "budgets" in needs:  # e.g. the adversary weighs its moves by the budgets of every position reached
             table = strategy_table(scene, problem.task, solution, formula=problem.formula)
     if table is not None:
         bound, units, resolution = table.cost_bound, table.units, table.resolution
@@ -236,10 +237,10 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
     task = problem.task.strip()
     if not guarantee and not best_effort:
         return Simulation(task, bound, positions, guarantee, budget, stopped=no_guarantee(bound, budget))
-    if bound is None and human == "adversarial":  # strategy_table explores nothing then
-        raise InputError("--human adversarial: no strategy wins against every human (E_p is infinite), so "
-                         "there are no budgets for the adversary to choose its moves by; run best effort "
-                         "against none, random or a script")
+    if bound is None and "budgets" in needs:  # strategy_table explores nothing then
+        raise InputError(f"--human {human}: no strategy wins against every human (E_p is infinite), so "
+                         f"there are no budgets for this human to choose its moves by; run best effort "
+                         f"against a human that needs none (none, random) or a script")
     fallback = None
     if bound is None:  # a finite E_p over the budget still has its strategy everywhere it leads
         # The explicit solver's strategy covers every reachable position of

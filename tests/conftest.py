@@ -15,6 +15,10 @@ import pytest
 from support.paper import PLANNERS, SCENES, small
 from symsynth.planning.build import compute_costmaps
 
+# The example plugins are repositories of their own: their tests run there,
+# with the plugin installed (tests/test_*_plugin.py), not in this session.
+collect_ignore = ["plugins"]
+
 
 def xdist_worker(config) -> bool:
     """Whether this process is a pytest-xdist worker (not the only process

@@ -14,7 +14,7 @@ import random
 import pytest
 import yaml
 
-from support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 from support.games import bound_holds_everywhere, worst_case_of
 from support.planar import PlanarPlanner, planar_scene
 from symsynth.cli import main

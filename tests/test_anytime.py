@@ -15,7 +15,7 @@ from symsynth.logic import parse_ltlf
 from symsynth.solvers import forward
 from symsynth.solvers.auto import choose
 from symsynth.solvers.explicit import solve_explicit
-from support.gamegen import alike_scene, random_scene
+from symsynth.testing.gamegen import alike_scene, random_scene
 from support.games import worst_case_of
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from support.planner_conformance import HOME, INTO_TABLE, CHECK_STEP, scene
+from symsynth.testing.planner import HOME, INTO_TABLE, CHECK_STEP, scene
 from symsynth.planning.protocol import Contacts, Mode
 from symsynth.planning.segment import segment
 from symsynth_planners.bullet import BulletPlanner

@@ -24,7 +24,7 @@ from symsynth.logic import parse_ltlf
 from symsynth.solvers import compiled
 from symsynth.solvers.compiled import Tables, _explore, _human_moves, _letter, solve_compiled
 from symsynth.solvers.explicit import solve_explicit
-from support.gamegen import alike_scene, random_scene
+from symsynth.testing.gamegen import alike_scene, random_scene
 from support.games import PICK, make_scene, worst_case_of
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -134,7 +134,7 @@ from symsynth.scene import load_scene
 from symsynth.solvers import SOLVERS, prepare
 from symsynth.solvers import compiled
 sys.path.insert(0, "tests")
-from support.gamegen import alike_scene, random_scene
+from symsynth.testing.gamegen import alike_scene, random_scene
 
 def signatures():
     return {name: len(getattr(compiled, name).signatures) for name in dir(compiled)

@@ -14,7 +14,7 @@ import math
 
 import pytest
 
-from support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 from symsynth.automata import compile_ltlf
 from symsynth.game.abstraction import (State, human_moves, initial_state, letter, quantize,
                                        robot_moves)

@@ -14,7 +14,7 @@ import sys
 
 import pytest
 
-from support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 from symsynth.game.abstraction import initial_state
 from symsynth.game.graph import GameGraph, Node
 from symsynth.solvers.explicit import _dijkstra, solve_explicit

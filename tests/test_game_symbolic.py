@@ -15,7 +15,7 @@ import functools
 
 import pytest
 
-from support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 from symsynth.game.abstraction import State, human_moves, initial_state, quantize, robot_moves
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.game.strategy import reachable_positions, worst_units

@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 import yaml
 
-from support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.game import horizon

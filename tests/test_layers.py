@@ -2,7 +2,8 @@
 above its own: errors and the plugin registries; logic; automata; scene;
 the simulator's pybullet helpers; planning; the game's rules; its solvers
 and LTLf synthesis; execution; the application layer; the command line and
-comparison runs.  (The issue that asked for it found symbolic/ importing
+comparison runs; and on top the plugins' conformance suites (`testing`),
+which may import anything and which nothing imports.  (The issue that asked for it found symbolic/ importing
 game/ while game/ imported symbolic/, and scene/ importing game/.)"""
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from pathlib import Path
 PACKAGE = Path(__file__).resolve().parents[1] / "symsynth"
 RANK = {"__version__": 0, "errors": 0, "files": 0, "plugins": 0, "primitive_registry": 0, "parallel": 0, "grammars": 0,
         "logic": 1, "automata": 2, "scene": 3, "bullet": 3.5, "planning": 4, "game": 5,
-        "solvers": 6, "synthesis": 6, "execution": 7, "problem": 8, "bench": 9, "cli": 9, "__main__": 10}
+        "solvers": 6, "synthesis": 6, "execution": 7, "problem": 8, "bench": 9, "cli": 9, "__main__": 10, "testing": 11}
 
 
 def layer(module: str) -> str:

@@ -6,39 +6,50 @@ an error that lists the installed ones."""
 from __future__ import annotations
 
 import os
+import sys
+from importlib.metadata import entry_points
 
 import pytest
 
 from symsynth import plugins
 from symsynth.errors import InputError
-from symsynth.execution.human import HUMANS, HumanContext
+from symsynth.execution.human import HUMANS, HumanContext, human_needs
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers import SOLVERS
 from symsynth.planning.registry import planner_names
 
 
+#: symsynth's own plugins; an installed third-party one comes on top of them.
+BUILT_IN_SOLVERS = ("auto", "compiled", "explicit", "forward", "symbolic")
+BUILT_IN_HUMANS = ("none", "random", "adversarial")
+
+
 def test_the_built_ins_are_registered_by_entry_point():
-    assert {n: plugins.found("symsynth.solvers")[n].value for n in SOLVERS} == {
+    assert {n: plugins.found("symsynth.solvers")[n].value for n in BUILT_IN_SOLVERS} == {
         "explicit": "symsynth.solvers.explicit:solve_explicit", "forward": "symsynth.solvers.forward:solve_forward",
         "symbolic": "symsynth.solvers.symbolic:solve_symbolic", "auto": "symsynth.solvers.auto:solve_auto",
         "compiled": "symsynth.solvers.compiled:solve_compiled"}
     assert SOLVERS["explicit"] is solve_explicit
-    assert set(HUMANS) == {"none", "random", "adversarial"}
-    assert set(planner_names()) == {"ompl-fcl", "pybullet"}
+    assert set(HUMANS) >= set(BUILT_IN_HUMANS)
+    assert set(planner_names()) >= {"ompl-fcl", "pybullet"}
     assert set(plugins.found("symsynth.primitives")) >= {"grab", "drop", "push", "pull"}
 
 
 def test_a_registry_is_a_mapping_and_names_what_is_installed():
-    assert "symbolic" in SOLVERS and "simplex" not in SOLVERS and len(SOLVERS) == 5
+    installed = sorted(ep.name for ep in entry_points(group="symsynth.solvers"))
+    assert set(installed) >= set(BUILT_IN_SOLVERS)
+    assert "symbolic" in SOLVERS and "simplex" not in SOLVERS and len(SOLVERS) == len(installed)
+    assert list(SOLVERS) == installed
     with pytest.raises(KeyError):
         SOLVERS["simplex"]
-    with pytest.raises(InputError, match="unknown solver 'simplex'; installed solvers: auto, compiled, explicit, forward, symbolic"):
+    with pytest.raises(InputError) as error:
         SOLVERS.get_or_fail("simplex")
+    assert str(error.value) == f"unknown solver 'simplex'; installed solvers: {', '.join(installed)}"
 
 
 def test_registered_humans_are_made_from_a_context():
     context = HumanContext(seed=3, probability=1.0, budget=lambda position: None)
-    humans = {name: HUMANS[name](context) for name in HUMANS}
+    humans = {name: HUMANS[name](context) for name in BUILT_IN_HUMANS}
     assert {name: human.name for name, human in humans.items()} == {
         "none": "none", "random": "random", "adversarial": "adversarial"}
 
@@ -68,3 +79,24 @@ def test_lookups_see_a_folder_put_on_the_path_and_a_package_installed_into_it(tm
     found = plugins.found(group)
     found.clear()  # a caller's copy: the kept lookup is not changed through it
     assert set(plugins.found(group)) == {"one", "two"}
+
+
+def test_a_human_declares_what_it_needs_of_a_run():
+    """Budgets are computed for a human that says it needs them (its
+    factory's `needs`), not for one named adversarial."""
+    assert human_needs("adversarial") == {"budgets"}
+    assert human_needs("none") == human_needs("random") == frozenset()
+
+
+@pytest.mark.parametrize("needs, message", [
+    ("{'minds'}", "human plugin 'telepath' needs minds, which symsynth does not provide; known needs: budgets"),
+    ("'budgets'", "human plugin 'telepath': 'needs' must be a set of names from budgets, found 'budgets'"),
+])
+def test_a_need_symsynth_does_not_know_is_the_plugins_error(tmp_path, monkeypatch, needs, message):
+    (tmp_path / "telepath.py").write_text(f"def make(context):\n    return None\nmake.needs = {needs}\n")
+    _distribution(tmp_path, "telepath", "symsynth.humans", "telepath = telepath:make")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, "telepath", raising=False)  # this case's module, not the last one's
+    with pytest.raises(InputError) as error:
+        human_needs("telepath")
+    assert str(error.value) == message

@@ -189,3 +189,55 @@ def test_costmap_verify_rechecks_slide_evidence(scene_and_planner, push_sg):
     near_planner = planner_class("ompl-fcl")(near)
     _, failures = verify_costmap(Costmap({}, None, {key: (rule,)}), near, near_planner, 0.01, progress=False)
     assert any("sweeps l3" in f.reason for f in failures)
+
+
+class Says:
+    """A prehensile primitive that says what it is told (holds the objects
+    in `held`, reaches the places in `reached`) and counts the questions."""
+
+    kind = "prehensile"
+
+    def __init__(self, name, held, reached):
+        self.name, self.held, self.reached, self.asked = name, held, reached, []
+
+    def holds(self, geometry, obj, grasp):
+        return obj in self.held
+
+    def reaches(self, scene, planner, place, grasp, anchor):
+        self.asked.append(place)
+        return place in self.reached
+
+    def execute(self, world, approaches, move):
+        raise AssertionError("not carried out here")
+
+
+def test_the_costmap_asks_grab_and_drop_where_and_on_what_they_act(monkeypatch):
+    """`holds` and `reaches` are protocol (planning/primitive_protocol.py),
+    asked of both primitives of the game's prehensile actions, not looked
+    for on the one named grab: a holding mode needs both to hold its object,
+    a grasp anchor both to reach it."""
+    from symsynth.planning import build
+
+    scene = load_scene(DATA / "push-small.yaml")
+    configs = {f"{x}/top": (0.0,) * 7 for x in scene.locations + scene.else_samples}
+    grab, drop = Says("grab", {"box"}, {"l1", "l2"}), Says("drop", set(), {"l2"})
+    monkeypatch.setattr(build, "prehensile_primitives", lambda: (grab, drop))
+    assert build.holds(scene, Mode()) and not build.holds(scene, Mode("box", "top"))
+    drop.held = {"box"}
+    assert build.holds(scene, Mode("box", "top"))
+    assert build.graspable(scene, None, configs) == {"l2/top"}
+    assert sorted(grab.asked) == sorted(scene.locations + scene.else_samples)
+    assert sorted(drop.asked) == ["l1", "l2"]  # where grab said yes
+
+
+def test_a_prehensile_plugin_without_the_protocol_is_refused_by_name(tmp_path, monkeypatch):
+    (tmp_path / "halfhand.py").write_text("class Hand:\n    name = 'halfhand'\n    kind = 'prehensile'\n"
+                                          "    def execute(self, world, approaches, move):\n        pass\n")
+    info = tmp_path / "halfhand-1.0.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: halfhand\nVersion: 1.0\n")
+    (info / "entry_points.txt").write_text("[symsynth.primitives]\nhalfhand = halfhand:Hand\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    with pytest.raises(PrimitiveError, match=r"'halfhand' \(halfhand:Hand\) is a prehensile primitive without "
+                                             r"holds, reaches"):
+        primitive("halfhand")

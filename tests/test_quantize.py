@@ -18,7 +18,7 @@ from fractions import Fraction
 
 import pytest
 
-from support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.game.abstraction import quantize

@@ -13,7 +13,7 @@ from symsynth.errors import SymsynthError
 from symsynth.execution.render import Camera, render_scene
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import ObjectSpec, Scene
-from support.planner_conformance import BLOCK, physical_scene
+from symsynth.testing.planner import BLOCK, physical_scene
 
 WIDTH, HEIGHT = 320, 240
 

@@ -24,7 +24,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.game.abstraction import State, human_moves, initial_state, robot_moves

@@ -15,7 +15,7 @@ from collections.abc import Mapping
 
 import pytest
 
-from support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 from symsynth.automata import compile_ltlf
 from symsynth.errors import InputError
 from symsynth.game.abstraction import State, initial_state, letter, state_problems

@@ -21,7 +21,7 @@ import math
 
 import pytest
 
-from support.gamegen import alike_scene
+from symsynth.testing.gamegen import alike_scene
 from support.games import ALIKE_MOTIONS, make_scene, well_formed_states, worst_case_of
 from symsynth.game.abstraction import (State, initial_state, legal_human_moves, legal_robot_moves,
                                        letter, quantize)

@@ -15,7 +15,7 @@ from collections import deque
 
 import pytest
 
-from support.gamegen import alike_scene, random_scene
+from symsynth.testing.gamegen import alike_scene, random_scene
 from support.games import worst_case_of
 from symsynth.game.abstraction import initial_state, legal_human_moves, letter, robot_moves
 from symsynth.game.symmetry import interchangeable

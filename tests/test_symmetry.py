@@ -25,7 +25,7 @@ from symsynth.solvers.compiled import solve_compiled
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers.forward import solve_forward
 from symsynth.solvers.symbolic import solve_symbolic
-from support.gamegen import alike_scene
+from symsynth.testing.gamegen import alike_scene
 from support.games import ALIKE_MOTIONS, make_scene, worst_case_of
 
 MOTIONS = ALIKE_MOTIONS  # a and b alike, c with a dearer carry

@@ -122,7 +122,8 @@ class AdversarialHuman:
 class HumanContext:
     """What a registered human is made from, one per run: the run's seed,
     the move probability (`--move-probability`) and the budget the strategy
-    guarantees from a position (None where it does not win)."""
+    guarantees from a position (None where it does not win, and everywhere
+    for a human that does not declare it `needs` "budgets": `NEEDS`)."""
 
     seed: int
     probability: float
@@ -141,10 +142,34 @@ def adversarial_human(context: HumanContext) -> Human:
     return AdversarialHuman(context.seed, context.budget)
 
 
+#: What a registered human may declare it needs of a run, in a `needs`
+#: attribute of its factory (a set of these names; none by default):
+#: "budgets": `HumanContext.budget` answers for every position the strategy
+#: reaches, which explores the whole strategy before the first run
+#: (`game.strategy.strategy_table`); without it the runs look the strategy
+#: up only where they go, and `budget` answers None everywhere.
+NEEDS = frozenset({"budgets"})
+adversarial_human.needs = frozenset({"budgets"})  # type: ignore[attr-defined]  # see NEEDS
+
 #: The entry-point group of simulated humans: a name -> a function from a
 #: `HumanContext` to a `Human` (none, random, adversarial are registered
 #: there; a script file is not a registered human).
 HUMANS = plugins.Registry("symsynth.humans", "human", InputError)
+
+
+def human_needs(name: str) -> frozenset[str]:
+    """What the registered human `name` needs of a run (`NEEDS`); an
+    unknown need is the plugin's error, named so."""
+    factory = HUMANS.get_or_fail(name)
+    declared: Any = getattr(factory, "needs", frozenset())
+    if isinstance(declared, str) or not all(isinstance(n, str) for n in declared):
+        raise InputError(f"human plugin {name!r}: 'needs' must be a set of names from {', '.join(sorted(NEEDS))}, "
+                         f"found {declared!r}")
+    unknown = set(declared) - NEEDS
+    if unknown:
+        raise InputError(f"human plugin {name!r} needs {', '.join(sorted(unknown))}, which symsynth does not "
+                         f"provide; known needs: {', '.join(sorted(NEEDS))}")
+    return frozenset(declared)
 
 
 class ScriptedHuman:

@@ -26,7 +26,7 @@ from symsynth.planning.methods import METHODS, costmap_for_mode
 from symsynth.planning.anchors import anchor_configs, mode_queries
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
 from symsynth.planning.registry import planner_class, planner_version
-from symsynth.primitive_registry import displacement, primitive
+from symsynth.primitive_registry import displacement, prehensile_primitives
 from symsynth.scene.costmap import Costmap, CostmapError, Provenance, Rule, SlideKey, costmap_from_data
 from symsynth.scene.load import costmap_problems
 from symsynth.scene.model import Scene, geometry_of
@@ -79,22 +79,23 @@ def mode_anchors(planner: Planner, mode: Mode, configs: dict) -> dict[str, tuple
 
 
 def holds(scene: Scene, mode: Mode) -> bool:
-    """A holding mode only when the grab primitive can close the hand on
-    its object with its grasp (a box wider than the opening cannot be
-    held: the costmap gets no motion in that mode); the empty hand always."""
-    grab = primitive("grab")
-    return mode.object is None or not hasattr(grab, "holds") or grab.holds(scene.geometry, mode.object, mode.grasp)
+    """A holding mode only when every prehensile primitive of the game can
+    hold its object with its grasp (`Prehensile.holds`: a box wider than
+    the opening cannot be held, and the costmap gets no motion in that
+    mode); the empty hand always."""
+    return mode.object is None or all(p.holds(geometry_of(scene), mode.object, mode.grasp)
+                                      for p in prehensile_primitives())
 
 
 def graspable(scene: Scene, planner: Planner, configs: dict[str, Config]) -> set[str]:
-    """The grasp anchors `x/g` where the grab primitive can close the hand
-    (`reaches`; every one when the installed grab does not say)."""
-    grab = primitive("grab")
+    """The grasp anchors `x/g` where every prehensile primitive of the game
+    can act (`Prehensile.reaches`; each asked only where the ones before it
+    said yes)."""
     names = {f"{x}/{g}" for x in scene.locations + scene.else_samples for g in scene.grasps}
-    if not hasattr(grab, "reaches"):
-        return names
-    return {n for n in names if n in configs
-            and grab.reaches(scene, planner, n.rsplit("/", 1)[0], n.rsplit("/", 1)[1], configs[n])}
+    found = {n for n in names if n in configs}
+    for plugin in prehensile_primitives():
+        found = {n for n in found if plugin.reaches(scene, planner, *n.rsplit("/", 1), configs[n])}
+    return found
 
 
 def compute_costmap(scene: Scene, method: str, planner_name: str | None = None,

@@ -14,7 +14,7 @@ Two kinds, the two the game knows (docs/game-semantics.md §4, §4b):
   costmap's slide rules (`SlideRule`).
 
 A plugin is a class with the attributes and methods of `Prehensile` or
-`Displacement`; `tests/support/primitive_conformance.py` pins what they mean.  The
+`Displacement`; `symsynth.testing.primitive` pins what they mean.  The
 registry itself (`symsynth.primitive_registry`) sits below the scene, which checks
 the primitive each contact names.
 """
@@ -26,11 +26,13 @@ from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol, runtime_checkable
 
 from symsynth.planning.protocol import Config, Planner
-from symsynth.primitive_registry import KINDS, PrimitiveError, displacement, primitive, primitive_names
+from symsynth.primitive_registry import (KINDS, PREHENSILE_ACTIONS, PrimitiveError, displacement,
+                                         prehensile_primitives, primitive, primitive_names)
+from symsynth.scene.geometry import Geometry
 from symsynth.scene.model import Scene
 
-__all__ = ["KINDS", "Displacement", "Prehensile", "PrimitiveError", "SlideRule", "displacement", "primitive",
-           "primitive_names"]
+__all__ = ["KINDS", "PREHENSILE_ACTIONS", "Displacement", "Prehensile", "PrimitiveError", "SlideRule",
+           "displacement", "prehensile_primitives", "primitive", "primitive_names"]
 
 
 @dataclass(frozen=True)
@@ -52,8 +54,23 @@ class SlideRule:
 
 @runtime_checkable
 class Prehensile(Protocol):
+    """The game's grab and drop (`primitive_registry.PREHENSILE_ACTIONS`) are
+    each carried out by the prehensile primitive registered under that
+    name.  The costmap asks both where and on what they can act: a holding
+    mode `o/g` gets motions only if every one `holds` o with g, and only
+    between the anchors `x/g` every one `reaches`."""
+
     name: ClassVar[str]
     kind: ClassVar[str]  # "prehensile"
+
+    def holds(self, geometry: Geometry, obj: str, grasp: str) -> bool:
+        """Whether the hand can hold `obj` with grasp `grasp` (a box wider
+        than the gripper opens cannot be grabbed)."""
+
+    def reaches(self, scene: Scene, planner: Planner, place: str, grasp: str, anchor: Config) -> bool:
+        """Whether the primitive can act at `place` with `grasp`, the robot
+        at the anchor `place/grasp` (configuration `anchor`): e.g. the hand
+        comes down to the grasp pose without meeting a static obstacle."""
 
     def execute(self, world: Any, approaches: Any, move: Any) -> Any:
         """Carry out `move` (the game's `Move`: its object, grasp, location)

@@ -9,7 +9,7 @@ every object's shape but the held one's, placed at `x`'s pose (a sound
 over-approximation when objects differ).
 
 Everything the costmap algorithms need reduces to four calls; the
-conformance suite (`tests/support/planner_conformance.py`) pins their meaning.
+conformance suite (`symsynth.testing.planner`) pins their meaning.
 Conventions both built-in planners follow (and the suite checks):
 
 * touching (zero distance) is not a collision; penetration is;

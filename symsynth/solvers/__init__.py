@@ -10,7 +10,8 @@ three register like any other.
 Every solver has the signature of `Solver` and returns a `Solution` whose
 value is semantics §6's `E_p`; they differ in how they compute it.  A
 third-party solver is checked against the same contract by
-`tests/test_game_solvers.py` once it is registered.
+`symsynth.testing.solver`, which tests/test_game_solvers.py runs on every
+registered one.
 
 A solver with work to do once per process rather than per game (the
 compiled solver's kernels are compiled, or loaded from numba's cache, on

@@ -1,8 +1,9 @@
 """The conformance suite every planner plugin must pass.
 
-As in `dd`'s backend tests, `PlannerConformance` holds the tests and
-`test_planner_conformance.py` runs them once per registered planner through
-a one-line subclass.  The scenes are tiny and built here in Python: the
+As in `dd`'s backend tests, `PlannerConformance` holds the tests;
+`conformance("planner", NAME)` (`symsynth.testing`) runs them for a
+registered planner, as tests/test_planner_conformance.py does for every
+installed one.  The scenes are tiny and built here in Python: the
 Franka Panda on a table, with blocks, walls and posts placed so that each
 fact below follows from geometry, and every test first re-derives its
 premise *without* the planner: forward kinematics read from the URDF
@@ -30,16 +31,18 @@ hand.  The planners need not agree numerically, only on these facts:
 
 from __future__ import annotations
 
+import atexit
 import dataclasses
 import functools
 import math
 import time
 import xml.etree.ElementTree as ElementTree
 from collections.abc import Sequence
+from typing import Any
 from pathlib import Path
-from typing import ClassVar
 
 import numpy as np
+import numpy.typing as npt
 import pybullet_data
 import pytest
 import trimesh
@@ -51,7 +54,8 @@ from symsynth.planning.build import obtain_costmap
 from symsynth.planning.protocol import Contacts, Mode, Planner, PlannerError, Roadmap
 from symsynth.planning.registry import planner_class
 from symsynth.scene.geometry import Body, Geometry, Grasp, Pose, Robot, Shape
-from symsynth.scene.model import ObjectSpec, Scene
+from symsynth.scene.model import ObjectSpec, Scene, geometry_of
+from symsynth.testing import Conformance
 
 PANDA = Path(pybullet_data.getDataPath()) / "franka_panda" / "panda.urdf"
 MESHES = PANDA.parent / "meshes" / "collision"
@@ -90,7 +94,7 @@ def physical_scene(name: str, objects: dict[str, tuple[str, Shape]], places: dic
     grasp = grasp or top_grasp(0.05)
     geometry = Geometry(robot=ROBOT, obstacles=obstacles,
                         shapes={o: shape for o, (_, shape) in objects.items()},
-                        places={x: Pose(tuple(map(float, xyz))) for x, xyz in places.items()},
+                        places={x: Pose((float(xyz[0]), float(xyz[1]), float(xyz[2]))) for x, xyz in places.items()},
                         grasps={grasp.name: grasp})
     specs = tuple(ObjectSpec(o, frozenset({o}), at) for o, (at, _) in objects.items())
     return Scene(name, specs, tuple(places), (), (grasp.name,), geometry=geometry)
@@ -123,17 +127,22 @@ def _planner(planner_name: str, scene_name: str) -> Planner:
     return planner_class(planner_name)(scene(scene_name))
 
 
+# The kept planners let go while the modules they use are still there (a
+# pybullet client left to the interpreter's last sweep fails in __del__).
+atexit.register(_planner.cache_clear)
+
+
 class UrdfChain:
     """Forward kinematics read straight from the URDF with numpy: the
     independent witness for every test's premise."""
 
     def __init__(self, urdf: Path) -> None:
-        self.joints = {j.find("child").get("link"): j for j in ElementTree.parse(urdf).getroot().iter("joint")}
+        self.joints = {_attr(_find(j, "child"), "link"): j for j in ElementTree.parse(urdf).getroot().iter("joint")}
         self.chains: dict[str, list] = {}
 
     def limits(self, names: Sequence[str]) -> np.ndarray:
         by_name = {j.get("name"): j for j in self.joints.values()}
-        return np.array([[float(by_name[n].find("limit").get(k)) for k in ("lower", "upper")] for n in names])
+        return np.array([[float(_attr(_find(by_name[n], "limit"), k)) for k in ("lower", "upper")] for n in names])
 
     def chain(self, link: str) -> list[tuple[str, str, np.ndarray, np.ndarray]]:
         """(name, type, origin transform, axis) of the joints from the root to `link`."""
@@ -141,16 +150,16 @@ class UrdfChain:
             chain, child = [], link
             while child in self.joints:
                 joint = self.joints[child]
-                origin = joint.find("origin")
+                origin = _find(joint, "origin")
                 axis = joint.find("axis")
                 chain.append((joint.get("name"), joint.get("type"),
                               Pose.from_rpy(_floats(origin.get("xyz")), _floats(origin.get("rpy"))).matrix(),
                               np.array(_floats(axis.get("xyz") if axis is not None else "1 0 0"))))
-                child = joint.find("parent").get("link")
+                child = _attr(_find(joint, "parent"), "link")
             self.chains[link] = chain[::-1]
         return self.chains[link]
 
-    def poses(self, configs: np.ndarray, link: str = "panda_hand") -> np.ndarray:
+    def poses(self, configs: npt.ArrayLike, link: str = "panda_hand") -> np.ndarray:
         """(n, 4, 4) world poses of `link` at n configurations (fingers open)."""
         configs = np.atleast_2d(np.asarray(configs, float))
         values = {name: configs[:, i] for i, name in enumerate(JOINTS)}
@@ -168,15 +177,28 @@ class UrdfChain:
     def pose(self, config: Sequence[float], link: str = "panda_hand") -> np.ndarray:
         return self.poses([config], link)[0]
 
-    def points(self, configs: np.ndarray, local: Sequence[float], link: str = "panda_hand") -> np.ndarray:
+    def points(self, configs: npt.ArrayLike, local: Sequence[float], link: str = "panda_hand") -> np.ndarray:
         return (self.poses(configs, link) @ np.append(local, 1.0))[:, :3]
 
     def point(self, config: Sequence[float], local: Sequence[float], link: str = "panda_hand") -> np.ndarray:
         return self.points([config], local, link)[0]
 
 
-def _floats(text: str | None) -> tuple[float, ...]:
-    return tuple(float(v) for v in (text or "0 0 0").split())
+def _floats(text: str | None) -> tuple[float, float, float]:
+    x, y, z = (float(v) for v in (text or "0 0 0").split())
+    return x, y, z
+
+
+def _find(element: ElementTree.Element, path: str) -> ElementTree.Element:
+    found = element.find(path)
+    assert found is not None, f"the URDF has no {path} in {element.get('name')}"
+    return found
+
+
+def _attr(element: ElementTree.Element, name: str) -> str:
+    value = element.get(name)
+    assert value is not None, f"the URDF's {element.tag} has no {name}"
+    return value
 
 
 def _rotations(axis: np.ndarray, angles: np.ndarray) -> np.ndarray:
@@ -195,15 +217,16 @@ def mesh(link: str) -> trimesh.Trimesh:
     """The collision mesh of a Panda link (`hand`, `link0`, `leftfinger`, ...)
     in the link's frame, as the URDF places it."""
     element = next(e for e in ElementTree.parse(PANDA).getroot().iter("link") if e.get("name") == f"panda_{link}")
-    collision = element.find("collision")
-    loaded = trimesh.load(MESHES / Path(collision.find("geometry/mesh").get("filename")).name, force="mesh")
+    collision = _find(element, "collision")
+    loaded = trimesh.load(MESHES / Path(_attr(_find(collision, "geometry/mesh"), "filename")).name, force="mesh")
+    assert isinstance(loaded, trimesh.Trimesh)
     origin = collision.find("origin")
     if origin is not None:
         loaded.apply_transform(Pose.from_rpy(_floats(origin.get("xyz")), _floats(origin.get("rpy"))).matrix())
     return loaded
 
 
-def inside_box(point: Sequence[float], body_pose: Pose, size: Sequence[float], margin: float = 0.0) -> bool:
+def inside_box(point: npt.ArrayLike, body_pose: Pose, size: Sequence[float], margin: float = 0.0) -> bool:
     """Whether `point` (world) is inside a box shape at `body_pose`, at least `margin` from its faces."""
     local = np.linalg.inv(body_pose.matrix()) @ np.append(point, 1.0)
     half = np.asarray(size) / 2
@@ -258,13 +281,11 @@ def overlap(a_corners: np.ndarray, body: Body) -> float:
     return float(np.min(np.minimum(high_a, high_b) - np.maximum(low_a, low_b)))
 
 
-class PlannerConformance:
-    """Subclass with `planner_name` set to a registered planner."""
-
-    planner_name: ClassVar[str]
+class PlannerConformance(Conformance):
+    """The planner suite; `self.name` is the registered planner under test."""
 
     def planner(self, scene_name: str) -> Planner:
-        return _planner(self.planner_name, scene_name)
+        return _planner(self.name, scene_name)
 
     def solve(self, scene_name: str, pose: Pose, seed: Sequence[float] = HOME) -> tuple[float, ...]:
         config = self.planner(scene_name).inverse_kinematics(pose, tuple(seed))
@@ -272,7 +293,7 @@ class PlannerConformance:
         return config
 
     def anchor(self, scene_name: str, place: str) -> tuple[float, ...]:
-        geometry = scene(scene_name).geometry
+        geometry = geometry_of(scene(scene_name))
         return self.solve(scene_name, geometry.places[place] @ geometry.grasps["top"].pre_image())
 
     # --- the interface
@@ -280,7 +301,7 @@ class PlannerConformance:
     def test_is_a_planner_with_the_registered_name(self):
         planner = self.planner("table")
         assert isinstance(planner, Planner)
-        assert type(planner).name == self.planner_name
+        assert type(planner).name == self.name
 
     def test_limits_are_the_urdf_limits(self):
         assert np.allclose(self.planner("table").limits, URDF.limits(JOINTS), atol=1e-6)
@@ -314,7 +335,7 @@ class PlannerConformance:
     # --- inverse kinematics
 
     def test_inverse_kinematics_meets_the_pose_within_the_limits(self):
-        geometry = scene("passage").geometry
+        geometry = geometry_of(scene("passage"))
         limits = URDF.limits(JOINTS)
         for place, pose in geometry.places.items():
             target = pose @ geometry.grasps["top"].pre_image()
@@ -327,27 +348,27 @@ class PlannerConformance:
     def test_inverse_kinematics_is_a_function_of_pose_and_seed(self):
         """The same (pose, seed) gives the same configuration after other
         questions, and from a new planner of the same scene."""
-        geometry = scene("passage").geometry
+        geometry = geometry_of(scene("passage"))
         targets = [pose @ geometry.grasps["top"].pre_image() for pose in geometry.places.values()]
         planner = self.planner("passage")
-        first = [planner.inverse_kinematics(t, HOME) for t in targets]
+        first: list[Any] = [planner.inverse_kinematics(t, HOME) for t in targets]
         assert all(c is not None for c in first)
         # other seeds in between: the robot state a solver leaves must not leak
         for t, c in zip(targets, first):
             planner.inverse_kinematics(t, tuple(np.add(c, 0.3)))
-        again = [planner.inverse_kinematics(t, HOME) for t in reversed(targets)][::-1]
-        fresh = planner_class(self.planner_name)(scene("passage"))
-        anew = [fresh.inverse_kinematics(t, HOME) for t in targets]
+        again: list[Any] = [planner.inverse_kinematics(t, HOME) for t in reversed(targets)][::-1]
+        fresh = planner_class(self.name)(scene("passage"))
+        anew: list[Any] = [fresh.inverse_kinematics(t, HOME) for t in targets]
         for c, a, n in zip(first, again, anew):
             assert np.array_equal(c, a) and np.array_equal(c, n), (c, a, n)
 
     def test_unreachable_pose_has_no_inverse_kinematics(self):
         """(4) `far` is 1.5 m from the shoulder; the URDF's link offsets from
         joint 2 to the hand add up to less than 1 m."""
-        geometry = scene("far").geometry
+        geometry = geometry_of(scene("far"))
         target = geometry.places["far"] @ geometry.grasps["top"].pre_image()
         by_child = URDF.joints
-        offsets = sum(np.linalg.norm(_floats(by_child[link].find("origin").get("xyz")))
+        offsets = sum(float(np.linalg.norm(_floats(_find(by_child[link], "origin").get("xyz"))))
                       for link in ("panda_link3", "panda_link4", "panda_link5", "panda_link6", "panda_link7",
                                    "panda_link8", "panda_hand"))
         shoulder = np.array([0.0, 0.0, 0.333])  # joint 2's axis passes here whatever joint 1 is
@@ -395,7 +416,7 @@ class PlannerConformance:
     def test_straight_motion_names_the_place_in_the_way(self):
         start, goal = self.anchor("passage", "A"), self.anchor("passage", "B")
         low = URDF.points(segment(start, goal), PALM_LOW)
-        m = scene("passage").geometry.places["M"]
+        m = geometry_of(scene("passage")).places["M"]
         cross = crossing(low)
         assert cross is not None and inside_box(cross, m, PLATE.size, margin=0.01), cross
         assert mesh("hand").contains([PALM_LOW])[0]
@@ -426,12 +447,12 @@ class PlannerConformance:
         for that long, well past the `size` it is also given.  One that does
         not say so never sees `seconds`: a scene asking for a time limit is
         refused, from the class, before the planner is built."""
-        if not getattr(planner_class(self.planner_name), "time_limited", False):
+        if not getattr(planner_class(self.name), "time_limited", False):
             table = scene("table")
-            timed = dataclasses.replace(table.geometry.planner, seconds=0.3)
-            timed_scene = dataclasses.replace(table, geometry=dataclasses.replace(table.geometry, planner=timed))
+            timed = dataclasses.replace(geometry_of(table).planner, seconds=0.3)
+            timed_scene = dataclasses.replace(table, geometry=dataclasses.replace(geometry_of(table), planner=timed))
             with pytest.raises(PlannerError, match="has no roadmap time limit"):
-                obtain_costmap(timed_scene, planner_name=self.planner_name, use_cache=False, progress=False)
+                obtain_costmap(timed_scene, planner_name=self.name, use_cache=False, progress=False)
             return
         planner = self.planner("table")
         start = time.perf_counter()
@@ -443,7 +464,7 @@ class PlannerConformance:
 
     def gap_configs(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """The bar 12 cm above the table between the posts, and 56 cm up, above them."""
-        grasp = scene("gap").geometry.grasps["top"]
+        grasp = geometry_of(scene("gap")).grasps["top"]
         low = self.solve("gap", Pose((0.5, 0.0, 0.12)) @ grasp.pose)
         high = self.solve("gap", Pose((0.5, 0.0, 0.56)) @ grasp.pose, low)
         return low, high
@@ -460,7 +481,7 @@ class PlannerConformance:
 
     def test_long_held_object_collides_in_the_gap(self):
         low, high = self.gap_configs()
-        grasp = scene("gap").geometry.grasps["top"]
+        grasp = geometry_of(scene("gap")).grasps["top"]
         assert all(overlap(box_corners(held_pose(low, grasp), BAR.size), post) > 0.02 for post in POSTS)
         assert box_corners(held_pose(high, grasp), BAR.size)[:, 2].min() > 0.5 + 0.02
         planner, holding = self.planner("gap"), Mode("bar", "top")
@@ -473,7 +494,7 @@ class PlannerConformance:
     def finger_in_block(self) -> tuple[float, ...]:
         """The hand 5 cm along y and 1 cm up from the top grasp of the block
         at x: one finger stands inside that block."""
-        geometry = scene("single").geometry
+        geometry = geometry_of(scene("single"))
         config = self.solve("single", Pose((0.0, 0.05, 0.01)) @ geometry.places["x"] @ geometry.grasps["top"].pose)
         pads = [URDF.point(config, pad, f"panda_{finger}") for finger, pad in PADS.items()]
         assert all(mesh(finger).contains([pad])[0] for finger, pad in PADS.items())
@@ -483,7 +504,7 @@ class PlannerConformance:
     def test_the_held_object_is_not_its_own_obstacle(self):
         """With a single object, holding it leaves no location obstacle."""
         config = self.finger_in_block()
-        grasp = scene("single").geometry.grasps["top"]
+        grasp = geometry_of(scene("single")).grasps["top"]
         assert box_corners(held_pose(config, grasp), BLOCK.size)[:, 2].min() > 0.005  # above the table
         planner = self.planner("single")
         assert planner.contacts(Mode(), config) == Contacts(locations=frozenset({"x"}))
