@@ -68,7 +68,7 @@ from collections.abc import Callable, Iterator, Mapping
 from tqdm import tqdm
 
 from symsynth.automata.symbolic import State as DFAState
-from symsynth.game.abstraction import State, initial_state
+from symsynth.game.abstraction import State, in_costmap_units, initial_state
 from symsynth.solvers.bound import LowerBound
 from symsynth.game.graph import PASS, GameGraph, Node
 from symsynth.game.strategy import guaranteed_units
@@ -138,7 +138,7 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
         principal = _deep(search.principal_play, start, units)
         counter = principal if realizable is False else None
     seconds["plays"] = time.perf_counter() - clock
-    solution = Solution(None if units is None else units * resolution, units, resolution, budget,
+    solution = Solution(None if units is None else in_costmap_units(units, resolution), units, resolution, budget,
                         realizable, k, search.positions(), seconds, strategy, principal, counter,
                         scene.object_names, stats)
     return solution if game.symmetry is None else game.symmetry.realize(solution)
@@ -207,7 +207,7 @@ def _bracketed(game: GameGraph, formula: ast.Formula, search: Search, start: Key
     else:
         realizable = None  # the budget lies between the bounds
     principal = () if upper is None else search.proven_play(start)
-    solution = Solution(None if upper is None else upper * r, upper, r, budget, realizable, k,
+    solution = Solution(None if upper is None else in_costmap_units(upper, r), upper, r, budget, realizable, k,
                         search.positions(), seconds, strategy, principal, None,
                         scene.object_names, stats | {"lower_units": lower}, lower_units=lower)
     if game.symmetry is not None:
@@ -601,7 +601,7 @@ class Search:
                 return tuple(play)
             _, chosen = self.hi_r[j]
             (units_a, state, i), = [(u, w, nxt) for a, u, w, nxt in self.steps(j, robot=True) if a == chosen]
-            play.append(Step("robot", chosen, units_a * r, state))
+            play.append(Step("robot", chosen, in_costmap_units(units_a, r), state))
             if i < 0:
                 return tuple(play)
             left -= units_a
@@ -622,7 +622,7 @@ class Search:
                 return tuple(play)
             _, chosen = self.hi_r[j]
             (units, state, i), = [(u, w, nxt) for a, u, w, nxt in self.steps(j, robot=True) if a == chosen]
-            play.append(Step("robot", chosen, units * r, state))
+            play.append(Step("robot", chosen, in_costmap_units(units, r), state))
             if i < 0:
                 return tuple(play)
 
@@ -648,7 +648,7 @@ class Search:
                 step = next(x for x in steps if x[3] >= 0 and self._lost(x[3]))
             action, units, state, after = step
             if action != PASS:
-                play.append(Step("robot" if robot else "human", action, units * r, state))
+                play.append(Step("robot" if robot else "human", action, in_costmap_units(units, r), state))
             i, robot = after, not robot
             if i < 0:
                 raise RuntimeError("internal error: the counter play reached a win")
