@@ -337,3 +337,18 @@ def test_an_e_p_beyond_the_float_range_is_exact(tmp_path, capsys):
     _, out, _ = run_cli(capsys, ["solve", str(huge), "--solver", "explicit"])
     assert f"E_p        {actions * 10 ** 308}" in out
 
+
+def test_the_forward_search_is_not_led_around_a_cheap_cycle(tmp_path):
+    """The toy with k = 1 and grab 10^6: the value needs three grabs, the
+    lower bound sees one, and two transits between the objects (2 units
+    each) form a cycle whose lo each failed question raised by its cost
+    only: 1.5 million rounds before the answer.  Solving the generated
+    graph's Bellman equations (`Search._tighten`) lifts the cycle at once."""
+    scene = dict(TOY, primitives={"grab": 10 ** 6, "drop": 5})
+    path = scene_folder(tmp_path) / "scene.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    loaded = load_scene(path)
+    with time_bound():
+        found = SOLVERS["forward"](loaded, k=1)
+    assert found.units == SOLVERS["explicit"](loaded, k=1).units == 3 * 10 ** 6 + 35
+    assert found.stats["rounds"] < 1000
