@@ -266,3 +266,89 @@ def test_mutated_strategy_files_are_read_or_refused(tmp_path_factory, capsys, to
     # certified: what it claims holds against the explicit solver
     explicit = SOLVERS["explicit"](scene, table.task, k=table.k, resolution=table.resolution)
     assert table.units is None or explicit.units <= table.units
+
+
+# -- what an independent fuzzer found (issue 33), one named case each ---------------------
+
+def toy_with_costs(folder: Path, cost, *, grab=None, drop=None) -> Path:
+    """The toy with every costmap rule costing `cost` and grab/drop `cost`
+    (or `grab`, `drop`), written as the literal numbers given."""
+    costmap = copy.deepcopy(TOY_COSTMAP)
+    for motion in costmap["motions"]:
+        for rule in motion["rules"]:
+            rule["cost"] = cost
+    (folder / "c.json").write_text(json.dumps(costmap))
+    scene = dict(TOY, costmap="c.json",
+                 primitives={"grab": cost if grab is None else grab, "drop": cost if drop is None else drop})
+    path = folder / "scene.yaml"
+    path.write_text(yaml.safe_dump(scene))  # integers in full, 1e308 as 1.0e+308
+    return path
+
+
+BIG = 2 ** 53 + 1  # 9007199254740993: no float holds it
+
+
+@pytest.mark.parametrize("solver", ["explicit", "symbolic", "forward"])
+def test_integer_costs_past_2_53_are_exact(tmp_path, capsys, solver):
+    """Every toy cost 2^53 + 1: with k = 0 the plan is transit, grab,
+    transfer, drop (the toy's comment), so E_p = 4 (2^53 + 1) exactly; read
+    as floats the costs were 2^53 and E_p 4 units too low."""
+    path = toy_with_costs(tmp_path, BIG)
+    _, out, _ = run_cli(capsys, ["solve", str(path), "--k", "0", "--json", "--solver", solver])
+    answer = json.loads(out)
+    assert answer["units"] == 4 * BIG
+    assert answer["cost_bound"] == 4 * BIG
+
+
+def test_a_budget_just_below_an_exact_large_value_is_not_met(tmp_path, capsys):
+    """grab 2^53 + 1, drop 0, k = 0: E_p = 4 + (2^53 + 1) + 3 + 0 =
+    9007199254741000; the budget 9007199254740999 is one unit short (it was
+    called realizable when the grab was read as the float 2^53)."""
+    path = toy_with_costs(tmp_path, 1, grab=BIG, drop=0)
+    costmap = json.loads((tmp_path / "c.json").read_text())
+    costmap["motions"] = TOY_COSTMAP["motions"]  # the toy's own motions: transit 4, transfer 3
+    (tmp_path / "c.json").write_text(json.dumps(costmap))
+    for budget, realizable in (("9007199254740999", False), ("9007199254741000", True)):
+        _, out, _ = run_cli(capsys, ["solve", str(path), "--k", "0", "--json", "--budget", budget])
+        answer = json.loads(out)
+        assert (answer["cost_bound"], answer["realizable"]) == (9007199254741000, realizable)
+
+
+def test_the_budget_is_read_as_the_exact_decimal_written(capsys):
+    """The toy's E_p with k = 1 is 50 (its comment solves it by hand): a
+    budget of 49.99999999999999999999 is below it, although the float
+    nearest that decimal is 50.0."""
+    _, out, _ = run_cli(capsys, ["solve", str(SCENES / "toy.yaml"), "--json", "--budget",
+                                 "49.99999999999999999999"])
+    assert json.loads(out)["realizable"] is False
+    _, out, _ = run_cli(capsys, ["solve", str(SCENES / "toy.yaml"), "--budget", "49.99999999999999999999"])
+    assert "not realizable within budget 49.99999999999999999999" in out
+
+
+def test_an_e_p_beyond_the_float_range_is_exact(tmp_path, capsys):
+    """Every cost 1e308: E_p is the number of actions the worst play needs
+    (the same game with every cost 1) times 10^308, past a float's range
+    (the explicit solver overflowed)."""
+    _, out, _ = run_cli(capsys, ["solve", str(toy_with_costs(tmp_path, 1)), "--json", "--solver", "explicit"])
+    actions = json.loads(out)["cost_bound"]
+    huge = toy_with_costs(tmp_path, 1e308)
+    _, out, _ = run_cli(capsys, ["solve", str(huge), "--json", "--solver", "explicit"])
+    assert json.loads(out)["cost_bound"] == actions * 10 ** 308
+    _, out, _ = run_cli(capsys, ["solve", str(huge), "--solver", "explicit"])
+    assert f"E_p        {actions * 10 ** 308}" in out
+
+
+def test_the_forward_search_is_not_led_around_a_cheap_cycle(tmp_path):
+    """The toy with k = 1 and grab 10^6: the value needs three grabs, the
+    lower bound sees one, and two transits between the objects (2 units
+    each) form a cycle whose lo each failed question raised by its cost
+    only: 1.5 million rounds before the answer.  Solving the generated
+    graph's Bellman equations (`Search._tighten`) lifts the cycle at once."""
+    scene = dict(TOY, primitives={"grab": 10 ** 6, "drop": 5})
+    path = scene_folder(tmp_path) / "scene.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    loaded = load_scene(path)
+    with time_bound():
+        found = SOLVERS["forward"](loaded, k=1)
+    assert found.units == SOLVERS["explicit"](loaded, k=1).units == 3 * 10 ** 6 + 35
+    assert found.stats["rounds"] < 1000

@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+from decimal import Decimal, InvalidOperation
 from pathlib import Path
 
 from symsynth.errors import InputError
@@ -35,6 +36,20 @@ def number(text: str) -> float:
 def amount(text: str) -> float:
     """A finite number >= 0."""
     value = number(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, found {text}")
+    return value
+
+
+def exact_amount(text: str) -> Decimal:
+    """A finite number >= 0 as the decimal it is written as, exactly (a budget:
+    49.99999999999999999999 is below 50, which the float it rounds to is not)."""
+    try:
+        value = Decimal(text.strip())
+    except InvalidOperation:
+        raise argparse.ArgumentTypeError(f"expected a number, found {text!r}") from None
+    if not value.is_finite():
+        raise argparse.ArgumentTypeError(f"expected a finite number, found {text!r}")
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be >= 0, found {text}")
     return value

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from decimal import Decimal
 from pathlib import Path
 
 from symsynth.cli import options
@@ -56,8 +57,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--task", metavar="FORMULA", help="LTLf task instead of the scene's")
     parser.add_argument("--k", type=options.count, metavar="K",
                         help="human moves per play instead of the scene's human.k (>= 0)")
-    parser.add_argument("--budget", type=options.amount, metavar="E",
-                        help="cost budget: say whether E_p <= E (costmap units, >= 0)")
+    parser.add_argument("--budget", type=options.exact_amount, metavar="E",
+                        help="cost budget: say whether E_p <= E (costmap units, >= 0; compared exactly as "
+                             "the decimal written)")
     parser.add_argument("--costmap", type=Path, metavar="FILE",
                         help="costmap file (symsynth.costmap/1) instead of the scene's")
     parser.add_argument("--method", choices=tuple(METHODS), default="recursive",
@@ -189,7 +191,7 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
     elif not solution.exact:
         print("A play of the strategy found in time, against the human's replies of largest proven cost.")
         _print_play(solution.principal_play, solution.objects)
-        print(f"total cost {_num(sum(s.cost for s in solution.principal_play))} "
+        print(f"total cost {_num(_total(solution.principal_play))} "
               f"<= {_num(solution.cost_bound)}, the upper end")
     elif solution.cost_bound is None:
         _counter_report(scene, solution)
@@ -198,7 +200,7 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
     else:
         print("Principal play: the strategy against the human's worst replies.")
         _print_play(solution.principal_play, solution.objects)
-        print(f"total cost {_num(sum(s.cost for s in solution.principal_play))} = E_p")
+        print(f"total cost {_num(_total(solution.principal_play))} = E_p")
 
 
 def _horizon(solution: Solution) -> str:
@@ -233,7 +235,7 @@ def _verdict(solution: Solution) -> str:
 
 def _print_play(play: tuple[Step, ...], objects: tuple[str, ...]) -> None:
     width = max(len(s.action) for s in play)
-    total = 0.0
+    total: float = 0  # (an int while the costs are: exact)
     for n, step in enumerate(play, 1):
         if step.who == "robot":
             total += step.cost
@@ -322,6 +324,17 @@ def _why(scene: Scene, m: Move) -> str:
             f"{', '.join(missing[:_MAX_REASONS])}{more}")
 
 
-def _num(x: float | None) -> str:
-    """12.0 -> '12', 7.25 -> '7.25'; None (no bound, no budget) -> 'infinite'."""
-    return "infinite" if x is None else f"{x:.10g}"
+def _total(play: tuple[Step, ...]) -> float:
+    """The robot's costs in `play` added up (ints exactly, also past a float's range)."""
+    return sum((s.cost for s in play if s.who == "robot"), start=0)
+
+
+def _num(x: float | Decimal | None) -> str:
+    """12.0 -> '12', 7.25 -> '7.25'; an int (exact costs stay ints) or a
+    Decimal (a budget as written) in full; None (no bound, no budget) ->
+    'infinite'."""
+    if x is None:
+        return "infinite"
+    if isinstance(x, (int, Decimal)):
+        return str(x)
+    return f"{x:.10g}"

@@ -31,6 +31,7 @@ import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from decimal import Decimal
 from fractions import Fraction
 from typing import NamedTuple
 
@@ -98,12 +99,31 @@ def initial_state(scene: Scene) -> State:
     return State(tuple(o.at for o in scene.objects), None, ELSE)
 
 
-def decimal(x: float) -> Fraction:
-    """The number `x` as the decimal it prints as (`repr`), exactly: 0.1 is
-    1/10, not the binary float nearest to it.  Costs, resolutions and budgets
-    are written as decimals in files and on the command line; read this way,
-    `0.3 / 0.1` is exactly 3 and needs no tolerance."""
+def decimal(x: float | Decimal | Fraction) -> Fraction:
+    """The number `x` exactly: a float as the decimal it prints as (`repr`),
+    so 0.1 is 1/10, not the binary float nearest to it; an int (a cost of
+    9007199254740993, past a float's 2^53), a `Decimal` (a budget read from
+    the command line) or a `Fraction` as it is.  Costs, resolutions and
+    budgets are written as decimals in files and on the command line; read
+    this way, `0.3 / 0.1` is exactly 3 and needs no tolerance."""
+    if isinstance(x, (int, Decimal, Fraction)):  # (bool is no cost; an int is exact as it is)
+        return Fraction(x)
     return Fraction(repr(float(x)))
+
+
+def in_costmap_units(units: int, resolution: float) -> float:
+    """`units` of `resolution` in the costmap's units, exactly: an int when
+    it is whole (E_p of integer costs stays an integer however large; a
+    float would round 4 x 9007199254740993 down), else the float nearest
+    the exact decimal (3 units of 0.1 are 0.3).  A value past the float
+    range that is not whole is rounded up to an int: never below E_p."""
+    exact = units * decimal(resolution)
+    if exact.denominator == 1:
+        return exact.numerator
+    try:
+        return float(exact)
+    except OverflowError:
+        return math.ceil(exact)
 
 
 @functools.lru_cache(maxsize=1 << 16)
@@ -116,7 +136,7 @@ def quantize(cost: float, resolution: float) -> int:
     return math.ceil(decimal(cost) / decimal(resolution))
 
 
-def within(units: int, resolution: float, budget: float) -> bool:
+def within(units: int, resolution: float, budget: float | Decimal) -> bool:
     """Whether `units * resolution <= budget`, exactly on the decimals
     (3 units of 0.1 fit a budget of 0.3; 321 units do not fit 320.9999995)."""
     return units * decimal(resolution) <= decimal(budget)

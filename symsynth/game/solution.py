@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from decimal import Decimal
 from dataclasses import dataclass, field
 from typing import Any
 
 from symsynth.automata.symbolic import State as DFAState
 from symsynth.errors import InputError
-from symsynth.game.abstraction import State, state_json, within
+from symsynth.game.abstraction import State, in_costmap_units, state_json, within
 from symsynth.logic import ast, parse_ltlf
 from symsynth.scene.model import Scene
 
@@ -52,7 +53,7 @@ class Solution:
     cost_bound: float | None
     units: int | None
     resolution: float
-    budget: float | None
+    budget: float | Decimal | None  # a Decimal as written on the command line: compared exactly
     realizable: bool | None
     k: int
     states: int
@@ -79,12 +80,12 @@ class Solution:
         """E_p's proven lower bound in costmap units: E_p itself when exact."""
         if self.lower_units is None:
             return self.cost_bound
-        return math.inf if self.lower_units == math.inf else self.lower_units * self.resolution
+        return math.inf if self.lower_units == math.inf else in_costmap_units(self.lower_units, self.resolution)
 
     def to_json(self) -> dict[str, Any]:
         """Spec §8's fields, the units and the plays."""
         out: dict[str, Any] = {
-            "realizable": self.realizable, "cost_bound": self.cost_bound, "budget": self.budget,
+            "realizable": self.realizable, "cost_bound": self.cost_bound, "budget": json_number(self.budget),
             "k": self.k, "states": self.states, "seconds": dict(self.seconds),
             "units": self.units, "resolution": self.resolution, "stats": dict(self.stats),
             "principal_play": [self._step(s) for s in self.principal_play],
@@ -99,6 +100,14 @@ class Solution:
     def _step(self, step: Step) -> dict[str, Any]:
         return {"who": step.who, "action": step.action, "cost": step.cost,
                 "state": state_json(step.state, self.objects)}
+
+
+def json_number(x: float | Decimal | None) -> float | None:
+    """`x` for JSON: a Decimal as an int when whole (exact), else the float
+    nearest it (JSON readers hold floats)."""
+    if isinstance(x, Decimal):
+        return int(x) if x == x.to_integral_value() else float(x)
+    return x
 
 
 class OutOfReach(InputError):
@@ -152,7 +161,7 @@ def task_formula(scene: Scene, formula: str | ast.Formula | None) -> ast.Formula
     return formula
 
 
-def verdict(units: int | None, resolution: float, budget: float | None) -> bool | None:
+def verdict(units: int | None, resolution: float, budget: float | Decimal | None) -> bool | None:
     """Whether E_p = units * resolution is within `budget` (`within`: exact
     on the decimals, so 3 units of 0.1 fit a budget of 0.3)."""
     if budget is None:

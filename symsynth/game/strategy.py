@@ -49,7 +49,8 @@ from tqdm import tqdm
 
 from symsynth.errors import InputError, SymsynthError
 from symsynth.files import write_atomic
-from symsynth.game.abstraction import State, initial_state, robot_moves, state_json, state_problems
+from symsynth.game.abstraction import (State, in_costmap_units, initial_state, robot_moves, state_json,
+                                       state_problems)
 from symsynth.automata import NUMBERING
 from symsynth.automata.shared import dfa_of
 from symsynth.game.graph import GameGraph, Node
@@ -232,7 +233,7 @@ def strategy_table(scene: Scene, formula_text: str, solution: Solution, *,
         units=solution.units, cost_bound=solution.cost_bound, objects=scene.object_names,
         dfa_bits=tuple(game.dfa.bits), dfa_initial=tuple(bool(b) for b in game.dfa.initial),
         positions={p: c.action for p, c in choices.items()},
-        budgets={p: None if (w := worst[p]) is None else w * solution.resolution for p in choices})
+        budgets={p: None if (w := worst[p]) is None else in_costmap_units(w, solution.resolution) for p in choices})
 
 
 def check_header(scene: Scene, table: StrategyFile) -> ast.Formula:
@@ -306,8 +307,10 @@ def certify(scene: Scene, table: StrategyFile, formula: ast.Formula | None = Non
                          f"{max(guaranteed)} against the worst human")
     for p in choices:
         # Every position reached from a start of finite worst case has one.
-        budget = None if (w := worst[p]) is None else w * table.resolution
-        if table.budgets.get(p) != budget:
+        w = worst[p]
+        budget = None if w is None else in_costmap_units(w, table.resolution)
+        # (files written before budgets were exact hold the float product w * resolution)
+        if table.budgets.get(p) != budget and (w is None or table.budgets.get(p) != w * table.resolution):
             raise InputError(f"its budget at {format_position(p, table.objects)} is {table.budgets.get(p)}, "
                              f"but its actions guarantee {'nothing' if budget is None else f'{budget:g}'} "
                              "from there")

@@ -257,7 +257,7 @@ def _rule(rule: Any, where: str, problems: list[str]) -> Rule | None:
                             f"found lengths {', '.join(map(str, sorted({len(q) for q in path})))}")
             return None
         path = tuple(tuple(float(x) for x in q) for q in path)
-    return Rule(frozenset(free), float(cost), path)
+    return Rule(frozenset(free), cost if isinstance(cost, int) else float(cost), path)  # ints exact
 
 
 def _is_number(x: Any) -> bool:

@@ -167,7 +167,7 @@ def scene_from_data(data: Any, source: Path | None = None,
     scene = Scene(
         name=data["name"], objects=tuple(objects), locations=locations,
         else_samples=else_samples, grasps=grasps, contacts=contacts,
-        grab_cost=float(primitives.get("grab", 5)), drop_cost=float(primitives.get("drop", 5)),
+        grab_cost=_cost(primitives.get("grab", 5)), drop_cost=_cost(primitives.get("drop", 5)),
         k=int(data.get("human", {}).get("k", 0)), task=data.get("task"), source=source,
         geometry=geometry, declared_classes=declared, declared_where=where,
     )
@@ -255,6 +255,13 @@ def non_finite(data: Any, path: KeyPath = ()) -> Iterator[tuple[KeyPath, float]]
     elif isinstance(data, list):
         for i, value in enumerate(data):
             yield from non_finite(value, path + (i,))
+
+
+def _cost(value: float) -> float:
+    """A cost as written: an integer stays a Python int, exact past a
+    float's 2^53 (9007199254740993 is not 9007199254740992.0), a decimal
+    the float whose repr it is (`game.abstraction.decimal` reads it back)."""
+    return value if isinstance(value, int) else float(value)
 
 
 def _yaml_float(value: float) -> str:

@@ -27,6 +27,7 @@ brackets outside strings) before the decoder, which recurses, sees it.
 from __future__ import annotations
 
 import json
+import math
 import re
 from collections.abc import Hashable
 from pathlib import Path
@@ -172,7 +173,7 @@ def _construct(node: yaml.Node, constructor: yaml.SafeLoader) -> Any:
     """`safe_load`'s value of `node`; one Python cannot hold (`2020-13-45`
     read as a date) is a `ConstructorError`
     at its line instead of Python's `ValueError`."""
-    if node.tag == "tag:yaml.org,2002:int" and len(node.value) > 30:
+    if node.tag == "tag:yaml.org,2002:int" and len(node.value) > LONG_INTEGER:
         return _long_integer(node)  # as read_json does
     try:
         return constructor.construct_object(node, deep=True)
@@ -189,11 +190,22 @@ def _construct(node: yaml.Node, constructor: yaml.SafeLoader) -> Any:
 _KINDS = {"tag:yaml.org,2002:timestamp": "a date"}
 
 
+#: Integers of at most this many characters are read exactly, as Python ints
+#: (a cost of 9007199254740993 stays itself; 10^300 is past any cost).
+LONG_INTEGER = 300
+
+
+def _above(text: str) -> float:
+    """A longer integer, as the float just above it (inf past 1e308), so that
+    checks of finiteness see it and a cost is never read below itself."""
+    value = float(text)
+    return math.nextafter(value, math.inf) if math.isfinite(value) else value
+
+
 def _long_integer(node: yaml.ScalarNode) -> float:
-    """An integer of more digits than any count or seed has, as the float it
-    stands for (inf past 1e308), so checks of finiteness see it."""
+    """An integer of more than `LONG_INTEGER` characters (`_above`)."""
     try:
-        return float(node.value.replace("_", ""))
+        return _above(node.value.replace("_", ""))
     except ValueError:
         raise yaml.constructor.ConstructorError(
             None, None, f"an integer of {len(node.value)} characters is more than symsynth reads",
@@ -313,7 +325,7 @@ def _json_key(token: str) -> str:
 
 
 def _integer(text: str) -> int | float:
-    """A JSON integer; one of more digits than any count or seed has is read
-    as the float it stands for (inf past 1e308), so checks of finiteness see
-    it, and Python's limit on long integer strings is never reached."""
-    return int(text) if len(text) <= 30 else float(text)
+    """A JSON integer, exact up to `LONG_INTEGER` characters; a longer one as
+    the float just above it (`_above`), so that Python's limit on long
+    integer strings is never reached."""
+    return int(text) if len(text) <= LONG_INTEGER else _above(text)

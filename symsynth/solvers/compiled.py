@@ -77,7 +77,7 @@ from numba import njit, prange, types
 from numba.core.typing import signature
 
 from symsynth.game.abstraction import (State, action_name, costmap_of, initial_state, legal_human_moves,
-                                       legal_robot_moves, quantize)
+                                       in_costmap_units, legal_robot_moves, quantize)
 from symsynth.game.graph import PASS
 from symsynth.game.solution import (OutOfReach, Position, Solution, Step, check_parameters, task_formula,
                                     verdict, won_at_start)
@@ -162,7 +162,7 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
     seconds["solve"] = time.perf_counter() - clock
     humans = int(np.count_nonzero(hflag))
     stats = {"edges": len(r_tgt) + human_moves + humans, "robot_moves": len(r_tgt), "human_moves": human_moves}
-    solution = Solution(None if result is None else result * resolution, result, resolution, budget,
+    solution = Solution(None if result is None else in_costmap_units(result, resolution), result, resolution, budget,
                         realizable, k, len(keys) + humans, seconds, strategy, principal, counter,
                         scene.object_names, stats)
     return solution if symmetry is None else symmetry.realize(solution)

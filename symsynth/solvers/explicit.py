@@ -23,7 +23,7 @@ import heapq
 import time
 
 
-from symsynth.game.abstraction import initial_state
+from symsynth.game.abstraction import in_costmap_units, initial_state
 from symsynth.game.graph import PASS, START, WIN, Edge, GameGraph, Node
 from symsynth.game.solution import (Solution, Step, check_parameters, task_formula, verdict,
                                    won_at_start)
@@ -63,7 +63,7 @@ def solve_explicit(scene: Scene, formula: str | ast.Formula | None = None, *,
         principal = _principal_play(nodes, edges, value, choice, resolution)
         counter = principal if realizable is False else None
     seconds["solve"] = time.perf_counter() - clock
-    solution = Solution(None if units is None else units * resolution, units, resolution, budget,
+    solution = Solution(None if units is None else in_costmap_units(units, resolution), units, resolution, budget,
                         realizable, k, len(nodes) - 1, seconds, strategy, principal, counter,
                         scene.object_names)
     return solution if game.symmetry is None else game.symmetry.realize(solution)
@@ -113,7 +113,7 @@ def _principal_play(nodes: list[Node | None], edges: list[list[Edge]], value: di
     while i != WIN:
         if robot[i]:
             edge = edges[i][choice[i]]
-            play.append(Step("robot", edge.action, edge.units * resolution, edge.state))
+            play.append(Step("robot", edge.action, in_costmap_units(edge.units, resolution), edge.state))
         else:  # edges[i][0] is the pass; max() keeps the first of equal values
             edge = max(edges[i], key=lambda x: value[x.target])
             if edge.action != PASS:
@@ -142,7 +142,7 @@ def _counter_play(nodes: list[Node | None], edges: list[list[Edge]], value: dict
             edge = next(x for x in edges[i] if x.target not in value)
         if edge.action != PASS:
             who = "robot" if robot[i] else "human"
-            play.append(Step(who, edge.action, edge.units * resolution, edge.state))
+            play.append(Step(who, edge.action, in_costmap_units(edge.units, resolution), edge.state))
         i = edge.target
     return tuple(play)
 

@@ -20,7 +20,10 @@ a human position: the pass and every move must all be within b; replies are
 tried largest lo first, so a failure shows early.
 
 The initial position is asked with b = lo, then with the raised lo, until
-the answer is yes: then lo = hi = E_p.  With the bound off (0, for a task
+the answer is yes: then lo = hi = E_p.  A question raises lo around a cycle
+of cheap actions by the cycle's cost only, so between rounds the lower
+bounds of everything generated are also raised to the least solution of
+Bellman's equations there (`_tighten`), which lifts such a cycle at once.  With the bound off (0, for a task
 it does not understand) that is many rounds: on the bundled arch the
 forward solver is slower than the explicit one (README, game benchmark).
 
@@ -58,6 +61,7 @@ The lower bound is `bound.LowerBound`.
 
 from __future__ import annotations
 
+import heapq
 import math
 import operator
 import sys
@@ -68,7 +72,7 @@ from collections.abc import Callable, Iterator, Mapping
 from tqdm import tqdm
 
 from symsynth.automata.symbolic import State as DFAState
-from symsynth.game.abstraction import State, initial_state
+from symsynth.game.abstraction import State, in_costmap_units, initial_state
 from symsynth.solvers.bound import LowerBound
 from symsynth.game.graph import PASS, GameGraph, Node
 from symsynth.game.strategy import guaranteed_units
@@ -138,7 +142,7 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
         principal = _deep(search.principal_play, start, units)
         counter = principal if realizable is False else None
     seconds["plays"] = time.perf_counter() - clock
-    solution = Solution(None if units is None else units * resolution, units, resolution, budget,
+    solution = Solution(None if units is None else in_costmap_units(units, resolution), units, resolution, budget,
                         realizable, k, search.positions(), seconds, strategy, principal, counter,
                         scene.object_names, stats)
     return solution if game.symmetry is None else game.symmetry.realize(solution)
@@ -207,7 +211,7 @@ def _bracketed(game: GameGraph, formula: ast.Formula, search: Search, start: Key
     else:
         realizable = None  # the budget lies between the bounds
     principal = () if upper is None else search.proven_play(start)
-    solution = Solution(None if upper is None else upper * r, upper, r, budget, realizable, k,
+    solution = Solution(None if upper is None else in_costmap_units(upper, r), upper, r, budget, realizable, k,
                         search.positions(), seconds, strategy, principal, None,
                         scene.object_names, stats | {"lower_units": lower}, lower_units=lower)
     if game.symmetry is not None:
@@ -277,6 +281,8 @@ class Search:
         self.rounds = 0
         self.on_round: Callable[[int], None] | None = None  # told of each round's budget (solve_forward)
         self.explored = 0  # qualitative explorations run
+        self.tightened = 0  # `_tighten` passes run
+        self._tightened_at = 0  # `calls` at the last one
         self.deadline: float | None = None  # perf_counter time: past it, a question raises OutOfTime
 
     def id(self, key: Key) -> int:
@@ -519,8 +525,77 @@ class Search:
                 return b
             if lo[i] <= b:  # the search from here is a proof: val > b
                 lo[i] = b + 1
+            if self.calls - self._tightened_at > len(self.keys):  # (at most doubles the work)
+                self._tighten()
             if rounds & (rounds - 1) == 0 and rounds >= 8 and i not in hi:  # 8, 16, 32, ...
                 self._qualitative()
+
+    def _tighten(self) -> None:
+        """Bellman's equations solved on what the search generated, to raise
+        lo where a question at a time raises it by little: around a cycle of
+        cheap actions (two transits between objects, 2 units each) each
+        failed question lifts the cycle's lo by the cycle's cost only, while
+        its way out costs 10^6 (one such cycle took 500,000 rounds).
+
+        The least solution L of lo(p) = min over actions of c + lo(after)
+        (robot), max over replies (human), 0 at a win, with every position
+        not expanded yet fixed at its lo, is at most val (val solves the
+        same equations, with every unexpanded position at val >= lo), and
+        inf where the human keeps the robot within what was generated from
+        reaching a win.  The equations' functions never give less than
+        their arguments (costs >= 0), so Knuth's generalization of
+        Dijkstra's algorithm (1977) finds L in one pass, smallest first.
+        Then lo := max(lo, L).  Robot roles at ids [0, n), human at [n, 2n)."""
+        self.tightened += 1
+        self._tightened_at = self.calls
+        n = len(self.keys)
+        lo_r, lo_h = self.lo_r, self.lo_h
+        users: list[list[tuple[int, int]]] = [[] for _ in range(2 * n)]  # (who waits, units it adds)
+        waiting = [0] * (2 * n)  # a human role: replies not yet final
+        heap: list[tuple[float, int]] = []
+        for i in range(n):
+            options = self._robot.get(i)
+            if options is None:
+                heap.append((lo_r[i], i))
+            else:
+                for units, _, j in options:
+                    if j < 0:
+                        heap.append((units, i))
+                    else:
+                        users[n + j].append((i, units))
+            replies = self._human.get(i)
+            if replies is None:
+                heap.append((lo_h[i], n + i))
+            else:
+                live = [j for j in replies if j >= 0]
+                waiting[n + i] = len(live)
+                if not live:
+                    heap.append((0, n + i))
+                for j in live:
+                    users[j].append((n + i, 0))
+        heapq.heapify(heap)
+        value = [INF] * (2 * n)
+        while heap:
+            x_value, x = heapq.heappop(heap)
+            if x_value == INF:
+                break
+            if value[x] != INF:
+                continue
+            value[x] = x_value
+            for y, units in users[x]:
+                if value[y] != INF:
+                    continue
+                if y < n:  # one action of the robot role y is now known
+                    heapq.heappush(heap, (units + x_value, y))
+                else:
+                    waiting[y] -= 1
+                    if waiting[y] == 0:  # its last reply, so its largest (taken smallest first)
+                        heapq.heappush(heap, (x_value, y))
+        for i in range(n):
+            if value[i] > lo_r[i]:
+                lo_r[i] = value[i]
+            if value[n + i] > lo_h[i]:
+                lo_h[i] = value[n + i]
 
     def _qualitative(self) -> None:
         """Positions the human can keep from winning forever, found within what
@@ -601,7 +676,7 @@ class Search:
                 return tuple(play)
             _, chosen = self.hi_r[j]
             (units_a, state, i), = [(u, w, nxt) for a, u, w, nxt in self.steps(j, robot=True) if a == chosen]
-            play.append(Step("robot", chosen, units_a * r, state))
+            play.append(Step("robot", chosen, in_costmap_units(units_a, r), state))
             if i < 0:
                 return tuple(play)
             left -= units_a
@@ -622,7 +697,7 @@ class Search:
                 return tuple(play)
             _, chosen = self.hi_r[j]
             (units, state, i), = [(u, w, nxt) for a, u, w, nxt in self.steps(j, robot=True) if a == chosen]
-            play.append(Step("robot", chosen, units * r, state))
+            play.append(Step("robot", chosen, in_costmap_units(units, r), state))
             if i < 0:
                 return tuple(play)
 
@@ -648,7 +723,7 @@ class Search:
                 step = next(x for x in steps if x[3] >= 0 and self._lost(x[3]))
             action, units, state, after = step
             if action != PASS:
-                play.append(Step("robot" if robot else "human", action, units * r, state))
+                play.append(Step("robot" if robot else "human", action, in_costmap_units(units, r), state))
             i, robot = after, not robot
             if i < 0:
                 raise RuntimeError("internal error: the counter play reached a win")
@@ -672,7 +747,7 @@ class Search:
     def stats(self) -> dict[str, object]:
         return {"calls": self.calls, "rounds": self.rounds, "positions": len(self.keys),
                 "proven": len(self.hi_r) + len(self.hi_h), "closures": self.closures,
-                "qualitative": self.explored}
+                "qualitative": self.explored, "tightened": self.tightened}
 
 
 def _deep(function, *args):

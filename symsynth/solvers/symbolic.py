@@ -33,7 +33,7 @@ from contextlib import contextmanager
 from tqdm import tqdm
 
 from symsynth.automata.bdd import Function, cofactor, peak_nodes
-from symsynth.game.abstraction import (State, initial_state, legal_human_moves,
+from symsynth.game.abstraction import (State, in_costmap_units, initial_state, legal_human_moves,
                                        letter, robot_moves)
 from symsynth.game.graph import PASS
 from symsynth.game.solution import Position, Solution, Step, check_parameters, task_formula, verdict
@@ -137,7 +137,7 @@ def _solution(arena: Arena, units: int | None, budget: float | None, seconds: di
               stats: dict, strategy: Mapping | None, principal: tuple[Step, ...],
               counter: tuple[Step, ...] | None) -> Solution:
     r = arena.resolution
-    return Solution(None if units is None else units * r, units, r, budget,
+    return Solution(None if units is None else in_costmap_units(units, r), units, r, budget,
                     verdict(units, r, budget), arena.k, _count_positions(arena), seconds,
                     strategy if strategy is not None else {}, principal, counter,
                     arena.scene.object_names, stats)
@@ -340,7 +340,7 @@ def _principal_play(game: _Queries, start: Position) -> tuple[Step, ...]:
         if chosen is None:  # every position of the play is won (its value is finite)
             raise ValueError(f"the strategy has no action at {(v, q, h)}")
         action, w, cost, _ = chosen
-        play.append(Step("robot", action, cost * r, w))
+        play.append(Step("robot", action, in_costmap_units(cost, r), w))
         v, q = w, game.read(q, w)
         if game.accepting(q):
             return tuple(play)
@@ -370,7 +370,7 @@ def _counter_play(game: _Queries, start: Position) -> tuple[Step, ...]:
         if not moves:
             return tuple(play)
         action, w, units = min(moves, key=lambda m: m[2])
-        play.append(Step("robot", action, units * r, w))
+        play.append(Step("robot", action, in_costmap_units(units, r), w))
         v, q = w, game.read(q, w)
 
 
