@@ -153,7 +153,8 @@ def test_unwritable_dot_target_is_a_user_error(capsys, tmp_path):
 @pytest.mark.parametrize("argv", [
     ["dfa"],                                 # neither formula nor file
     ["dfa", "--next", "medium", "X a"],      # unknown convention
-    ["dfa", "-f", "x.ltlf", "F a"],          # both a file and a formula
+    ["dfa", "-f", "x.ltlf", "--lines", "y"],  # both files and lines
+    ["dfa", "-f"],                           # no file
 ])
 def test_bad_options_exit_with_2(capsys, argv):
     # argparse reports usage errors by raising SystemExit(2); returning 2 is as good

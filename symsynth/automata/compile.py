@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from symsynth.automata.bdd import BACKEND, BDD, Function, and_exists, exists, new_manager, swap
+from symsynth.automata.growth import grew
 from symsynth.automata.invariant import Invariants, invariant_shape
 from symsynth.automata.normal import expose, nnf, split_conjuncts
 from symsynth.automata import moves as moves_
@@ -1127,6 +1128,7 @@ def _check_growth(states: int, count: int, early: int, max_edges: int | None,
     after the first DENSE_AFTER average more than `max_degree` successors.
     Returns `early`, the edges of the first DENSE_AFTER states (the first
     states may reach thousands: a counter's start)."""
+    grew(states)
     if max_edges is not None and count > max_edges:
         raise TooLarge(f"more than {max_edges} edges")
     if states == DENSE_AFTER:

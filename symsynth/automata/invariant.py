@@ -33,6 +33,7 @@ from __future__ import annotations
 
 from symsynth.automata import moves as moves_
 from symsynth.automata.bdd import Function, branches, cofactor, split_letters
+from symsynth.automata.growth import grew
 from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge
 from symsynth.logic import ast
 
@@ -150,6 +151,7 @@ class Invariants:
         sink = k + 1 + len(cofactors)
         has_sink = dead or any(a != bdd.true for a in allowed)
         n = sink + 1 if has_sink else sink
+        grew(n, n)
         names = moves_.bits(bdd, "z", moves_.width(n))
         cubes = [moves_.cube(bdd, names, i) for i in range(n)]
         number = {node: k + 1 + i for i, node in enumerate(cofactors)}

@@ -26,6 +26,7 @@ from functools import singledispatchmethod
 
 from symsynth.automata import moves as moves_
 from symsynth.automata.bdd import BDD, Function, branches, cofactor, new_manager, split_letters
+from symsynth.automata.growth import grew
 from symsynth.logic import ast
 
 
@@ -292,6 +293,7 @@ class Progression:
         count = 0
         below: dict = {}  # split_letters' memo: successive states share BDD nodes
         for state in order:  # `order` grows while we walk it: BFS
+            grew(len(order))
             accepting.append(self._accepts(state))
             out: dict[int, Function] = {}
             if max_edges is not None:

@@ -7,12 +7,13 @@ import json
 import time
 from pathlib import Path
 
-from symsynth.automata import compile_ltlf
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.symbolic import SymbolicDFA, TooManyTransitions
+from symsynth.cli import formulas
 from symsynth.cli.options import count
 from symsynth.cli.progress import bar as progress_bar
-from symsynth.errors import InputError, read_text
+from symsynth.cli.stopping import killable
+from symsynth.errors import InputError, SymsynthError
 from symsynth.files import write_atomic
 
 #: Transitions `--json` and `--dot` list at most unless asked (JSON: ~80 bytes each).
@@ -34,7 +35,17 @@ named like operators glued to an atom (Fa, Xb, GFa) is refused with a hint.
 
 By default a summary is printed (states, BDD nodes, seconds).  --json prints
 the explicit DFA: {"atoms", "initial", "accepting", "transitions": [{"from",
-"to", "guard"}]} with guards over the atoms; --dot FILE writes Graphviz."""
+"to", "guard"}]} with guards over the atoms; --dot FILE writes Graphviz.
+
+Many formulas in one process: -f FILE FILE ... (a formula per file) or
+--lines FILE (a formula per line) print one JSON line per formula:
+{"source", "line" (with --lines), "atoms", "states", "bdd_nodes",
+"seconds"} and, with --json, "dfa"; a formula that is refused gives
+{"source", "line", "error"} and the others go on (exit status 2 at the end).
+
+Formula files must be regular files (not pipes or devices) of at most
+--max-bytes; an automaton built for a formula past --max-states states is
+refused.  SIGTERM and Ctrl-C end the command at once."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -42,16 +53,22 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("formula", nargs="?", help="the LTLf formula, quoted")
-    source.add_argument("-f", "--file", type=Path, help="read the formula from FILE "
-                        "('#' starts a comment)")
+    source.add_argument("-f", "--file", type=Path, nargs="+", metavar="FILE",
+                        help="read the formula from FILE ('#' starts a comment); several FILEs: one "
+                             "JSON line each")
+    source.add_argument("--lines", type=Path, nargs="+", metavar="FILE",
+                        help="read one formula per line of each FILE (blank lines and '#' comments "
+                             "skipped): one JSON line each")
     parser.add_argument("--next", choices=("strong", "weak"), default="weak",
                         help="meaning of plain X (default: weak, as in the datasets, Lydia, TLSF and "
                              "`symsynth synth`; X[!] is always strong)")
-    parser.add_argument("--json", action="store_true", help="print the explicit DFA as JSON")
+    parser.add_argument("--json", action="store_true", help="print the explicit DFA as JSON (in a JSON "
+                        "line, under \"dfa\")")
     parser.add_argument("--dot", type=Path, metavar="FILE", help="write the DFA as Graphviz to FILE")
     parser.add_argument("--max-transitions", type=count, default=MAX_TRANSITIONS, metavar="N",
                         help="refuse --json and --dot for a DFA of more than N transitions "
                         f"(default {MAX_TRANSITIONS:,}; 0: no limit)")
+    formulas.add_limits(parser)
     parser.set_defaults(run=run)
 
 
@@ -67,20 +84,21 @@ def _explicit(dfa: SymbolicDFA, limit: int | None) -> ExplicitDFA:
                              f"the limit") from None
 
 
-def read_formula(args: argparse.Namespace) -> tuple[str, str]:
-    """(text, source name) from the positional formula or --file."""
-    if args.file is None:
-        return args.formula, "<formula>"
-    return read_text(args.file, "formula file"), str(args.file)
-
-
 def run(args: argparse.Namespace) -> int:
-    text, source = read_formula(args)
-    start = time.perf_counter()
-    dfa = compile_ltlf(text, next_semantics=args.next, source=source)
-    seconds = time.perf_counter() - start
-    if args.json or args.dot:
-        explicit = _explicit(dfa, args.max_transitions or None)
+    if args.formula is None and (args.lines or len(args.file) > 1):
+        if args.dot:
+            raise InputError("--dot writes one DFA: give one formula or one -f FILE")
+        return _batch(args)
+    if args.formula is not None:
+        text, source = args.formula, "<formula>"
+    else:
+        text, source = formulas.read_formula_file(args.file[0], args.max_bytes), str(args.file[0])
+    with killable():
+        start = time.perf_counter()
+        dfa = formulas.compile_formula(formulas.parse(text, source, args.next), source, args.max_states)
+        seconds = time.perf_counter() - start
+        explicit = _explicit(dfa, args.max_transitions or None) if args.json or args.dot else None
+    if explicit is not None:
         if args.dot:
             write_atomic(args.dot, explicit.to_dot(title=text.strip()), "DOT file")
         if args.json:
@@ -95,3 +113,48 @@ def run(args: argparse.Namespace) -> int:
     if args.dot:
         print(f"wrote      {args.dot}")
     return 0
+
+
+def _batch(args: argparse.Namespace) -> int:
+    """One JSON line per formula (module description); exit status 2 when
+    any formula or file was refused, 0 otherwise."""
+    failed = False
+    with killable():
+        for source, line, text in _formulas(args):
+            result: dict = {"source": source}
+            if line is not None:
+                result["line"] = line
+            try:
+                if text is None:  # (the file could not be read: its message is the error)
+                    text = formulas.read_formula_file(Path(source), args.max_bytes)
+                start = time.perf_counter()
+                dfa = formulas.compile_formula(formulas.parse(text, source, args.next), source, args.max_states)
+                seconds = time.perf_counter() - start
+                result.update(atoms=list(dfa.atoms), states=dfa.num_states, bdd_nodes=dfa.num_nodes,
+                              seconds=round(seconds, 6))
+                if args.json:
+                    result["dfa"] = _explicit(dfa, args.max_transitions or None).to_json()
+            except SymsynthError as error:
+                failed = True
+                result["error"] = str(error)
+            print(json.dumps(result), flush=True)
+    return 2 if failed else 0
+
+
+def _formulas(args: argparse.Namespace):
+    """(source, line or None, text or None) for each formula of the batch:
+    each -f FILE whole (its text read when compiled), or each formula line
+    of each --lines FILE (a file that cannot be read: one entry, no text)."""
+    if args.file:
+        for path in args.file:
+            yield str(path), None, None
+        return
+    for path in args.lines:
+        try:
+            text = formulas.read_formula_file(path, args.max_bytes)
+        except InputError:
+            yield str(path), None, None  # read again to report its error
+            continue
+        for number, line in enumerate(text.split("\n"), 1):
+            if line.split("#", 1)[0].strip():  # (after number - 1 line ends: errors name the file's line)
+                yield str(path), number, "\n" * (number - 1) + line

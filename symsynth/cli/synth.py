@@ -9,11 +9,12 @@ import sys
 import time
 from pathlib import Path
 
-from symsynth.automata import compile_ltlf
+from symsynth.cli import formulas
 from symsynth.cli.progress import bar as progress_bar
-from symsynth.errors import InputError, read_text
+from symsynth.cli.stopping import killable
+from symsynth.errors import InputError
 from symsynth.files import write_atomic
-from symsynth.logic import ast, parse_ltlf
+from symsynth.logic import ast
 from symsynth.synthesis import read_partition, solve_realizability
 from symsynth.synthesis import symbolic_strategy as symbolic
 from symsynth.synthesis.machine import MAX_INPUTS, MAX_STATES, TooLarge, strategy_machine, write_json
@@ -36,7 +37,10 @@ machine listing its states, as JSON (FILE.json) or Graphviz (FILE.dot), or,
 for specs too large to list, its BDDs (symsynth.strategy-bdd/1, FILE.json);
 --strategy chooses (default auto: the machine when it fits, else the BDDs).
 
-A variable of the formula that the partition does not name is an error."""
+A variable of the formula that the partition does not name is an error.
+Both files must be regular files (not pipes or devices); an automaton built
+for the formula past --max-states states is refused.  SIGTERM and Ctrl-C
+end the command at once."""
 
 REALIZABLE, UNREALIZABLE = 10, 20
 
@@ -71,6 +75,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="what -o writes: the listed machine, the BDDs, or (auto) the machine when it has at "
                              f"most {MAX_INPUTS} inputs and {MAX_STATES} states, the BDDs otherwise")
     parser.add_argument("--json", action="store_true", help="after the verdict line, a JSON summary")
+    formulas.add_limits(parser)
     parser.set_defaults(run=run)
 
 
@@ -80,31 +85,33 @@ def run(args: argparse.Namespace) -> int:
     if args.output is not None and args.output.suffix == ".dot" and args.strategy == "bdd":
         raise InputError(f"-o {args.output} --strategy bdd: the BDDs are written as JSON; expected FILE.json")
     partition = read_partition(args.part)
-    text = read_text(args.spec, "formula file")
-    formula = parse_ltlf(text, source=str(args.spec), next_semantics=args.next)
-    named = set(partition.inputs) | set(partition.outputs)
-    unknown = [a.key for a in ast.atoms(formula) if a.key not in named]
-    if unknown:
-        raise InputError(f"{args.spec}{_position(text, unknown[0])}: {', '.join(unknown)} "
-                         f"{'is' if len(unknown) == 1 else 'are'} in the formula but in neither list of "
-                         f"{args.part}; name each variable as an input or an output")
-    clock = time.perf_counter()
-    dfa = compile_ltlf(formula)
-    compiled = time.perf_counter() - clock
-    with progress_bar(desc="game", unit=" rounds", delay=1.0) as bar:
-        game = solve_realizability(dfa, partition, agent_first=args.agent_first,
-                                   progress=lambda done: bar.update(done - bar.n))
-    solved = time.perf_counter() - clock - compiled
-    print("REALIZABLE" if game.realizable else "UNREALIZABLE")
-    if args.json:
-        print(json.dumps({"realizable": game.realizable, "agent_first": game.agent_first,
-                          "dfa_states": dfa.num_states, "rounds": len(game.rounds),
-                          "seconds": {"dfa": round(compiled, 6), "game": round(solved, 6)}}))
+    text = formulas.read_formula_file(args.spec, args.max_bytes)
+    with killable():  # (SIGTERM ends it at once: nothing is written before the strategy)
+        formula = formulas.parse(text, str(args.spec), args.next)
+        named = set(partition.inputs) | set(partition.outputs)
+        unknown = [a.key for a in ast.atoms(formula) if a.key not in named]
+        if unknown:
+            raise InputError(f"{args.spec}{_position(text, unknown[0])}: {', '.join(unknown)} "
+                             f"{'is' if len(unknown) == 1 else 'are'} in the formula but in neither list of "
+                             f"{args.part}; name each variable as an input or an output")
+        clock = time.perf_counter()
+        dfa = formulas.compile_formula(formula, str(args.spec), args.max_states)
+        compiled = time.perf_counter() - clock
+        with progress_bar(desc="game", unit=" rounds", delay=1.0) as bar:
+            game = solve_realizability(dfa, partition, agent_first=args.agent_first,
+                                       progress=lambda done: bar.update(done - bar.n))
+        solved = time.perf_counter() - clock - compiled
+        print("REALIZABLE" if game.realizable else "UNREALIZABLE", flush=True)
+        if args.json:
+            print(json.dumps({"realizable": game.realizable, "agent_first": game.agent_first,
+                              "dfa_states": dfa.num_states, "rounds": len(game.rounds),
+                              "seconds": {"dfa": round(compiled, 6), "game": round(solved, 6)}}), flush=True)
+        strategy = _strategy_text(game, args) if args.output is not None and game.realizable else None
     if args.output is not None and not game.realizable:  # the verdict stands: exit 20, not 2
         print(f"symsynth synth: -o {args.output}: unrealizable, there is no winning strategy to write "
               "(nothing written)", file=sys.stderr)
-    elif args.output is not None:
-        write_atomic(args.output, _strategy_text(game, args), "strategy")
+    elif strategy is not None:
+        write_atomic(args.output, strategy, "strategy")
     return REALIZABLE if game.realizable else UNREALIZABLE
 
 

@@ -24,8 +24,14 @@ class Partition:
     outputs: tuple[str, ...]  # the agent's
 
 
+#: Bytes of a partition file read at most (the datasets' largest: 5 kB).
+MAX_BYTES = 1_000_000
+
+
 def read_partition(path: str | Path) -> Partition:
-    text = read_text(Path(path), "partition file")
+    """The partition in the file `path`: a regular file (a named pipe would
+    block until a writer comes) of at most MAX_BYTES."""
+    text = read_text(Path(path), "partition file", limit=MAX_BYTES, regular=True)
     found: dict[str, tuple[int, list[str]]] = {}
     for number, raw in enumerate(text.splitlines(), 1):
         line = raw.split("#", 1)[0].strip()
