@@ -13,7 +13,7 @@ from pathlib import Path
 PACKAGE = Path(__file__).resolve().parents[1] / "symsynth"
 RANK = {"__version__": 0, "errors": 0, "files": 0, "plugins": 0, "primitives": 0, "parallel": 0, "grammars": 0,
         "logic": 1, "automata": 2, "scene": 3, "bullet": 3.5, "planning": 4, "game": 5,
-        "solvers": 6, "synthesis": 6, "execution": 7, "problem": 8, "bench": 9, "cli": 9, "__main__": 10}
+        "solvers": 6, "synthesis": 6, "execution": 7, "problem": 8, "bench": 9, "cli": 9, "testing": 9, "__main__": 10}
 
 
 def layer(module: str) -> str:
