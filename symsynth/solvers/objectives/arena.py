@@ -145,7 +145,6 @@ def from_compiled(scene: Scene, formula: ast.Formula, k: int, resolution: float,
     if model is not None and not hasattr(model, "pass_probability"):
         raise OutOfReach(f"the compiled solver takes human models uniform over the moves "
                          f"(random(P)); {model.name} is solved by --solver explicit")
-    c.compile_kernels()
     clock = time.perf_counter()
     symmetry = Symmetry.of(scene, formula)
     tables = c.Tables(scene, formula, resolution, symmetry, k)
