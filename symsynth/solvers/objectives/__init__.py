@@ -31,6 +31,7 @@ from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.objectives import kernels
 from symsynth.solvers.objectives.arena import INF, Arena, budget_units, from_compiled, from_explicit
+from symsynth.solvers.objectives.play import BestEffortStrategy, ExpectedStrategy, Strategy
 
 OBJECTIVES = ("worst", "expected", "best-effort")
 #: the solvers that compute the objectives of §9 (the others: worst only)
@@ -77,6 +78,26 @@ class ObjectiveSolution:
     arena: Arena | None = field(default=None, repr=False, compare=False)
     tables: Any = field(default=None, repr=False, compare=False)
 
+    def strategy(self) -> Strategy:
+        """The strategy of the objective (`play.py`), on `arena`."""
+        if self.arena is None or self.tables is None:
+            raise ValueError("no strategy: the objective is undefined here, or nothing is left to do")
+        if self.objective == "best-effort":
+            return BestEffortStrategy(self.arena, self.tables[2])
+        X, Y, choice, xo, xlo, yo, ylo = self.tables
+        return ExpectedStrategy(self.arena, choice, xo, xlo, None if self.attained else self.waiting)
+
+    def classes(self) -> np.ndarray:
+        """Best effort: the class (0 winning, 1 cooperative, 2 losing) of each
+        human turn (node i) and robot turn (node n + i) of `arena`."""
+        assert self.arena is not None and self.tables is not None
+        rc, hc, _, vh = self.tables
+        n = self.arena.size
+        out = np.full(2 * n, 2, np.int64)
+        out[:n] = np.where(vh < INF, 0, np.where(hc < INF, 1, 2))
+        out[n:] = np.where(self.arena.rval < INF, 0, np.where(rc < INF, 1, 2))
+        return out
+
     def to_json(self) -> dict[str, Any]:
         out: dict[str, Any] = {
             "objective": self.objective, "cost_bound": self.cost_bound, "k": self.k,
@@ -96,7 +117,8 @@ def solve_objective(scene: Scene, formula: str | ast.Formula | None = None, *, o
                     model: HumanModel | None = None, k: int | None = None, budget: float | None = None,
                     resolution: float = 1.0, solver: str = "auto", epsilon: float = EPSILON) -> ObjectiveSolution:
     """EX_μ(B) (`expected`, default B = E_p) or the class and C of the
-    initial position (`best-effort`), with the explicit or the compiled
+    initial position (`best-effort`; a `model` there only gives the arena
+    its probabilities, for runs), with the explicit or the compiled
     solver's graph (`auto`: the compiled one, the explicit one when the game
     is out of the compiled solver's reach or the model is not uniform)."""
     if objective not in ("expected", "best-effort"):
@@ -119,14 +141,14 @@ def solve_objective(scene: Scene, formula: str | ast.Formula | None = None, *, o
     use = solver
     if solver in ("auto", "compiled"):
         try:
-            arena = from_compiled(scene, formula, k, resolution, model if objective == "expected" else None)
+            arena = from_compiled(scene, formula, k, resolution, model)
             use = "compiled"
         except OutOfReach:
             if solver == "compiled":
                 raise
             use = "explicit"
     if use == "explicit":
-        arena = from_explicit(scene, formula, k, resolution, model if objective == "expected" else None)
+        arena = from_explicit(scene, formula, k, resolution, model)
     seconds = {"arena": time.perf_counter() - clock}
     base: dict[str, Any] = dict(objective=objective, k=k, resolution=resolution, solver=use,
                 human_model=None if model is None or objective != "expected" else model.name)
@@ -144,14 +166,14 @@ def solve_objective(scene: Scene, formula: str | ast.Formula | None = None, *, o
     states = arena.size + int(np.count_nonzero(arena.hflag))
     if objective == "best-effort":
         clock = time.perf_counter()
-        rc, hc, _ = kernels.cooperative(arena.hflag, arena.r_off, arena.r_tgt, arena.r_units, arena.h_off,
+        rc, hc, coop = kernels.cooperative(arena.hflag, arena.r_off, arena.r_tgt, arena.r_units, arena.h_off,
                                         arena.h_tgt)
         seconds["cooperative"] = time.perf_counter() - clock
         c0 = int(hc[0])
         cls = "winning" if top < INF else "cooperative" if c0 < INF else "losing"
         return ObjectiveSolution(cost_bound=cost_bound, states=states, seconds=seconds,
                                  position_class=cls, cooperative_cost=None if c0 >= INF else c0 * resolution,
-                                 arena=arena, **base)
+                                 arena=arena, tables=(rc, hc, coop, vh), **base)
     return _expected(arena, vh, top, cost_bound, states, seconds, base, budget, resolution, epsilon)
 
 

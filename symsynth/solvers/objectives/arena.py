@@ -44,6 +44,8 @@ class Arena:
     h_off: np.ndarray
     h_tgt: np.ndarray
     rval: np.ndarray
+    #: the worst-case strategy: its robot move at each node (absolute edge index, -1: none)
+    wchoice: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     stay: np.ndarray = field(default_factory=lambda: np.zeros(0))
     h_prob: np.ndarray = field(default_factory=lambda: np.zeros(0))
     #: how to name a node's position and a robot move, for strategies
@@ -75,7 +77,7 @@ def from_explicit(scene: Scene, formula: ast.Formula, k: int, resolution: float,
     if game.accepts(q0):
         return None
     nodes, edges = game.explore(Node(v0, q0, k, False))
-    value, _ = _dijkstra(nodes, edges)
+    value, chosen = _dijkstra(nodes, edges)
     index: dict[tuple, int] = {}
     order: list[int] = []  # explicit index of each arena node's robot turn
     human_of: dict[int, int] = {}  # arena node -> explicit index of its human turn
@@ -122,6 +124,7 @@ def from_explicit(scene: Scene, formula: ast.Formula, k: int, resolution: float,
                 h_prob.extend([0.0] * len(out))
         h_off.append(len(h_tgt))
     rval = np.array([value.get(order[j], INF) if order[j] >= 0 else INF for j in range(n)], np.int64)
+    wchoice = np.array([r_off[j] + chosen[order[j]] if order[j] in chosen else -1 for j in range(n)], np.int64)
     positions: list[tuple] = [()] * n
     for (v, q, h), j in index.items():
         positions[j] = (v, q, h)
@@ -129,7 +132,7 @@ def from_explicit(scene: Scene, formula: ast.Formula, k: int, resolution: float,
     hflag[list(human_of)] = 1
     return Arena(np.array([p[2] for p in positions], np.int64), hflag, np.array(r_off, np.int64),
                  np.array(r_tgt, np.int64), np.array(r_units, np.int64), np.array(h_off, np.int64),
-                 np.array(h_tgt, np.int64), rval, stay, np.array(h_prob, np.float64), positions,
+                 np.array(h_tgt, np.int64), rval, wchoice, stay, np.array(h_prob, np.float64), positions,
                  list(names), np.array(r_name, np.int64))
 
 
@@ -162,7 +165,7 @@ def from_compiled(scene: Scene, formula: ast.Formula, k: int, resolution: float,
     if len(h_off) != len(keys) + 1:
         raise OutOfReach("the compiled objectives keep every human move; this game has more than "
                          f"{c.HUMAN_MOVES_KEPT}")
-    rval, _, _, missing = c._solve(*explored[:7], *explored[8:], *tables.human_args())
+    rval, chosen, _, missing = c._solve(*explored[:7], *explored[8:], *tables.human_args())
     if missing:
         raise RuntimeError(f"internal error: {missing} human moves left the explored nodes")
     seconds["solve"] = time.perf_counter() - clock
@@ -170,8 +173,9 @@ def from_compiled(scene: Scene, formula: ast.Formula, k: int, resolution: float,
     for h in range(k + 1):
         layer[lo[h]:hi[h]] = h
     units = (r_move.astype(np.int64) >> tables.code_bits)
+    wchoice = np.where(chosen >= 0, r_off[:-1] + chosen, -1).astype(np.int64)
     arena = Arena(layer, hflag, r_off, r_tgt.astype(np.int64), units, h_off, h_tgt.astype(np.int64), rval,
-                  seconds=seconds)
+                  wchoice, seconds=seconds)
     if model is not None:
         counts = np.diff(h_off)
         table = {(h, int(m)): float(model.pass_probability(h, int(m)))  # checked above
