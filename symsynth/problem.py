@@ -268,7 +268,7 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
             if isinstance(human, ScriptedHuman):
                 player = ScriptedHuman(human.entries)  # from its first entry
             else:
-                player = HUMANS[human](HumanContext(seed + i, move_probability, policy.budget))
+                player = HUMANS[human](HumanContext(seed + i, move_probability, policy.budget, scene))
             done.append(simulator.run(player, seed + i, recorder=first if i == 0 else None, gui=gui))
     frames = made[0].save() if made else 0
     return Simulation(task, bound, positions, guarantee, budget, tuple(done), frames)

@@ -8,7 +8,7 @@ import math
 from decimal import Decimal
 from pathlib import Path
 
-from symsynth.cli import options
+from symsynth.cli import objective, options
 from symsynth.cli.options import check_writable
 from symsynth.game.abstraction import Move, State, costmap_of, initial_state, motions, robot_moves, slides
 from symsynth.game.solution import Solution, Step
@@ -43,6 +43,11 @@ the robot.  --json prints realizable, cost_bound (null when infinite),
 budget, k, states, seconds, units, resolution, principal_play,
 counter_play, scene, task and solver.  -o FILE writes the strategy for the
 simulator (format symsynth.strategy/1: every position it can reach).
+
+--objective expected | best-effort (with --human-model random:P for
+expected) solves the objectives beyond the worst case of semantics §9;
+--json then adds objective, human_model, expected_cost (EX, null when
+undefined), class and cooperative_cost.
 
 Exit status: 0 when the game is solved, whatever the verdict (read it in
 the output, or "realizable" in --json); 2 on bad input."""
@@ -81,6 +86,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", action="store_true", help="print the solution as JSON")
     parser.add_argument("-o", "--output", type=Path, metavar="FILE",
                         help="write the strategy to FILE (symsynth.strategy/1)")
+    objective.add_arguments(parser)
     parser.set_defaults(run=run)
 
 
@@ -90,6 +96,8 @@ def run(args: argparse.Namespace) -> int:
     request = CostmapRequest(args.method, args.planner, args.seed, not args.no_cache, progress=not args.json)
     scene = load_scene(args.scene, costmap=args.costmap)
     problem = with_costmap(with_task(scene, args.task, "--task", args.scene), request)
+    if args.objective != "worst":  # semantics §9
+        return objective.run_objective(args, problem)
     scene, task, obtained = problem.scene, problem.task, problem.obtained
     solution = solve(problem, args.solver, k=args.k, budget=args.budget, resolution=args.resolution,
                      time_limit=args.time_limit)

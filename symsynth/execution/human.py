@@ -11,8 +11,10 @@ answers with an option, a `Request` (a scripted move, which the simulator
 checks the same way), or None to pass.
 
 - `NoHuman` always passes.
-- `RandomHuman` moves with probability `p` on each turn, uniformly among
-  the options, from its own seeded generator.
+- `RandomHuman` is the human model `random(p)` (semantics §9): it moves with
+  probability `p` on each turn it can, uniformly among the abstraction's
+  legal moves, then among the world's options for the move drawn, from its
+  own seeded generator.
 - `AdversarialHuman` follows the solver's worst case: it takes the option
   (or the pass) after which the strategy may still have to spend the most
   (the strategy's `budget` of the position it leads to), ties broken by
@@ -34,7 +36,8 @@ import jsonschema
 
 from symsynth import plugins
 from symsynth.errors import InputError
-from symsynth.game.abstraction import robot_action_names
+from symsynth.game.abstraction import Move, decimal, legal_human_moves, robot_action_names
+from symsynth.game.human_model import RandomModel, draw
 from symsynth.game.solution import Position
 from symsynth.scene.geometry import Pose, vec3
 from symsynth.scene.model import ELSE, Scene
@@ -86,16 +89,32 @@ class NoHuman:
 
 
 class RandomHuman:
+    """The human model `random(P)` (semantics §9, `game.human_model`) in the
+    world: the model draws the pass or one of the abstraction's legal moves
+    (each with P / |M|), then one of the world's options for that move
+    (which Else sample, say) is taken at random; a move the world forbids
+    here is a pass.  Without the scene (a third party's context), the moves
+    are the world's options by name."""
+
     name = "random"
 
-    def __init__(self, seed: int, probability: float = 0.3) -> None:
+    def __init__(self, seed: int, probability: float = 0.3, scene: Scene | None = None) -> None:
         self.rng = random.Random(f"human/random/{seed}")
         self.probability = probability
+        self.model = RandomModel(decimal(probability))
+        self.scene = scene
 
     def choose(self, turn: Turn) -> Option | None:
-        if turn.options and self.rng.random() < self.probability:
-            return self.rng.choice(turn.options)
-        return None
+        v, _, h = turn.position
+        if self.scene is not None:
+            moves = legal_human_moves(self.scene, v) if h > 0 else []
+        else:
+            moves = list({o.action: Move("move", o.action, o.obj, 0, None, "", v) for o in turn.options}.values())
+        move = draw(self.model, self.rng, v, h, moves)
+        if move is None:
+            return None
+        options = [o for o in turn.options if o.action == move.action]
+        return self.rng.choice(options) if options else None
 
 
 class AdversarialHuman:
@@ -128,6 +147,7 @@ class HumanContext:
     seed: int
     probability: float
     budget: Callable[[Position], float | None]
+    scene: Scene | None = None  # the abstraction's legal moves, for the model of `random`
 
 
 def no_human(context: HumanContext) -> Human:
@@ -135,7 +155,7 @@ def no_human(context: HumanContext) -> Human:
 
 
 def random_human(context: HumanContext) -> Human:
-    return RandomHuman(context.seed, context.probability)
+    return RandomHuman(context.seed, context.probability, context.scene)
 
 
 def adversarial_human(context: HumanContext) -> Human:

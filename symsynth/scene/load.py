@@ -19,6 +19,7 @@ from typing import Any
 
 import jsonschema
 
+from symsynth import plugins
 from symsynth.errors import InputError, LTLfSyntaxError, SymsynthWarning
 from symsynth.logic import ast
 from symsynth.logic.parser import parse_ltlf
@@ -28,6 +29,11 @@ from symsynth.scene import physical
 from symsynth.scene.model import ELSE, EMPTY, HAND, HOME, ObjectSpec, Scene
 from symsynth.scene.propositions import interpret_all
 from symsynth.scene.yamlpos import KeyPath, line_of, read_yaml
+
+#: A human model as a scene writes it (semantics §9): NAME or NAME(ARGS), e.g. random(0.3)
+MODEL_PATTERN = r"^\s*[A-Za-z_][\w-]*\s*(\(.*\))?\s*$"
+MODEL_GROUP = "symsynth.human_models"
+
 
 NAME = {"type": "string", "pattern": "^[A-Za-z0-9_]+$"}
 NONNEG = {"type": "number", "minimum": 0}
@@ -57,7 +63,8 @@ SCHEMA: dict[str, Any] = {
         "primitives": {"type": "object", "additionalProperties": False,
                        "properties": {"grab": NONNEG, "drop": NONNEG}},
         "human": {"type": "object", "additionalProperties": False,
-                  "properties": {"k": {"type": "integer", "minimum": 0}}},
+                  "properties": {"k": {"type": "integer", "minimum": 0},
+                                 "model": {"type": "string", "pattern": MODEL_PATTERN}}},
         "task": {"type": "string"},
         "costmap": {"type": ["string", "object"]},
         "interchangeable": {"type": "array", "items": {"type": "array", "items": NAME,
@@ -169,6 +176,7 @@ def scene_from_data(data: Any, source: Path | None = None,
         else_samples=else_samples, grasps=grasps, contacts=contacts,
         grab_cost=_cost(primitives.get("grab", 5)), drop_cost=_cost(primitives.get("drop", 5)),
         k=int(data.get("human", {}).get("k", 0)), task=data.get("task"), source=source,
+        human_model=_human_model(data, report), human_model_where=report.where(("human", "model")),
         geometry=geometry, declared_classes=declared, declared_where=where,
     )
     if scene.task is not None:
@@ -186,6 +194,20 @@ def scene_from_data(data: Any, source: Path | None = None,
     report.raise_if_any()
     checks.raise_if_any()
     return dataclasses.replace(scene, costmap=loaded)
+
+
+def _human_model(data: dict, report: Report) -> str | None:
+    """`human.model` as written, once its name is an installed human model
+    (its arguments are the model's to check, when it is made)."""
+    text = data.get("human", {}).get("model")
+    if text is None:
+        return None
+    name = text.split("(")[0].strip()
+    known = plugins.found(MODEL_GROUP)
+    if name not in known:
+        report.add(("human", "model"), f"unknown human model {name!r}; installed human models: "
+                   f"{', '.join(sorted(known)) or 'none'} (e.g. random(0.3))")
+    return text
 
 
 def _declared_classes(data: dict, objects: list[ObjectSpec], report: Report
@@ -364,6 +386,8 @@ def _unknown_places(what: str, rules: tuple, places: set[str]) -> list[str]:
 
 def _schema_message(error: jsonschema.ValidationError, is_physical: bool = False) -> str:
     """`schema_message`, with what a scene's mistakes mean (a shape, named poses)."""
+    if error.validator == "pattern" and error.validator_value == MODEL_PATTERN:
+        return f"expected a human model NAME(ARGS), e.g. random(0.3), found {error.instance!r}"
     if error.validator == "oneOf" and "box" in str(error.schema):
         return f"expected exactly one shape: {', '.join(physical.SHAPE_KEYS)}"
     if error.validator == "type" and not is_physical and error.validator_value == "array" \
@@ -399,10 +423,13 @@ class Report:
         self.what, self.error = what, error
 
     def add(self, path: KeyPath, message: str) -> None:
+        self.problems.append(f"{self.where(path)}: {message}")
+
+    def where(self, path: KeyPath) -> str:
+        """`file:line: key.path` of `path`."""
         line = line_of(self.lines, path)
         where = f"{self.source}:{line}" if line else self.source
-        key = ".".join(map(str, path)) or "(top)"
-        self.problems.append(f"{where}: {key}: {message}")
+        return f"{where}: {'.'.join(map(str, path)) or '(top)'}"
 
     def warn(self, path: KeyPath, message: str) -> None:
         """Something that does not stop the load (a deprecated key), located

@@ -43,6 +43,11 @@ class Scene:
     drop_cost: float = 5.0
     k: int = 0
     task: str | None = None
+    #: The human model of `human: {model: ...}` as written (semantics §9), e.g.
+    #: "random(0.3)"; `game.human_model.parse_model` reads it.  None: no model.
+    human_model: str | None = None
+    #: `file:line: human.model`, for messages about the model's arguments
+    human_model_where: str = field(default="human.model", compare=False)
     costmap: Costmap | None = None
     #: Classes of interchangeable objects the scene declares (`interchangeable:`),
     #: None to let the solvers find them (game/symmetry.py checks a declaration).

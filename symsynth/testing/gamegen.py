@@ -24,10 +24,12 @@ from symsynth.scene import Scene, scene_from_data
 TAGS = ("block", "red", "blue")
 
 
-def random_scene(seed: int, *, positive: bool = False, contacts: bool = False) -> Scene:
+def random_scene(seed: int, *, positive: bool = False, contacts: bool = False, zeros: float = 0.0) -> Scene:
     """`contacts=True` adds 1-2 contacts (semantics §4b), motions to and from
     their anchors and random slide rules, drawn from a second generator so
-    that the rest of the scene is the one `contacts=False` draws."""
+    that the rest of the scene is the one `contacts=False` draws.  `zeros`:
+    the share of motion rules whose cost is then set to 0 (a third
+    generator), for games where waiting on zero-cost moves pays (§9)."""
     rng = random.Random(seed)
     low = 1 if positive else 0
     locations = [f"l{i}" for i in range(1, rng.randint(2, 4) + 1)]
@@ -50,6 +52,12 @@ def random_scene(seed: int, *, positive: bool = False, contacts: bool = False) -
     }
     if contacts:
         _add_contacts(random.Random(f"contacts {seed}"), data, low)
+    if zeros:
+        draw = random.Random(f"zeros {seed}")
+        for motion in data["costmap"]["motions"]:
+            for rule in motion["rules"]:
+                if draw.random() < zeros:
+                    rule["cost"] = 0
     return scene_from_data(data)
 
 

@@ -1,0 +1,350 @@
+"""The numba kernels of semantics §9 on an `Arena` (arena.py's layout).
+
+- `human_values`: V at the human turns, from V at the robot turns;
+- `cooperative`: C, the least robot cost of a winning play when robot and
+  human choose together, by Dijkstra's algorithm backwards from the win
+  over every move (the human's cost nothing);
+- `distances`: the least robot cost from the initial position to each
+  turn, forwards; a turn reached with budget b left has b <= B - distance,
+  which bounds the budgets the expectation is computed for;
+- `expected`: EX at every (turn, budget left), by levels b = 0..B;
+- `has_cycle`, `truncated`: whether the expected-cost strategy can go in
+  circles (waiting on zero-cost moves), and what it guarantees when it
+  stops waiting after n robot turns.
+"""
+
+from __future__ import annotations
+
+import heapq
+
+import numpy as np
+from numba import njit
+
+INF = np.int64(1 << 60)
+
+
+@njit(cache=True)
+def human_values(rval, h_off, h_tgt):
+    """vh[i] = max(rval[i], the values of i's human moves (0: a move that wins))."""
+    n = len(rval)
+    vh = rval.copy()
+    for i in range(n):
+        for e in range(h_off[i], h_off[i + 1]):
+            t = h_tgt[e]
+            v = 0 if t < 0 else rval[t]
+            if v > vh[i]:
+                vh[i] = v
+    return vh
+
+
+@njit(cache=True)
+def _by_target(off, tgt, n):
+    """The edges of a CSR graph grouped by target (-1 targets left out):
+    (start of each target's group, the edges, their sources)."""
+    start = np.zeros(n + 1, np.int64)
+    for e in range(len(tgt)):
+        if tgt[e] >= 0:
+            start[tgt[e] + 1] += 1
+    for j in range(n):
+        start[j + 1] += start[j]
+    fill = start[:n].copy()
+    edges = np.empty(start[n], np.int64)
+    sources = np.empty(start[n], np.int64)
+    for i in range(n):
+        for e in range(off[i], off[i + 1]):
+            t = tgt[e]
+            if t >= 0:
+                edges[fill[t]] = e
+                sources[fill[t]] = i
+                fill[t] += 1
+    return start, edges, sources
+
+
+@njit(cache=True)
+def cooperative(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
+    """(rc, hc, choice): C at each robot turn and human turn (INF: losing),
+    and the robot move (absolute edge index, -1: none) on a cheapest
+    cooperative play.  Turn ids: robot i is i, human i is n + i."""
+    n = len(hflag)
+    rs, re_, rsrc = _by_target(r_off, r_tgt, n)  # robot moves into human turn t
+    hs, he, hsrc = _by_target(h_off, h_tgt, n)  # human moves into robot turn t
+    dist = np.full(2 * n, INF, np.int64)
+    choice = np.full(n, -1, np.int64)
+    heap = [(np.int64(0), np.int64(-1))]
+    for i in range(n):
+        for e in range(r_off[i], r_off[i + 1]):
+            if r_tgt[e] < 0 and r_units[e] < dist[i]:
+                dist[i] = r_units[e]
+                choice[i] = e
+        if dist[i] < INF:
+            heapq.heappush(heap, (dist[i], np.int64(i)))
+        if hflag[i]:
+            for e in range(h_off[i], h_off[i + 1]):
+                if h_tgt[e] < 0:
+                    dist[n + i] = 0
+            if dist[n + i] == 0:
+                heapq.heappush(heap, (np.int64(0), np.int64(n + i)))
+    done = np.zeros(2 * n, np.uint8)
+    while len(heap) > 0:
+        d, x = heapq.heappop(heap)
+        if x < 0 or done[x] or d > dist[x]:
+            continue
+        done[x] = 1
+        if x < n:  # a robot turn: the human turns whose pass or move leads here
+            if hflag[x] and d < dist[n + x]:
+                dist[n + x] = d
+                heapq.heappush(heap, (d, n + x))
+            for p in range(hs[x], hs[x + 1]):
+                j = hsrc[p]
+                if d < dist[n + j]:
+                    dist[n + j] = d
+                    heapq.heappush(heap, (d, n + j))
+        else:  # a human turn: the robot moves into it
+            t = x - n
+            for p in range(rs[t], rs[t + 1]):
+                e, i = re_[p], rsrc[p]
+                c = d + r_units[e]
+                if c < dist[i]:
+                    dist[i] = c
+                    choice[i] = e
+                    heapq.heappush(heap, (c, i))
+    return dist[:n].copy(), dist[n:].copy(), choice
+
+
+@njit(cache=True)
+def distances(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
+    """(dr, dh): the least robot cost from node 0's human turn to each robot
+    turn and human turn (INF: not reached)."""
+    n = len(hflag)
+    dist = np.full(2 * n, INF, np.int64)
+    dist[n] = 0
+    heap = [(np.int64(0), np.int64(n))]
+    while len(heap) > 0:
+        d, x = heapq.heappop(heap)
+        if d > dist[x]:
+            continue
+        if x >= n:
+            i = x - n
+            if d < dist[i]:
+                dist[i] = d
+                heapq.heappush(heap, (d, np.int64(i)))
+            for e in range(h_off[i], h_off[i + 1]):
+                t = h_tgt[e]
+                if t >= 0 and d < dist[t]:
+                    dist[t] = d
+                    heapq.heappush(heap, (d, t))
+        else:
+            for e in range(r_off[x], r_off[x + 1]):
+                t = r_tgt[e]
+                c = d + r_units[e]
+                if t >= 0 and c < dist[n + t]:
+                    dist[n + t] = c
+                    heapq.heappush(heap, (c, n + t))
+    return dist[:n].copy(), dist[n:].copy()
+
+
+@njit(cache=True)
+def _human_expectation(t, b, stay, h_off, h_tgt, h_prob, X, xo, xlo):
+    """Y(t, b): the model's expectation at t's human turn, budget b left."""
+    y = stay[t] * X[xo[t] + b - xlo[t]]
+    for e in range(h_off[t], h_off[t + 1]):
+        j = h_tgt[e]
+        if j >= 0 and h_prob[e] > 0.0:
+            y += h_prob[e] * X[xo[j] + b - xlo[j]]
+    return y
+
+
+@njit(cache=True)
+def expected(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, stay, h_off, h_tgt, h_prob, levels):
+    """X (robot turns) and Y (human turns) at every budget the initial
+    position can leave them, and the robot's move at each (absolute edge
+    index, -1: none).  Turn i's budgets are xlo[i]..xhi[i] (V <= b <=
+    B - distance), stored from xo[i]; Y likewise from yo[i].  Levels b go
+    up; in a level, layers h go up (a human move leads to h - 1, solved);
+    in a layer, the moves that cost units lead to levels below, and the
+    zero-cost ones are iterated from +inf (Gauss-Seidel) until no value
+    falls (semantics §9: the limit of value iteration from above).
+    `levels`: scratch, the nodes sorted by (layer, xlo)."""
+    n = len(layer)
+    xlo = rval.copy()
+    xhi = B - dr
+    ylo = vh
+    yhi = B - dh
+    xo = np.zeros(n + 1, np.int64)
+    yo = np.zeros(n + 1, np.int64)
+    for i in range(n):
+        xo[i + 1] = xo[i] + max(0, xhi[i] - xlo[i] + 1) if xlo[i] < INF and dr[i] < INF else xo[i]
+        yo[i + 1] = yo[i] + max(0, yhi[i] - ylo[i] + 1) if hflag[i] and ylo[i] < INF and dh[i] < INF else yo[i]
+    X = np.full(xo[n], np.inf)
+    Y = np.full(yo[n], np.inf)
+    choice = np.full(xo[n], -1, np.int32)
+    K = 0
+    for i in range(n):
+        K = max(K, layer[i])
+    # per layer: the nodes with budgets, in order of xlo; the active ones in act
+    cut = np.zeros(K + 2, np.int64)
+    for i in range(n):
+        cut[layer[i] + 1] += 1
+    for h in range(K + 1):
+        cut[h + 1] += cut[h]
+    nxt = cut[:K + 1].copy()   # the next node of each layer to activate
+    act = np.empty(n, np.int64)
+    cnt = np.zeros(K + 1, np.int64)
+    rounds = 0
+    for b in range(B + 1):
+        for h in range(K + 1):
+            base = cut[h]
+            while nxt[h] < cut[h + 1] and xlo[levels[nxt[h]]] <= b:
+                i = levels[nxt[h]]
+                nxt[h] += 1
+                if xo[i + 1] > xo[i]:
+                    act[base + cnt[h]] = i
+                    cnt[h] += 1
+            kept = 0
+            zero = False
+            for a in range(cnt[h]):
+                i = act[base + a]
+                if xhi[i] < b:
+                    continue
+                act[base + kept] = i
+                kept += 1
+                best = np.inf
+                pick = -1
+                for e in range(r_off[i], r_off[i + 1]):
+                    c = r_units[e]
+                    t = r_tgt[e]
+                    if t < 0:
+                        if c <= b and c < best:
+                            best, pick = c, e
+                    elif c + vh[t] <= b:
+                        if c == 0:
+                            zero = True
+                        else:
+                            y = c + Y[yo[t] + b - c - ylo[t]]
+                            if y < best:
+                                best, pick = y, e
+                X[xo[i] + b - xlo[i]] = best
+                choice[xo[i] + b - xlo[i]] = pick
+            cnt[h] = kept
+            while zero:  # the zero-cost moves of this layer and level, from above
+                zero = False
+                rounds += 1
+                for a in range(cnt[h]):
+                    i = act[base + a]
+                    s = xo[i] + b - xlo[i]
+                    for e in range(r_off[i], r_off[i + 1]):
+                        t = r_tgt[e]
+                        if r_units[e] == 0 and t >= 0 and vh[t] <= b:
+                            y = _human_expectation(t, b, stay, h_off, h_tgt, h_prob, X, xo, xlo)
+                            if y < X[s]:
+                                X[s] = y
+                                choice[s] = e
+                                zero = True
+                if rounds > 50_000_000:
+                    raise RuntimeError("expected: the zero-cost moves did not settle")
+            for a in range(cnt[h]):
+                i = act[base + a]
+                if hflag[i] and ylo[i] <= b <= yhi[i]:
+                    Y[yo[i] + b - ylo[i]] = _human_expectation(i, b, stay, h_off, h_tgt, h_prob, X, xo, xlo)
+    return X, Y, choice, xo, xlo, yo, ylo
+
+
+@njit(cache=True)
+def has_cycle(B, hflag, r_tgt, r_units, h_off, h_tgt, choice, xo, xlo):
+    """Whether the expected-cost strategy, followed from node 0's human turn
+    with budget B against every human (each pass and move), can come back to
+    a robot turn with the same budget: then it waits on zero-cost moves and
+    is not B-safe by itself (semantics §9)."""
+    total = xo[len(xo) - 1]
+    colour = np.zeros(total, np.uint8)  # 0 new, 1 on the stack, 2 done
+    stack_s = np.empty(total + 1, np.int64)  # (robot turn state, next successor to try)
+    stack_k = np.empty(total + 1, np.int64)
+    stack_i = np.empty(total + 1, np.int64)
+    stack_b = np.empty(total + 1, np.int64)
+    # the start's human turn: its pass and moves, each a root
+    roots = [np.int64(0)]
+    for e in range(h_off[0], h_off[1]):
+        if h_tgt[e] >= 0:
+            roots.append(h_tgt[e])
+    for r in roots:
+        s = xo[r] + B - xlo[r]
+        if xo[r] + B - xlo[r] >= xo[r + 1] or colour[s]:
+            continue
+        top = 0
+        stack_s[0], stack_k[0], stack_i[0], stack_b[0] = s, -1, r, B
+        colour[s] = 1
+        while top >= 0:
+            s, kk, i, b = stack_s[top], stack_k[top], stack_i[top], stack_b[top]
+            e = choice[s]
+            t = r_tgt[e]
+            nb = b - r_units[e]
+            # successors: the pass (kk = -1), then the human moves of t
+            nxt = -1
+            if t >= 0:
+                while True:
+                    if kk == -1:
+                        j = t
+                    elif h_off[t] + kk < h_off[t + 1]:
+                        j = h_tgt[h_off[t] + kk]
+                    else:
+                        break
+                    kk += 1
+                    if j >= 0:
+                        nxt = j
+                        break
+            stack_k[top] = kk
+            if nxt < 0:
+                colour[s] = 2
+                top -= 1
+                continue
+            s2 = xo[nxt] + nb - xlo[nxt]
+            if colour[s2] == 1:
+                return True
+            if colour[s2] == 0:
+                colour[s2] = 1
+                top += 1
+                stack_s[top], stack_k[top], stack_i[top], stack_b[top] = s2, -1, nxt, nb
+    return False
+
+
+@njit(cache=True)
+def truncated(B, rounds, hflag, r_tgt, r_units, rval, stay, h_off, h_tgt, h_prob, choice, xo, xlo, target):
+    """The least n <= rounds such that the strategy "the expected-cost
+    strategy for n robot turns, then a worst-case optimal one" has an
+    expected cost at most `target` at the start, and that bound; (-1,
+    the bound after `rounds`) when none does.  Bound: the worst-case
+    strategy costs at most V from where it takes over, so g_0(i, b) = V(i)
+    and g_{n+1}(i, b) = c + E_model[g_n at the human turn after]."""
+    n = len(hflag)
+    g = np.empty(xo[n], np.float64)
+    for i in range(n):
+        for s in range(xo[i], xo[i + 1]):
+            g[s] = rval[i]
+    new = g.copy()
+    bound = np.inf
+    for r in range(rounds + 1):
+        y = stay[0] * g[xo[0] + B - xlo[0]] if xo[0] + B - xlo[0] < xo[1] else np.inf
+        for e in range(h_off[0], h_off[1]):
+            j = h_tgt[e]
+            if j >= 0 and h_prob[e] > 0.0:
+                y += h_prob[e] * g[xo[j] + B - xlo[j]]
+        bound = y
+        if bound <= target:
+            return r, bound
+        for i in range(n):
+            for s in range(xo[i], xo[i + 1]):
+                e = choice[s]
+                b = xlo[i] + s - xo[i]
+                t = r_tgt[e]
+                c = r_units[e]
+                if t < 0:
+                    new[s] = c
+                else:
+                    v = stay[t] * g[xo[t] + b - c - xlo[t]]
+                    for f in range(h_off[t], h_off[t + 1]):
+                        j = h_tgt[f]
+                        if j >= 0 and h_prob[f] > 0.0:
+                            v += h_prob[f] * g[xo[j] + b - c - xlo[j]]
+                    new[s] = c + v
+        g, new = new, g
+    return -1, bound
