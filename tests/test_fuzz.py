@@ -30,6 +30,7 @@ from hypothesis import strategies as st
 
 from support.paper import SCENES
 from symsynth.cli import main
+from symsynth.errors import InputError
 from symsynth.solvers import SOLVERS
 from symsynth.scene import load_scene
 
@@ -352,3 +353,42 @@ def test_the_forward_search_is_not_led_around_a_cheap_cycle(tmp_path):
         found = SOLVERS["forward"](loaded, k=1)
     assert found.units == SOLVERS["explicit"](loaded, k=1).units == 3 * 10 ** 6 + 35
     assert found.stats["rounds"] < 1000
+
+
+# -- findings of the independent fuzzer, kept as named cases ---------------------------------
+
+@pytest.mark.parametrize("primitive, cost", [("grab", 1e25), ("drop", 1.7e308), ("grab", 2.0 ** 63)])
+def test_compiled_refuses_an_action_cost_beyond_its_integers(tmp_path, capsys, primitive, cost):
+    """A grab or drop cost beyond int64 once in units raised OverflowError in
+    the compiled solver's tables, before its own refusal: now `--solver
+    compiled` refuses with the reason (exit 2), and the explicit solver
+    answers with the cost counted exactly (up to 1e25 here: its E_p beyond
+    the float range is another finding, fixed apart)."""
+    scene_folder(tmp_path)
+    data = copy.deepcopy(TOY) | {"primitives": dict(TOY["primitives"]) | {primitive: cost}}
+    (tmp_path / "toy.yaml").write_text(yaml.safe_dump(data))
+    code, _, err = run_cli(capsys, ["solve", str(tmp_path / "toy.yaml"), "--solver", "compiled"])
+    assert code == 2 and f"a move ({primitive}) costs" in err and "--solver explicit" in err
+    if cost <= 1e25:
+        with time_bound():
+            exact = SOLVERS["explicit"](load_scene(tmp_path / "toy.yaml"))
+        assert exact.units is not None and exact.units >= int(cost)  # the toy's plays all grab and drop
+
+
+def test_compiled_refuses_64_places_and_auto_falls_back(capsys, tmp_path):
+    """64 locations and Else samples overflowed the compiled solver's free
+    places mask (`samples_mask`, a traceback): now it refuses with the
+    reason, and `auto` hands the game on and answers the explicit value."""
+    from support.games import make_scene
+
+    locations = [f"l{i}" for i in range(1, 64)]
+    motions = {("empty", start, "l1/top"): 3 for start in ["home"] + [f"{x}/top" for x in locations[1:] + ["e1"]]}
+    scene = make_scene({"b": "l1"}, locations, motions | {("b/top", "l1/top", "l63/top"): 4},
+                       else_samples=["e1"], task="F(at(b, l63))")
+    with pytest.raises(InputError, match="at most 62 locations and Else samples; this scene has 64"):
+        SOLVERS["compiled"](scene)
+    with time_bound():
+        fallback = SOLVERS["auto"](scene)
+        exact = SOLVERS["explicit"](scene)
+    assert fallback.stats["auto"] != "compiled" and "compiled refused it" in fallback.stats["auto_reason"]
+    assert fallback.units == exact.units == 3 + 5 + 4 + 5

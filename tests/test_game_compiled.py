@@ -132,13 +132,13 @@ import sys
 from numba.core.registry import CPUDispatcher
 from symsynth.scene import load_scene
 from symsynth.solvers import SOLVERS, prepare
-from symsynth.solvers import compiled
+from symsynth.solvers.packed import kernels
 sys.path.insert(0, "tests")
 from symsynth.testing.gamegen import alike_scene, random_scene
 
 def signatures():
-    return {name: len(getattr(compiled, name).signatures) for name in dir(compiled)
-            if isinstance(getattr(compiled, name), CPUDispatcher)}
+    return {name: len(getattr(kernels, name).signatures) for name in dir(kernels)
+            if isinstance(getattr(kernels, name), CPUDispatcher)}
 
 assert prepare("explicit") == 0.0 and prepare("symbolic") == 0.0  # no set-up: nothing run
 assert sum(signatures().values()) == 0

@@ -11,7 +11,12 @@ The rule follows side-by-side measurements on this project's game families
    side on a quiet machine, pattern family 5 x 7: 0.43 s against 27.6 s for
    the forward search and 50 s for the symbolic one; sorting family 7 x 10:
    2.6 s against 191 s for the symbolic one and 327 s for the explicit one;
-   the arch: 0.02 s of search);
+   the arch: 0.02 s of search) -- once its kernels are compiled.  When
+   numba's cache does not hold them (`compiled.kernels_cached`: a fresh
+   install, a new numba), the solve would first compile them, about 20 s
+   quiet and up to 55 s on a loaded machine: a game whose positions the
+   explicit solver gets through in less than that (`explicit_seconds`, from
+   an upper bound on the positions) goes to the explicit solver instead;
 3. otherwise a task of the form F(conjunction of atoms), which the forward
    solver's lower bound guides: the forward search;
 4. any other task (the bound is 0 there, and the forward search slows
@@ -22,26 +27,51 @@ The rule follows side-by-side measurements on this project's game families
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Collection
 
 from symsynth.game.graph import GameGraph
 from symsynth.game.solution import OutOfReach, Solution, check_parameters, task_formula
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
+from symsynth.automata.shared import dfa_of
 from symsynth.solvers.bound import LowerBound
 
 COMPILED = ("the game fits the compiled solver (at most 16 task atoms, a position in 62 bits), "
             "the fastest measured wherever it fits")
+#: Seconds a fresh install spends compiling the compiled solver's kernels (18.7 s measured
+#: alone on the project's 2-core machine, 20-55 s while others worked on it)
+COLD_COMPILE_SECONDS = 20.0
+#: The explicit solver's seconds per position of `position_bound`, kept on the slow side:
+#: measured 1.0e-5 quiet, 2.4e-5 loaded on the pattern family 4 x 6 (bound 286,512), 0.5e-5
+#: loaded on scenes/arch-abstract.yaml (164,880)
+EXPLICIT_SECONDS_PER_POSITION = 3e-5
 
 
 def choose(scene: Scene, formula: ast.Formula, time_limit: float | None = None,
-           refused: Collection[str] = ()) -> tuple[str, str]:
+           refused: Collection[str] = (), *, k: int | None = None,
+           compiled_ready: bool | None = None) -> tuple[str, str]:
     """(solver name, the reason in a sentence), skipping the solvers in
-    `refused` (each said the game is out of its reach, `OutOfReach`)."""
+    `refused` (each said the game is out of its reach, `OutOfReach`);
+    `compiled_ready` says whether the compiled solver's kernels are
+    compiled (None: ask numba's cache, `compiled.kernels_cached`)."""
     if time_limit is not None and "forward" not in refused:
         return "forward", "a time limit: the forward search is the solver that answers anytime"
     if "compiled" not in refused:
-        return "compiled", COMPILED
+        if compiled_ready is None:
+            from symsynth.solvers.compiled import kernels_cached  # imports numba: only when asked
+            compiled_ready = kernels_cached()
+        if compiled_ready:
+            return "compiled", COMPILED
+        positions = position_bound(scene, formula, scene.k if k is None else k)
+        seconds = explicit_seconds(positions)
+        if seconds < COLD_COMPILE_SECONDS and "explicit" not in refused:
+            return "explicit", (f"the compiled solver's kernels are not compiled yet (about {COLD_COMPILE_SECONDS:.0f} s, "
+                                f"once per install) and the game is small: at most {positions:,} positions, "
+                                f"about {seconds:.1g} s for the explicit solver")
+        return "compiled", (f"{COMPILED}; its kernels are compiled first (about {COLD_COMPILE_SECONDS:.0f} s, "
+                            f"once per install), less than the explicit solver would take on up to "
+                            f"{positions:,} positions (about {seconds:.0f} s)")
     if "forward" not in refused and LowerBound(GameGraph(scene, formula, 1.0), formula).enabled:
         return "forward", ("the task is F(conjunction of atoms), which the forward search's lower "
                            "bound guides, and the game is too large for the compiled solver")
@@ -50,6 +80,28 @@ def choose(scene: Scene, formula: ast.Formula, time_limit: float | None = None,
                             "too large for the compiled solver; the symbolic solver's BDDs handle sets "
                             "of positions at once")
     return "explicit", "every other solver refused the game"
+
+
+def position_bound(scene: Scene, formula: ast.Formula, k: int) -> int:
+    """An upper bound on the positions the explicit solver can meet: abstract
+    states (objects on distinct locations or at Else, at most one in the
+    hand; the end-effector at Else, a location or an object's frame when
+    the hand is empty, over Else or a location with a grasp when it holds
+    one), times the task DFA's states, the human's moves left (0..k) and
+    whose turn it is."""
+    n, m = len(scene.object_names), len(scene.locations)
+    frames, grasps = len(scene.preimages), len(scene.grasps)
+
+    def placements(count: int) -> int:  # objects on distinct locations or at Else
+        return sum(math.comb(count, j) * math.perm(m, j) for j in range(min(count, m) + 1))
+
+    states = placements(n) * (1 + m + n * frames) + n * placements(n - 1) * grasps * (m + 1)
+    return states * dfa_of(formula).num_states * (k + 1) * 2
+
+
+def explicit_seconds(positions: int) -> float:
+    """The explicit solver's expected seconds for a game of at most `positions`."""
+    return positions * EXPLICIT_SECONDS_PER_POSITION
 
 
 def solve_auto(scene: Scene, formula: str | ast.Formula | None = None, *, k: int | None = None,
@@ -64,7 +116,7 @@ def solve_auto(scene: Scene, formula: str | ast.Formula | None = None, *, k: int
     formula = task_formula(scene, formula)
     refused: dict[str, str] = {}
     while True:
-        name, reason = choose(scene, formula, time_limit, refused)
+        name, reason = choose(scene, formula, time_limit, refused, k=k)
         options = {} if time_limit is None or name != "forward" else {"time_limit": time_limit}
         try:
             solution = SOLVERS[name](scene, formula, k=k, budget=budget, resolution=resolution, **options)

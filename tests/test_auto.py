@@ -1,0 +1,70 @@
+"""`--solver auto` does not pay the compiled solver's cold compile (about
+20 s) for a game the explicit solver finishes sooner, and says why."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from symsynth.game.solution import task_formula
+from symsynth.scene import load_scene
+from symsynth.solvers.auto import choose, position_bound
+from support.gamegen import random_scene
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "bench"))
+from gamefamily import pattern_scene  # noqa: E402
+
+
+def test_a_small_game_with_cold_kernels_goes_to_the_explicit_solver():
+    scene = load_scene(ROOT / "scenes" / "arch-abstract.yaml")
+    formula = task_formula(scene, None)
+    name, reason = choose(scene, formula, compiled_ready=False)
+    assert name == "explicit"
+    assert "not compiled yet" in reason and f"at most {position_bound(scene, formula, scene.k):,} positions" in reason
+    assert choose(scene, formula, compiled_ready=True)[0] == "compiled"
+    assert choose(scene, formula, compiled_ready=False, refused={"explicit"})[0] == "compiled"
+
+
+def test_a_large_game_pays_the_compile():
+    """Pattern family 6 x 8 x k = 3: 7.4 million positions (docs/benchmarks.md),
+    minutes for the explicit solver, seconds for the compiled one."""
+    scene = pattern_scene(6, 8)
+    name, reason = choose(scene, task_formula(scene, None), compiled_ready=False)
+    assert name == "compiled" and "compiled first" in reason
+
+
+def test_the_position_bound_holds():
+    """The bound is never below the positions the explicit solver meets
+    (counted by it, without the reduction by interchangeable objects)."""
+    from symsynth.solvers.explicit import solve_explicit
+
+    for seed in range(40):
+        scene = random_scene(4000 + seed, contacts=seed % 3 == 0)
+        k = seed % 4
+        states = solve_explicit(scene, k=k, symmetric=False).states
+        assert states <= position_bound(scene, task_formula(scene, None), k), seed
+
+
+def test_the_cache_state_is_read_from_numba_cache():
+    """With an empty cache folder the kernels are cold, and `auto` solves the
+    toy with the explicit solver, saying why, without compiling; with the
+    project's cache (the test session compiled it) they are warm."""
+    script = ("from symsynth.solvers.compiled import kernels_cached\n"
+              "from symsynth.scene import load_scene\n"
+              "from symsynth.solvers.auto import solve_auto\n"
+              "import symsynth.solvers.compiled as c\n"
+              "ready = kernels_cached()\n"
+              "s = solve_auto(load_scene('scenes/toy.yaml'))\n"
+              "print(ready, s.stats['auto'], s.units, c._compiled)\n")
+    with tempfile.TemporaryDirectory() as empty:
+        cold = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=ROOT,
+                              env=os.environ | {"NUMBA_CACHE_DIR": empty}, timeout=300)
+    assert cold.returncode == 0, cold.stderr
+    assert cold.stdout.split() == ["False", "explicit", "50", "False"]  # the toy's hand-solved value
+    warm = subprocess.run([sys.executable, "-c", "from symsynth.solvers.compiled import kernels_cached; "
+                           "print(kernels_cached())"], capture_output=True, text=True, cwd=ROOT, timeout=300)
+    assert warm.stdout.strip() == "True", warm.stderr
