@@ -12,7 +12,7 @@ from pathlib import Path
 from symsynth.game.solution import task_formula
 from symsynth.scene import load_scene
 from symsynth.solvers.auto import choose, position_bound
-from support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "bench"))

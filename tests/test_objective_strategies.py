@@ -18,7 +18,7 @@ from symsynth.game.human_model import RandomModel, parse_model
 from symsynth.scene import load_scene
 from symsynth.solvers.objectives import solve_objective
 from symsynth.solvers.objectives.play import ExpectedStrategy, check_best_effort, check_expected, run
-from tests.support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 

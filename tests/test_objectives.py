@@ -16,7 +16,7 @@ from symsynth.game.human_model import RandomModel, parse_model
 from symsynth.logic import parse_ltlf
 from symsynth.scene import load_scene
 from symsynth.solvers.objectives import solve_objective
-from tests.support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 from tests.support.objectives import reference
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"

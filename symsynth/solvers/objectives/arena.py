@@ -151,7 +151,7 @@ def from_compiled(scene: Scene, formula: ast.Formula, k: int, resolution: float,
     clock = time.perf_counter()
     symmetry = Symmetry.of(scene, formula)
     tables = c.Tables(scene, formula, resolution, symmetry, k)
-    c._check_width(tables, k)
+    c.check_width(tables, k)
     v0 = initial_state(scene)
     q0 = tables.step(tables.dfa_index[tables.dfa.initial], tables.pack(v0))
     if tables.accepting[q0]:
