@@ -40,6 +40,7 @@ from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 if TYPE_CHECKING:  # the simulator (pybullet, the renderer) is imported only when simulating
     from symsynth.execution.human import ScriptedHuman
     from symsynth.execution.record import Recorder
+    from symsynth.execution.physics import Randomization
     from symsynth.execution.simulate import Run
     from symsynth.execution.world import SimWorld
 
@@ -191,7 +192,8 @@ class Simulation:
 def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: str | None = None,
              solver: str = DEFAULT_SOLVER, budget: float | None = None, best_effort: bool = False,
              runs: int = 1, seed: int = 0, move_probability: float = 0.3, record: Path | None = None,
-             size: tuple[int, int] = (480, 360), gui: bool = False, progress: bool = True) -> Simulation:
+             size: tuple[int, int] = (480, 360), gui: bool = False, progress: bool = True,
+             world: str = "kinematic", randomization: Randomization | None = None) -> Simulation:
     """Runs of the problem's strategy (its strategy file, certified first, or
     the strategy `solver` finds now) in the PyBullet world against `human`:
     a registered human's name (`symsynth.humans`) or a script
@@ -199,7 +201,9 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
     i uses seed `seed + i`.  The planner is `simulation_planner`'s.  When
     E_p is infinite or above `budget`, nothing runs unless `best_effort`
     (where the strategy has no action, the explicit solver's action with
-    fewer human moves left is played).  `record`: a GIF of the first run."""
+    fewer human moves left is played).  `record`: a GIF of the first run.
+    `world`: kinematic or physics (`execution.physics`, with `randomization`
+    drawn by each run's seed)."""
     from symsynth.execution.human import HUMANS, HumanContext, ScriptedHuman, human_needs
     from symsynth.execution.record import Recorder
     from symsynth.execution.simulate import Policy, Simulator
@@ -251,7 +255,8 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
         else:
             fallback = solve(problem, "explicit").strategy
     policy = Policy(actions, budgets, bound, fallback)
-    simulator = Simulator(scene, problem.formula, policy, planner_type(scene), resolution=resolution)
+    simulator = Simulator(scene, problem.formula, policy, planner_type(scene), resolution=resolution,
+                          world=world, randomization=randomization)
 
     made: list[Recorder] = []
 

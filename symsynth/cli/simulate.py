@@ -25,6 +25,7 @@ if TYPE_CHECKING:
     from symsynth.execution.simulate import Run
 
 HUMANS_GROUP = "symsynth.humans"  # none, random, adversarial, and any installed
+WORLDS = ("kinematic", "physics")  # execution.simulate.WORLDS, without importing pybullet for --help
 HELP = "run a strategy in a PyBullet world against a simulated human"
 DESCRIPTION = """\
 Execute a strategy in simulation (paper Sec. V-B): the robot follows the
@@ -95,6 +96,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="print every run's trace (the default for a single run)")
     parser.add_argument("--gui", action="store_true", help="show the world in a window (needs a display)")
     parser.add_argument("--json", action="store_true", help="print the runs as JSON")
+    parser.add_argument("--world", choices=WORLDS, default="kinematic",
+                        help="kinematic: configurations set, a held object welded to the hand, objects set "
+                             "down exactly (fast replay); physics: PyBullet dynamics, the fingers close on "
+                             "the object, pushes move it by contact, objects settle (default: kinematic)")
+    parser.add_argument("--randomize", type=_randomization, metavar="friction=R,mass=R,pose=M",
+                        help="physics: each run's world drawn by its seed: friction and masses scaled by "
+                             "up to +-R (relative), initial poses shifted by up to M metres "
+                             "(e.g. friction=0.2,mass=0.2,pose=0.005)")
     parser.add_argument("--method", choices=tuple(METHODS), default="recursive",
                         help="costmap method (default: recursive)")
     parser.add_argument("--planner", metavar="NAME",
@@ -105,6 +114,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--solver", choices=tuple(SOLVERS), default=DEFAULT_SOLVER,
                         help=f"game solver when solving here (default: {DEFAULT_SOLVER})")
     parser.set_defaults(run=run)
+
+
+def _randomization(text: str):
+    from symsynth.execution.physics import Randomization
+
+    try:
+        return Randomization.parse(text)
+    except InputError as error:
+        raise argparse.ArgumentTypeError(str(error).removeprefix("--randomize: ")) from None
 
 
 def _runs(text: str) -> int:
@@ -127,6 +145,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.record is not None:
         check_writable(args.record, "recording")
+    if args.randomize is not None and args.world != "physics":
+        raise InputError("--randomize draws the physical world's friction, masses and poses: add --world physics")
     check_display(args.gui)
     scene = load_scene(args.scene)
     if scene.geometry is None:
@@ -152,7 +172,7 @@ def run(args: argparse.Namespace) -> int:
     simulation = simulate(problem, human, planner=planner, solver=args.solver, budget=args.budget,
                           best_effort=args.best_effort, runs=args.runs, seed=args.seed,
                           move_probability=args.move_probability, record=args.record, size=args.size,
-                          gui=args.gui, progress=progress)
+                          gui=args.gui, progress=progress, world=args.world, randomization=args.randomize)
     if simulation.stopped is not None:
         print(simulation.stopped + "; add --best-effort to run anyway")
         return 1
@@ -160,7 +180,8 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps({
             "scene": scene.name, "task": simulation.task, "k": scene.k, "cost_bound": simulation.bound,
-            "budget": args.budget, "guarantee": simulation.guarantee, "human": args.human,
+            "budget": args.budget, "guarantee": simulation.guarantee, "human": args.human, "world": args.world,
+            "randomize": None if args.randomize is None else str(args.randomize),
             "strategy": {"file": None if args.strategy is None else str(args.strategy),
                          "positions": simulation.positions, "solver": None if args.strategy else args.solver},
             "costmap": None if obtained is None else costmap_json(obtained),

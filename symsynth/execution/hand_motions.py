@@ -29,6 +29,7 @@ import numpy as np
 
 from symsynth.errors import SymsynthError
 from symsynth.execution.motion import steps
+from symsynth.execution.physics import SLIDE_SPEED, PhysicsWorld
 from symsynth.execution.world import SimWorld
 from symsynth.planning.protocol import Config, Planner
 from symsynth.planning.verify import path_length
@@ -72,6 +73,8 @@ def grab(world: SimWorld, approaches: Approaches, name: str, grasp: str) -> Prim
     g = world.geometry.grasps[grasp]
     target = world.poses[name]
     down = approaches.path(world.config, target @ g.pre_image(), target @ g.pose, f"grab({name})")
+    if isinstance(world, PhysicsWorld):
+        return _physical(world, down, lambda: world.close_hand(name, grasp), {name})
     hits = _walk(world, down, ignore={name})
     world.attach(name, grasp)
     up = down[::-1]
@@ -87,6 +90,8 @@ def drop(world: SimWorld, approaches: Approaches, location: str) -> Primitive:
     g = world.geometry.grasps[grasp]
     place = world.geometry.places[location]
     down = approaches.path(world.config, place @ g.pre_image(), place @ g.pose, f"drop({name},{location})")
+    if isinstance(world, PhysicsWorld):
+        return _physical(world, down, world.open_hand, {name})
     hits = _walk(world, down)
     world.detach()
     world.place(name, place)
@@ -96,6 +101,7 @@ def drop(world: SimWorld, approaches: Approaches, location: str) -> Primitive:
 
 
 CONTACT_TOLERANCE = 0.002  # metres: the hand is at a contact pose
+CAREFUL = 0.03  # metres: a physical slide's hand slows this close to its way
 
 
 def slide(world: SimWorld, move: Any, path: Sequence[Config]) -> Primitive:
@@ -105,6 +111,8 @@ def slide(world: SimWorld, move: Any, path: Sequence[Config]) -> Primitive:
     pose at the object's pose to where it reaches the contact pose at the
     target, and is then set down exactly on the target's pose."""
     name, contact, goal = move.obj, move.grasp, move.location
+    if isinstance(world, PhysicsWorld):
+        return physical_slide(world, name, contact, goal, path)
     frame = world.geometry.hand_frame(contact)
     at_contact = world.poses[name] @ frame.pose
     at_goal = world.geometry.places[goal] @ frame.pose
@@ -127,6 +135,41 @@ def slide(world: SimWorld, move: Any, path: Sequence[Config]) -> Primitive:
         raise PrimitiveFailed(f"{move.action}: the path never brings the hand to the contact "
                               + ("pose at the target" if stage == "sliding" else f"pose at {name}"))
     return Primitive(tuple(path), frozenset(hits))
+
+
+def physical_slide(world: PhysicsWorld, name: str, contact: str, goal: str, path: Sequence[Config]) -> Primitive:
+    """The slide in the physical world: the fingers closed (the hand a
+    paddle), the joints driven along `path`, the hand at most
+    `physics.SLIDE_SPEED` within `CAREFUL` of the straight way of the
+    contact pose from the object to `goal` (elsewhere as fast as any
+    motion); the object moves only as the hand pushes it and friction holds
+    it back, and settles before it is observed.  Nothing is set, nothing
+    constrained."""
+    frame = world.geometry.hand_frame(contact).pose
+    a = np.asarray((world.poses[name] @ frame).xyz)
+    b = np.asarray((world.geometry.places[goal] @ frame).xyz)
+
+    def careful(point: np.ndarray) -> bool:  # near the segment a-b
+        t = float(np.clip(np.dot(point - a, b - a) / max(float(np.dot(b - a, b - a)), 1e-12), 0.0, 1.0))
+        return float(np.linalg.norm(point - (a + t * (b - a)))) <= CAREFUL
+
+    world.close_hand()
+    with world.watched() as touched:
+        world.follow(path, hand_speed=SLIDE_SPEED, careful=careful)
+    world.open_hand()
+    return Primitive(tuple(path), frozenset(touched - {name}))
+
+
+def _physical(world: PhysicsWorld, down: tuple[Config, ...], act, allowed: set[str]) -> Primitive:
+    """Down the approach, `act` (close or open the hand), back up; what the
+    robot touched on the way besides `allowed` (PyBullet's contact points)."""
+    with world.watched() as touched:
+        world.follow(down)
+        act()
+        up = down[::-1]
+        world.follow(up)
+        world.settle()
+    return Primitive(down + up[1:], frozenset(touched - allowed))
 
 
 def _near(a: Pose, b: Pose) -> bool:

@@ -50,7 +50,8 @@ from symsynth.errors import SymsynthError
 from symsynth.execution import motion as motions
 from symsynth.execution import hand_motions
 from symsynth.execution.human import Human, Option, Request, ScriptedHuman, Turn
-from symsynth.execution.observe import observe, place_at
+from symsynth.execution.observe import distance, observe, place_at
+from symsynth.execution.physics import PhysicsWorld, Randomization
 from symsynth.execution.record import STRIDE, Recorder
 from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import (Move, State, action_name, anchors, costmap_of, legal_human_moves,
@@ -68,6 +69,11 @@ from symsynth.scene.model import ELSE, HOME, Scene
 SLACK = 1e-6  # costmap units: float noise allowed between measured and abstract costs
 MAX_ACTIONS = 500
 SOUNDNESS = ("cost", "evidence")
+WORLDS = ("kinematic", "physics")
+#: A position at which the robot's turn comes again this often (its action
+#: failed in the world each time) ends the run: a winning strategy never
+#: returns to a position in the abstraction (E_p decreases along its plays).
+MAX_VISITS = 3
 
 
 @dataclass(frozen=True)
@@ -91,6 +97,9 @@ class Divergence:
     step: int  # 1-based index into Run.steps
     kind: str  # cost, evidence, state, outside, contact
     message: str
+    #: `state`: the largest distance (metres) of an object from the location the
+    #: abstraction puts it at; None when it puts none of the strayed ones on a location.
+    distance: float | None = None
 
     @property
     def soundness(self) -> bool:
@@ -109,6 +118,10 @@ class Run:
     refused: list[str] = field(default_factory=list)  # human moves the world or k did not allow
     best_effort: int = 0  # robot actions taken outside the strategy (best effort)
     seconds: float = 0.0
+    world: str = "kinematic"  # kinematic or physics
+    #: After the last step: the largest distance (metres) of an object from the location the
+    #: abstraction puts it at (None: it puts none on a location).
+    placement_error: float | None = None
 
     @property
     def cost(self) -> float:
@@ -130,14 +143,15 @@ class Run:
 
     def to_json(self, objects: tuple[str, ...]) -> dict[str, Any]:
         return {
-            "seed": self.seed, "human": self.human, "completed": self.completed, "reason": self.reason,
+            "seed": self.seed, "world": self.world, "human": self.human, "completed": self.completed,
+            "reason": self.reason, "placement_error": self.placement_error,
             "cost": self.cost, "abstract_cost": self.abstract_cost, "cost_bound": self.bound,
             "within_bound": self.within_bound, "sound": self.sound, "best_effort_actions": self.best_effort,
             "robot_actions": sum(s.who == "robot" for s in self.steps),
             "human_moves": sum(s.who == "human" for s in self.steps),
             "seconds": self.seconds, "refused_human_moves": list(self.refused),
-            "divergences": [{"step": d.step, "kind": d.kind, "soundness": d.soundness, "message": d.message}
-                            for d in self.divergences],
+            "divergences": [{"step": d.step, "kind": d.kind, "soundness": d.soundness, "distance": d.distance,
+                             "message": d.message} for d in self.divergences],
             "trace": [{"who": s.who, "action": s.action, "abstract_cost": s.abstract,
                        "measured_cost": s.measured, "radians": s.radians, "source": s.source,
                        "state": state_json(s.state, objects)} for s in self.steps],
@@ -184,7 +198,8 @@ class Simulator:
     drop approaches are made once."""
 
     def __init__(self, scene: Scene, formula: ast.Formula, policy: Policy, planner: Planner, *,
-                 resolution: float = 1.0) -> None:
+                 resolution: float = 1.0, world: str = "kinematic",
+                 randomization: Randomization | None = None) -> None:
         if scene.geometry is None:
             raise SymsynthError(f"scene {scene.name!r} is abstract (no 'robot' key): "
                                 "there is no world to simulate")
@@ -196,14 +211,26 @@ class Simulator:
         self.approaches = hand_motions.Approaches(planner)  # grab and drop paths, shared by the runs
         self.per_radian = scene.geometry.per_radian
         self.planner_step = scene.geometry.planner.check_step  # radians; `resolution` quantizes costs
+        if world not in WORLDS:
+            raise SymsynthError(f"unknown world {world!r}; expected {' or '.join(WORLDS)}")
+        if randomization is not None and world != "physics":
+            raise SymsynthError("randomization is for the physical world (world 'physics')")
+        self.world, self.randomization = world, randomization
+
+    def make_world(self, seed: int, gui: bool = False) -> SimWorld:
+        """The world of a run: kinematic, or physical with run `seed`'s randomization."""
+        if self.world == "physics":
+            return PhysicsWorld(self.scene, gui=gui, randomization=self.randomization, seed=seed)
+        return SimWorld(self.scene, gui=gui)
 
     def run(self, human: Human, seed: int = 0, *, recorder: Callable[[SimWorld], Recorder] | None = None,
             gui: bool = False, max_actions: int = MAX_ACTIONS) -> Run:
         clock = time.perf_counter()
-        world = SimWorld(self.scene, gui=gui)
+        world = self.make_world(seed, gui)
         try:
             episode = _Episode(self, world, human, seed, recorder(world) if recorder else None, max_actions)
             run = episode.play()
+            run.world = self.world
         finally:
             world.close()
         run.seconds = time.perf_counter() - clock
@@ -220,7 +247,9 @@ class _Episode:
         self.run = Run(seed, human.name, sim.policy.bound)
         self.anchor: str | None = HOME  # the anchor the robot stands on, None when off every anchor
         self.actions = 0
+        self.visits: dict[Position, int] = {}
         self.last: str | None = None
+        self.expected: State = observe(self.scene, world)  # the abstraction's state after the last step
 
     # -- the loop -------------------------------------------------------------
 
@@ -240,6 +269,11 @@ class _Episode:
                     return self._end(True, "completed (by a human move)")
             if self.actions >= self.max_actions:
                 return self._end(False, f"gave up after {self.actions} robot actions")
+            self.visits[(v, q, h)] = self.visits.get((v, q, h), 0) + 1
+            if self.visits[(v, q, h)] > MAX_VISITS:  # the abstraction's progress never came about
+                return self._end(False, f"stuck: the robot's turn came {MAX_VISITS + 1} times at the observed "
+                                 f"position {format_position((v, q, h), self.scene.object_names)} "
+                                 "(its actions do not do in the world what the abstraction says)")
             chosen = self.sim.policy.action((v, q, h))
             if chosen is None:
                 return self._end(False, "the strategy has no action at the observed position "
@@ -256,6 +290,7 @@ class _Episode:
 
     def _end(self, completed: bool, reason: str) -> Run:
         self.run.completed, self.run.reason = completed, reason
+        self.run.placement_error = self._misplaced(self.expected)
         unfired = self.human.unfired() if isinstance(self.human, ScriptedHuman) else ()
         for n, entry in unfired:  # a script's moves that never came due
             self.run.refused.append(f"script move {n} ({entry['move']} to {_where(entry['to'])}): "
@@ -272,13 +307,14 @@ class _Episode:
             choice = self._resolve(choice, v, q, h)
         if choice is None:
             return None
+        if isinstance(self.world, PhysicsWorld):
+            self.world.frame = None  # the frame after the move is taken below
         self.world.place(choice.obj, choice.pose)
         observed = observe(self.scene, self.world)
         self.run.steps.append(Step("human", choice.action, observed))
-        if choice.after is not None and observed != choice.after[0]:
-            self._diverge("state", f"after {choice.action} the world reads "
-                          f"{format_state(observed, self.scene.object_names)}, the abstraction "
-                          f"{format_state(choice.after[0], self.scene.object_names)}")
+        self.expected = observed if choice.after is None else choice.after[0]
+        if observed != self.expected:
+            self._stray(choice.action, observed, self.expected)
         self._frame(f"{len(self.run.steps)}. human {choice.action}", hold=True)
         return observed, self.game.read(q, observed), h - 1
 
@@ -351,14 +387,17 @@ class _Episode:
         expected, abstract = move.after, move.cost
         index = len(self.run.steps) + 1
         caption = f"{index}. robot {action}"
+        if isinstance(self.world, PhysicsWorld) and self.recorder is not None:  # frames as the world steps
+            recorder, text = self.recorder, self._caption(caption, self.run.cost)
+            self.world.frame = lambda: recorder.frame(text)
         if move.kind == "slide":
             step = self._slide(move, v, index, caption)
         elif move.kind in ("grab", "drop"):  # through the registry, as a third-party primitive would be
             done = primitive(move.kind).execute(self.world, self.sim.approaches, move)
             measured = self.scene.grab_cost if move.kind == "grab" else self.scene.drop_cost
-            self._follow(done.path, caption, measured)
+            self._follow(done.path, caption, measured, executed=True)
             if done.touched:
-                self._diverge("contact", f"{action}: the approach penetrates {', '.join(sorted(done.touched))}",
+                self._diverge("contact", f"{action}: the approach {self._meets()} {', '.join(sorted(done.touched))}",
                               index)
             step = Step("robot", action, observe(self.scene, self.world), abstract, measured, done.radians,
                         "primitive")
@@ -367,11 +406,25 @@ class _Episode:
         self.run.steps.append(step)
         self.actions += 1
         self.last = action
+        self.expected = expected
         if step.state != expected:
-            self._diverge("state", f"after {action} the world reads "
-                          f"{format_state(step.state, self.scene.object_names)}, the abstraction "
-                          f"{format_state(expected, self.scene.object_names)}")
+            self._stray(action, step.state, expected)
         return step.state
+
+    def _stray(self, action: str, observed: State, expected: State) -> None:
+        """A `state` divergence: the world after `action` is not what the abstraction says."""
+        far = self._misplaced(expected)
+        self._diverge("state", f"after {action} the world reads {format_state(observed, self.scene.object_names)}, "
+                      f"the abstraction {format_state(expected, self.scene.object_names)}"
+                      + ("" if far is None else f" (an object {far * 100:.1f} cm from its location)"),
+                      distance=far)
+
+    def _misplaced(self, state: State) -> float | None:
+        """The largest distance of an object (not in the hand) from the location `state` puts it at."""
+        places, poses = self.world.geometry.places, self.world.poses
+        gaps = [distance(poses[o], places[at]) for o, at in zip(self.scene.object_names, state.at)
+                if at in self.scene.locations and o != self.world.held]
+        return max(gaps, default=None)
 
     def _slide(self, move: Move, v: State, index: int, caption: str) -> Step:
         """A slide (semantics §4b): the contact's primitive follows the
@@ -386,10 +439,11 @@ class _Episode:
         plugin = displacement(geometry.contacts[move.grasp].primitive)
         done = plugin.execute(self.world, move, rule.path)
         measured = done.radians * geometry.per_radian + geometry.primitive_costs.get(plugin.name, plugin.fixed_cost)
-        self._follow(done.path, caption, measured)
+        self._follow(done.path, caption, measured, executed=True)
         self.anchor = anchors(self.scene, move.location, move.grasp)[0]  # the hand ends at l'/a (§4b)
         if done.touched:
-            self._diverge("contact", f"{move.action}: the slide penetrates {', '.join(sorted(done.touched))}", index)
+            self._diverge("contact", f"{move.action}: the slide {self._meets()} {', '.join(sorted(done.touched))}",
+                          index)
         return Step("robot", move.action, observe(self.scene, self.world), move.cost, measured, done.radians,
                     "slide")
 
@@ -464,24 +518,37 @@ class _Episode:
                  if name != serves and name != self.world.held}
         return frozenset(x for x in self.scene.locations + self.scene.else_samples if x not in taken)
 
-    def _follow(self, path, caption: str, cost: float) -> None:
-        """Move along `path` (frames on the way when recording)."""
+    def _follow(self, path, caption: str, cost: float, executed: bool = False) -> None:
+        """Move along `path` (frames on the way when recording); a primitive
+        has moved the physical world itself (`executed`), the kinematic
+        one is replayed for the frames."""
+        if isinstance(self.world, PhysicsWorld):
+            if not executed:
+                self.world.follow(path)
+            return
         if self.recorder is None:
             if path:
                 self.world.set_config(path[-1])
             return
-        total = self.run.cost + cost
-        text = f"{caption}   cost {total:.0f}" + ("" if self.run.bound is None else f" / E_p {self.run.bound:g}")
+        text = self._caption(caption, self.run.cost + cost)
         for config in motions.steps(path, STRIDE):
             self.world.set_config(config)
             self.recorder.frame(text)
+
+    def _meets(self) -> str:
+        """How a primitive met what it should not: the physical world reads
+        contacts, the kinematic one penetrations deeper than 1 mm."""
+        return "touches" if isinstance(self.world, PhysicsWorld) else "penetrates"
+
+    def _caption(self, caption: str, total: float) -> str:
+        return f"{caption}   cost {total:.0f}" + ("" if self.run.bound is None else f" / E_p {self.run.bound:g}")
 
     def _frame(self, caption: str, hold: bool = False) -> None:
         if self.recorder is not None:
             self.recorder.frame(caption, hold)
 
-    def _diverge(self, kind: str, message: str, step: int | None = None) -> None:
-        self.run.divergences.append(Divergence(step or len(self.run.steps), kind, message))
+    def _diverge(self, kind: str, message: str, step: int | None = None, distance: float | None = None) -> None:
+        self.run.divergences.append(Divergence(step or len(self.run.steps), kind, message, distance))
 
 
 def _where(to: str | Pose) -> str:

@@ -67,7 +67,8 @@ class SimWorld:
         self.poses: dict[str, Pose] = {}
         for k, spec in enumerate(scene.objects):
             pose = self._initial_pose(spec.name, spec.at)
-            self.bodies[spec.name] = self._body(geometry.shapes[spec.name], pose, colour_of(spec.tags, k))
+            self.bodies[spec.name] = self._body(geometry.shapes[spec.name], pose, colour_of(spec.tags, k),
+                                                mass=self.mass(spec.name))
             self.poses[spec.name] = pose
         mark = Shape("box", size=(MARK_SIZE, MARK_SIZE, MARK_THICKNESS))
         for name, pose in geometry.places.items():
@@ -81,6 +82,11 @@ class SimWorld:
 
     def close(self) -> None:
         self.client.disconnect()
+
+    def mass(self, name: str) -> float:
+        """Object `name`'s mass in kg: 0 in the kinematic world (a body
+        PyBullet never moves); the physical world's (`physics.py`) weighs."""
+        return 0.0
 
     # -- the robot ------------------------------------------------------------
 
@@ -185,10 +191,10 @@ class SimWorld:
         self.client.resetBasePositionAndOrientation(self.bodies[name], centre.xyz, centre.quat)
 
     def _body(self, shape: Shape, pose: Pose, colour: RGBA, *, collision: bool = True,
-              concave: bool = False) -> int:
+              concave: bool = False, mass: float = 0.0) -> int:
         solid = bullet.collision_shape(self.client, shape, concave=concave) if collision else -1
         centre = pose @ shape.centre_offset()
-        return self.client.createMultiBody(baseMass=0, baseCollisionShapeIndex=solid,
+        return self.client.createMultiBody(baseMass=mass, baseCollisionShapeIndex=solid,
                                            baseVisualShapeIndex=bullet.visual_shape(self.client, shape, colour),
                                            basePosition=centre.xyz, baseOrientation=centre.quat)
 

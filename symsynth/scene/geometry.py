@@ -170,6 +170,15 @@ class Contact(Grasp):
 
 
 @dataclass(frozen=True)
+class Material:
+    """What the physical world needs of a body beyond its shape (a scene's
+    `physics:` block); None: the physical world's default."""
+
+    mass: float | None = None  # kg (objects only: obstacles are static)
+    friction: float | None = None  # Coulomb coefficient
+
+
+@dataclass(frozen=True)
 class PlannerSettings:
     name: str = "ompl-fcl"
     roadmap_size: int = 300  # vertices per mode, anchors not counted
@@ -193,6 +202,9 @@ class Geometry:
     contacts: dict[str, Contact] = field(default_factory=dict)
     #: Fixed costs of displacement primitives set by the scene (`costs: {push: 2}`).
     primitive_costs: dict[str, float] = field(default_factory=dict)
+    #: Materials of objects and obstacles by name (`physics:` blocks); only the
+    #: physical simulator reads them, so they stay out of the repr (cache keys read it).
+    materials: dict[str, Material] = field(default_factory=dict, repr=False)
 
     def hand_frame(self, name: str) -> Grasp:
         """The grasp or contact `name`: where the end-effector stands on an

@@ -17,9 +17,10 @@ robot:                 # all keys optional; the default is the Franka Panda
                        # unchecked when left out (scenes/arch.yaml leaves it out: its bridge
                        # is 14 cm across the fingers, as the paper's abstraction allows)
 obstacles:
-  table: {box: [1.2, 1.6, 0.05], xyz: [0.3, 0, -0.05]}
+  table: {box: [1.2, 1.6, 0.05], xyz: [0.3, 0, -0.05], physics: {friction: 0.5}}
 objects:
-  w1: {tags: [block, white], box: [0.04, 0.04, 0.08], at: table1}
+  w1: {tags: [block, white], box: [0.04, 0.04, 0.08], at: table1,
+       physics: {mass: 0.05, friction: 0.5}}   # optional: the physical world's material
 locations:
   table1: {xyz: [0.45, 0.25, 0]}
 else:                  # Else samples: explicit, or drawn in a region
@@ -34,6 +35,10 @@ contacts:              # optional: poses for displacement primitives (push, pull
 costs: {per_radian: 1, grab: 5, drop: 5, push: 2}   # push: the primitive's fixed cost
 planner: {name: ompl-fcl, roadmap_size: 300, check_step: 0.05, seed: 0}
 ```
+
+A `physics:` block (objects: `mass` in kg, `friction`; obstacles: `friction`) is read only
+by the physical world (`symsynth simulate --world physics`, `execution/physics.py`, which
+holds the defaults); it changes no costmap, so it is no part of the costmap's cache key.
 
 `planner: {seconds: S}` instead of `roadmap_size` grows each mode's roadmap
 for S seconds.  The roadmap then depends on the machine and its load: the
@@ -50,8 +55,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from symsynth.scene.geometry import (Body, Contact, Geometry, Grasp, PlannerSettings, Pose, Robot, Shape, point_text,
-                                     vec3)
+from symsynth.scene.geometry import (Body, Contact, Geometry, Grasp, Material, PlannerSettings, Pose, Robot, Shape,
+                                     point_text, vec3)
 from symsynth.scene.mesh import MeshError, load_mesh
 
 NUMBER = {"type": "number"}
@@ -81,8 +86,15 @@ ROBOT = {
         "opening": {"type": "number", "exclusiveMinimum": 0},
     },
 }
+#: An object's material for the physical world (`symsynth simulate --world physics`):
+#: mass in kg, Coulomb friction coefficient (PyBullet multiplies the two bodies' coefficients).
+OBJECT_PHYSICS = {"type": "object", "additionalProperties": False,
+                  "properties": {"mass": POSITIVE, "friction": {"type": "number", "minimum": 0}}}
+#: A static obstacle's (the table's): friction only, it does not move.
+OBSTACLE_PHYSICS = {"type": "object", "additionalProperties": False,
+                    "properties": {"friction": {"type": "number", "minimum": 0}}}
 OBSTACLE = {"type": "object", "additionalProperties": False,
-            "properties": {**SHAPE_KEYS, **POSE_KEYS}, **ONE_SHAPE}
+            "properties": {**SHAPE_KEYS, **POSE_KEYS, "physics": OBSTACLE_PHYSICS}, **ONE_SHAPE}
 ABSENT_AT = {"type": "array", "items": {"type": "string"}, "uniqueItems": True}
 GRASP = {"type": "object", "additionalProperties": False, "required": ["xyz"],
          "properties": {**POSE_KEYS, "approach": {"type": "number", "minimum": 0}, "absent_at": ABSENT_AT}}
@@ -114,7 +126,7 @@ PLANNER = {
     },
 }
 #: Keys an object may have in a physical scene besides `tags` and `at`.
-OBJECT_KEYS = {**SHAPE_KEYS, **POSE_KEYS}
+OBJECT_KEYS = {**SHAPE_KEYS, **POSE_KEYS, "physics": OBJECT_PHYSICS}
 
 PANDA_URDF = "franka_panda/panda.urdf"
 PANDA_HOME = (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785)
@@ -184,9 +196,12 @@ def geometry_from_data(data: dict[str, Any], source: Path | None, report: Report
     )
     if robot is None:
         return None
+    materials = {name: Material(spec["physics"].get("mass"), spec["physics"].get("friction"))
+                 for group in ("objects", "obstacles") for name, spec in (data.get(group) or {}).items()
+                 if "physics" in spec}
     return Geometry(robot=robot, obstacles=obstacles, shapes=shapes, places=places, grasps=grasps,
                     initial=initial, per_radian=float(data.get("costs", {}).get("per_radian", 1.0)),
-                    planner=planner, contacts=contacts, primitive_costs=costs)
+                    planner=planner, contacts=contacts, primitive_costs=costs, materials=materials)
 
 
 def _absent_at(spec: dict[str, Any], where: tuple, places: dict[str, Pose], report: Report) -> frozenset[str]:

@@ -1,0 +1,384 @@
+"""The physical world: the scene in PyBullet with dynamics
+(`symsynth simulate --world physics`).
+
+`PhysicsWorld` is a `SimWorld` whose objects have mass and friction and
+move only as PyBullet integrates them:
+
+- **Dynamics.**  DIRECT mode, gravity 9.81 m/s², a fixed time step of
+  `TIME_STEP` (1/240 s, PyBullet's default) with its default 50 solver
+  iterations; nothing depends on the wall clock, so the same seed gives the
+  same run.  Objects weigh their `physics: {mass}` (default: their volume at
+  `DENSITY`, 500 kg/m³, wood; `MESH_MASS` for a mesh), and slide with their
+  `friction` (default `FRICTION`; PyBullet multiplies two bodies'
+  coefficients, so a block on the table slides with 0.5 x 0.5 by default).
+  Static obstacles (the table) take a `physics: {friction}` too.
+- **The robot** follows a path by position control of its joints with the
+  URDF's force limits (87 N m and 12 N m for the Panda): the target moves
+  along the path at `JOINT_SPEED` radians per second (joint-space norm;
+  `SLIDE_SPEED` along a slide), and at the path's end the robot is held on
+  its last configuration until every joint is within `ARRIVED` radians of
+  it (at most `CONVERGE_STEPS`).  A path's cost is the radians of the path
+  commanded, as the costmap measures it.
+- **The gripper** is the robot's `fixed` joints (the Panda's fingers, held
+  open at 4 cm): `close_hand` drives them to their lower limit with their
+  force limit (20 N), and when *both* fingers then touch the object
+  (contact points read from PyBullet) the grasp is firmed by a fixed
+  constraint between the hand and the object at their relative pose of that
+  moment (`FIRM_FORCE` at most).  PyBullet's friction grasps slip with
+  small, light blocks over long transfers; the constraint stands for the
+  real gripper's grip, and is made only where the fingers hold the object.
+  Fingers that close on nothing make no constraint: the object stays where
+  it is, and the observation says so.  `open_hand` removes the constraint
+  and opens the fingers: the object is released where the hand put it and
+  settles under gravity.
+- **Settling.**  After a release, a slide or a human's move, the world is
+  stepped until every object moves slower than `REST_SPEED` (m/s) and
+  `REST_SPIN` (rad/s) for `REST_STEPS` steps in a row, at most
+  `SETTLE_STEPS`; only then are the poses read (`poses`, what `observe`
+  reads).
+- **Randomization** (`Randomization`, seeded): each object's mass and
+  friction, and the table's friction, scaled by a factor drawn uniformly
+  in [1 - r, 1 + r]; each object's initial pose shifted on the table by up
+  to `pose` metres in x and y.
+
+Collision checks (`touching`, `blocked`, a motion's evidence path checked
+before it is followed) still set configurations without stepping, as in the
+kinematic world, and put the robot back where it was commanded to stand.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from symsynth.bullet import pybullet
+from symsynth.errors import InputError
+from symsynth.execution.world import SimWorld
+from symsynth.scene.geometry import Pose
+from symsynth.scene.model import Scene
+
+TIME_STEP = 1.0 / 240.0  # seconds
+GRAVITY = 9.81  # m/s²
+DENSITY = 500.0  # kg/m³: an object's default mass is its volume's
+MESH_MASS = 0.1  # kg: the default for a mesh (its volume is not computed)
+FRICTION = 0.5  # objects' and obstacles' default Coulomb coefficient
+FINGER_FRICTION = 1.0  # the gripper's pads
+SPEED_FRACTION = 0.8  # of each joint's URDF velocity limit, along a motion
+DEFAULT_SPEED = 1.0  # rad/s (m/s) for a joint whose URDF gives no velocity limit
+DEFAULT_EFFORT = 100.0  # N m (N) for a joint whose URDF gives no force limit
+DEFAULT_GRIP = 20.0  # N for a gripper joint whose URDF gives none
+SLIDE_SPEED = 0.05  # m/s: the hand's speed along a slide, at most (the object is not thrown)
+ARRIVED = 2e-3  # radians: every joint this close to the end of its path
+CONVERGE_STEPS = 240
+GRIP_STEPS = 60  # steps the fingers take to close or open (4 cm at 0.2 m/s is 48)
+FIRM_FORCE = 200.0  # newtons: the firming constraint's strength
+REST_SPEED = 5e-3  # m/s
+REST_SPIN = 0.05  # rad/s
+REST_STEPS = 5
+SETTLE_STEPS = 480  # 2 s
+
+
+@dataclass(frozen=True)
+class Randomization:
+    """Relative ranges for friction and mass, metres for initial poses."""
+
+    friction: float = 0.0
+    mass: float = 0.0
+    pose: float = 0.0
+
+    KEYS = ("friction", "mass", "pose")
+
+    @staticmethod
+    def parse(text: str) -> Randomization:
+        """`friction=0.2,mass=0.2,pose=0.005` (any of the three)."""
+        values: dict[str, float] = {}
+        for part in filter(None, (p.strip() for p in text.split(","))):
+            key, _, value = part.partition("=")
+            key = key.strip()
+            if key not in Randomization.KEYS or not value:
+                raise InputError(f"--randomize: expected KEY=VALUE with KEY one of {', '.join(Randomization.KEYS)}"
+                                 f" (e.g. friction=0.2,mass=0.2,pose=0.005), found {part!r}")
+            try:
+                number = float(value)
+            except ValueError:
+                raise InputError(f"--randomize: {key} must be a number, found {value!r}") from None
+            if not math.isfinite(number) or number < 0 or (key != "pose" and number >= 1):
+                raise InputError(f"--randomize: {key} must be " + ("a distance >= 0 in metres" if key == "pose"
+                                 else "a relative range in [0, 1)") + f", found {value}")
+            values[key] = number
+        return Randomization(**values)
+
+    def __str__(self) -> str:
+        return ",".join(f"{key}={getattr(self, key):g}" for key in self.KEYS)
+
+
+Watch = Callable[["PhysicsWorld"], None]
+
+
+class PhysicsWorld(SimWorld):
+    """The scene with dynamics (module doc); `seed` draws the randomization."""
+
+    dynamic = True
+
+    def __init__(self, scene: Scene, *, gui: bool = False, randomization: Randomization | None = None,
+                 seed: int = 0, firm: bool = True) -> None:
+        self.randomization = randomization or Randomization()
+        self.firm = firm  # False: grasps held by the fingers' friction alone (no constraint)
+        self._rng = np.random.default_rng(seed)
+        self._scale = {o.name: self._draw("mass") for o in scene.objects}
+        super().__init__(scene, gui=gui)
+        client = self.client
+        client.setGravity(0, 0, -GRAVITY)
+        client.setTimeStep(TIME_STEP)
+        for body, name in self.obstacles.items():
+            client.changeDynamics(body, -1, lateralFriction=self._friction(name))
+        for name, body in self.bodies.items():
+            client.changeDynamics(body, -1, lateralFriction=self._friction(name), spinningFriction=0.001,
+                                  rollingFriction=0.0)
+        self.fingers = tuple(sorted(self._held_joints()))
+        for j in self.fingers:
+            client.changeDynamics(self.robot, j, lateralFriction=FINGER_FRICTION)
+        infos = [self.client.getJointInfo(self.robot, j) for j in self.joints]
+        self._efforts = [info[10] or DEFAULT_EFFORT for info in infos]
+        self._speeds = np.array([SPEED_FRACTION * (info[11] or DEFAULT_SPEED) for info in infos])
+        self._open = {j: value for j, value in self._held_joints().items()}
+        self._grip = dict(self._open)
+        self._grip_forces = [self.client.getJointInfo(self.robot, j)[10] or DEFAULT_GRIP for j in self._grip]
+        self._constraint: int | None = None
+        self.watch: Watch | None = None  # called after every step (a test's or a verifier's eye)
+        self.frame: Callable[[], None] | None = None  # a recording's camera, every `frame_every` steps
+        self.frame_every = 24
+        self.steps = 0
+        self.touches: set[str] = set()  # objects the robot touched while `watching`
+        self.watching = False
+        self._jitter(self.randomization.pose)
+        self._command(self.config)
+        self.settle()
+
+    # -- materials and randomization -----------------------------------------
+
+    def mass(self, name: str) -> float:
+        material = self.geometry.materials.get(name)
+        if material is not None and material.mass is not None:
+            base = material.mass
+        else:
+            shape = self.geometry.shapes[name]
+            if shape.kind == "box":
+                base = DENSITY * float(np.prod(shape.size))
+            elif shape.kind == "cylinder":
+                base = DENSITY * math.pi * shape.radius ** 2 * shape.height
+            else:
+                base = MESH_MASS
+        return base * self._scale.get(name, 1.0)
+
+    def _friction(self, name: str) -> float:
+        material = self.geometry.materials.get(name)
+        base = FRICTION if material is None or material.friction is None else material.friction
+        return base * self._draw("friction")
+
+    def _draw(self, key: str) -> float:
+        r = getattr(self.randomization, key)
+        return float(self._rng.uniform(1 - r, 1 + r)) if r > 0 else 1.0
+
+    def _jitter(self, distance: float) -> None:
+        if distance <= 0:
+            return
+        for name in self.scene.object_names:
+            dx, dy = self._rng.uniform(-distance, distance, 2)
+            pose = self.poses[name]
+            self._place_body(name, Pose((pose.xyz[0] + float(dx), pose.xyz[1] + float(dy), pose.xyz[2]),
+                                        pose.quat))
+
+    def _held_joints(self) -> dict[int, float]:
+        """The gripper: the movable joints not controlled by configurations."""
+        movable = [j for j in range(self.client.getNumJoints(self.robot))
+                   if self.client.getJointInfo(self.robot, j)[2] != pybullet.JOINT_FIXED]
+        return {j: self.client.getJointState(self.robot, j)[0] for j in movable if j not in self.joints}
+
+    # -- stepping -------------------------------------------------------------
+
+    def step(self) -> None:
+        self.client.stepSimulation()
+        self.steps += 1
+        if self.watching:
+            for name, body in self.bodies.items():
+                if name != self.held and self.client.getContactPoints(self.robot, body):
+                    self.touches.add(name)
+        if self.watch is not None:
+            self.watch(self)
+        if self.frame is not None and self.steps % self.frame_every == 0:
+            self.frame()
+
+    @contextlib.contextmanager
+    def watched(self) -> Iterator[set[str]]:
+        """The objects the robot touches (PyBullet's contact points, read
+        after each step) while the block runs, other than the one held."""
+        self.touches, self.watching = set(), True
+        try:
+            yield self.touches
+        finally:
+            self.watching = False
+
+    def settle(self) -> int:
+        """Step until every object rests (module doc); the poses are read
+        then.  Returns the steps taken."""
+        calm = taken = 0
+        while taken < SETTLE_STEPS and calm < REST_STEPS:
+            self.step()
+            taken += 1
+            calm = calm + 1 if self._resting() else 0
+        self.sync()
+        return taken
+
+    def _resting(self) -> bool:
+        for name, body in self.bodies.items():
+            if name == self.held:
+                continue
+            linear, angular = self.client.getBaseVelocity(body)
+            if np.linalg.norm(linear) > REST_SPEED or np.linalg.norm(angular) > REST_SPIN:
+                return False
+        return True
+
+    def sync(self) -> None:
+        """Read every object's pose from PyBullet into `poses`."""
+        for name, body in self.bodies.items():
+            xyz, quat = self.client.getBasePositionAndOrientation(body)
+            self.poses[name] = Pose(tuple(xyz), tuple(quat)) @ self.geometry.shapes[name].centre_offset().inverse()
+
+    # -- the robot ------------------------------------------------------------
+
+    def follow(self, path: Sequence[Sequence[float]], hand_speed: float | None = None,
+               careful: Callable[[np.ndarray], bool] | None = None) -> None:
+        """Drive the joints along `path` by position control (module doc),
+        then hold the last configuration until the robot is on it.  Each
+        leg takes the time its fastest joint needs at `SPEED_FRACTION` of
+        its velocity limit, or, where `careful(hand position)` holds at
+        either end (everywhere when `careful` is None), its hand's
+        straight-line travel at `hand_speed` (m/s) if that is longer."""
+        if len(path) == 0:
+            return
+        hand = self._hand_points(path) if hand_speed is not None else None
+        legs = np.asarray(path, float)
+        for k, (a, b) in enumerate(zip(legs, legs[1:])):
+            seconds = float(np.max(np.abs(b - a) / self._speeds))
+            if hand is not None and hand_speed is not None and (
+                    careful is None or careful(hand[k]) or careful(hand[k + 1])):
+                seconds = max(seconds, float(np.linalg.norm(hand[k + 1] - hand[k])) / hand_speed)
+            n = max(1, math.ceil(seconds / TIME_STEP))
+            velocity = (b - a) / (n * TIME_STEP)
+            for i in range(1, n + 1):
+                self._command(a + (b - a) * (i / n), velocity)
+                self.step()
+        goal = np.asarray(path[-1], float)
+        self._command(goal)
+        for _ in range(CONVERGE_STEPS):
+            if self.tracking_error(goal) <= ARRIVED:
+                break
+            self.step()
+        self.config = tuple(float(v) for v in goal)
+        self.sync()
+
+    def _hand_points(self, path: Sequence[Sequence[float]]) -> np.ndarray:
+        """The end-effector's position at each configuration of `path`
+        (forward kinematics; the robot is put back where it was)."""
+        start = self.config
+        points = []
+        for config in path:
+            SimWorld.set_config(self, config)
+            points.append(self.ee_pose().xyz)
+        SimWorld.set_config(self, start)
+        return np.asarray(points, float)
+
+    def tracking_error(self, goal: Sequence[float] | np.ndarray) -> float:
+        actual = [s[0] for s in self.client.getJointStates(self.robot, self.joints)]
+        return float(np.max(np.abs(np.subtract(actual, goal))))
+
+    def set_config(self, config: Sequence[float]) -> None:
+        """Put the robot at `config` without stepping (a collision check);
+        the joints' targets follow."""
+        super().set_config(config)
+        if hasattr(self, "_efforts"):
+            self._command(self.config)
+
+    def _command(self, target: Sequence[float] | np.ndarray, velocity: np.ndarray | None = None) -> None:
+        zero = [0.0] * len(self.joints)
+        self.client.setJointMotorControlArray(
+            self.robot, self.joints, pybullet.POSITION_CONTROL, targetPositions=list(map(float, target)),
+            targetVelocities=zero if velocity is None else list(map(float, velocity)), forces=self._efforts)
+        fingers = list(self._grip)
+        self.client.setJointMotorControlArray(
+            self.robot, fingers, pybullet.POSITION_CONTROL, targetPositions=[self._grip[j] for j in fingers],
+            forces=self._grip_forces)
+
+    # -- the hand -------------------------------------------------------------
+
+    def close_hand(self, name: str | None = None, grasp: str | None = None) -> bool:
+        """Close the fingers; when both then touch object `name`, firm the
+        grasp (module doc) and hold it with `grasp`.  Whether it is held."""
+        self._grip = {j: self.client.getJointInfo(self.robot, j)[8] for j in self._open}
+        self._command(self.config)
+        for _ in range(GRIP_STEPS):
+            self.step()
+        if name is None or grasp is None or not self.fingers_touch(name):
+            return False
+        self.held, self.grasp = name, grasp
+        if self.firm:
+            self._firm(name)
+        self.sync()
+        in_hand = self.ee_pose().inverse() @ self.poses[name]  # as held, for collision checks
+        centre_offset = self.geometry.shapes[name].centre_offset()
+        self._in_hand = (in_hand.xyz, in_hand.quat)
+        self._centre = (centre_offset.xyz, centre_offset.quat)
+        return True
+
+    def _firm(self, name: str) -> None:
+        """The fixed constraint between the hand and object `name`, at their
+        pose relative to each other now."""
+        body = self.bodies[name]
+        link = self.client.getLinkState(self.robot, self.ee_link, computeForwardKinematics=True)
+        centre = self.client.getBasePositionAndOrientation(body)
+        inverse = self.client.invertTransform(link[0], link[1])
+        xyz, quat = self.client.multiplyTransforms(inverse[0], inverse[1], centre[0], centre[1])
+        self._constraint = self.client.createConstraint(
+            self.robot, self.ee_link, body, -1, pybullet.JOINT_FIXED, [0, 0, 0], parentFramePosition=xyz,
+            childFramePosition=[0, 0, 0], parentFrameOrientation=quat)
+        self.client.changeConstraint(self._constraint, maxForce=FIRM_FORCE)
+
+    def open_hand(self) -> None:
+        """Remove the firming constraint and open the fingers: the object,
+        released, settles."""
+        if self._constraint is not None:
+            self.client.removeConstraint(self._constraint)
+            self._constraint = None
+        self.held, self.grasp = None, None
+        self._grip = dict(self._open)
+        self._command(self.config)
+        for _ in range(GRIP_STEPS):
+            self.step()
+        self.settle()
+
+    def fingers_touch(self, name: str) -> bool:
+        """Whether every finger touches object `name` (PyBullet's contact points)."""
+        body = self.bodies[name]
+        return all(self.client.getContactPoints(self.robot, body, j, -1) for j in self.fingers)
+
+    def robot_touches(self, name: str) -> bool:
+        return bool(self.client.getContactPoints(self.robot, self.bodies[name]))
+
+    # -- the objects ----------------------------------------------------------
+
+    def place(self, name: str, pose: Pose) -> None:
+        """Put object `name` at `pose` at rest (a human's hand: kinematic),
+        then let it settle."""
+        super().place(name, pose)
+        self.client.resetBaseVelocity(self.bodies[name], [0, 0, 0], [0, 0, 0])
+        self.settle()
+
+    def blocked(self, name: str, pose: Pose) -> set[str]:
+        hits = super().blocked(name, pose)
+        self.client.resetBaseVelocity(self.bodies[name], [0, 0, 0], [0, 0, 0])
+        return hits

@@ -1,0 +1,272 @@
+"""The physical world (`execution/physics.py`, `simulate --world physics`):
+grasps held by the fingers, drops that settle, pushes that move the object
+only by contact, and a bad slide caught by the simulator.
+
+What is checked is read from PyBullet apart from the code under test:
+object positions from `getBasePositionAndOrientation`, contacts from
+`getContactPoints`, masses from `getDynamicsInfo`; targets are the scene's
+own poses.  Small sizes: 60-vertex roadmaps, a few hundred steps a motion.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+import yaml
+
+from symsynth.cli import main
+from symsynth.errors import InputError
+from symsynth.execution import primitives
+from symsynth.execution.observe import POSITION
+from symsynth.execution.physics import PhysicsWorld, Randomization
+from symsynth.execution.simulate import MAX_VISITS
+from symsynth.execution.trial import slide_trial
+from symsynth.planning.anchors import anchor_configs
+from symsynth.planning.registry import planner_class
+from symsynth.primitives import displacement
+from symsynth.scene import scene_from_data
+from symsynth.scene.geometry import Pose
+
+DATA = Path(__file__).parent / "data"
+
+BLOCK = """
+name: grasp
+robot: {}
+obstacles:
+  table: {box: [1.0, 1.2, 0.04], xyz: [0.35, 0.0, -0.04], physics: {friction: 0.6}}
+objects:
+  b: {tags: [block], box: [0.04, 0.04, 0.06], at: l1, physics: {mass: 0.07}}
+locations:
+  l1: {xyz: [0.5, 0.0, 0.0]}
+  l2: {xyz: [0.5, 0.15, 0.0]}
+grasps:
+  top: {xyz: [0.0, 0.0, 0.1434], rpy: [3.14159265, 0.0, 0.0], approach: 0.07}
+planner: {name: ompl-fcl, roadmap_size: 60}
+task: F(at(b, l2))
+"""
+
+
+@pytest.fixture(scope="module")
+def block():
+    scene = scene_from_data(yaml.safe_load(BLOCK))
+    return scene, planner_class("ompl-fcl")(scene)
+
+
+def base_xyz(world, name):
+    """Where PyBullet has the object's bottom face centre (its frame)."""
+    xyz, _ = world.client.getBasePositionAndOrientation(world.bodies[name])
+    return xyz[0], xyz[1], xyz[2] - world.geometry.shapes[name].size[2] / 2
+
+
+def at_anchor(scene, planner, place, **options):
+    """A physical world with the robot on the top grasp's anchor over `place`, settled."""
+    world = PhysicsWorld(scene, **options)
+    g = scene.geometry
+    world.set_config(planner.inverse_kinematics(g.places[place] @ g.grasps["top"].pre_image(), g.robot.home))
+    world.settle()
+    return world
+
+
+def test_the_scene_s_physics_block_sets_mass_and_friction(block):
+    scene, _ = block
+    world = PhysicsWorld(scene)
+    try:
+        info = world.client.getDynamicsInfo(world.bodies["b"], -1)
+        assert info[0] == pytest.approx(0.07) and info[1] == pytest.approx(0.5)  # mass given, friction default
+        table = next(body for body, name in world.obstacles.items() if name == "table")
+        assert world.client.getDynamicsInfo(table, -1)[1] == pytest.approx(0.6)
+    finally:
+        world.close()
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d["objects"]["b"].update(physics={"mass": 0}), "objects.b.physics.mass"),
+    (lambda d: d["objects"]["b"].update(physics={"weight": 1}), "objects.b.physics"),
+    (lambda d: d["obstacles"]["table"].update(physics={"mass": 3}), "obstacles.table.physics"),
+    (lambda d: d["objects"]["b"].update(physics={"friction": -0.1}), "objects.b.physics.friction"),
+])
+def test_a_bad_physics_block_is_named(change, message):
+    data = yaml.safe_load(BLOCK)
+    change(data)
+    with pytest.raises(InputError, match=message.replace(".", r"\.")):
+        scene_from_data(data)
+
+
+def test_a_grasp_lifts_the_object_with_the_fingers(block):
+    """Closed on the block, both fingers touch it and it rises with the hand
+    (the approach's 7 cm); with the firming constraint left out
+    (`firm=False`) the fingers alone still lift it: the fingers hold it,
+    the constraint only firms their hold."""
+    scene, planner = block
+    for firm in (True, False):
+        world = at_anchor(scene, planner, "l1", firm=firm)
+        try:
+            primitives.grab(world, primitives.Approaches(planner), "b", "top")
+            assert world.held == "b"
+            assert all(world.client.getContactPoints(world.robot, world.bodies["b"], j, -1) for j in world.fingers)
+            assert base_xyz(world, "b")[2] == pytest.approx(0.07, abs=0.01)
+            assert (world._constraint is not None) == firm
+        finally:
+            world.close()
+
+
+def test_fingers_that_close_on_nothing_make_no_constraint(block):
+    """The hand closes at l1's grasp pose while the block stands at l2: no
+    finger touches it, nothing is firmed, the block stays on the table."""
+    scene, planner = block
+    world = at_anchor(scene, planner, "l1")
+    try:
+        world.place("b", scene.geometry.places["l2"])
+        g = scene.geometry
+        down = primitives.Approaches(planner).path(world.config, g.places["l1"] @ g.grasps["top"].pre_image(),
+                                                   g.places["l1"] @ g.grasps["top"].pose, "down")
+        world.follow(down)
+        assert not world.close_hand("b", "top")
+        assert world.held is None and world._constraint is None
+        world.follow(down[::-1])
+        assert math.dist(base_xyz(world, "b"), g.places["l2"].xyz) < 1e-3
+    finally:
+        world.close()
+
+
+def test_a_drop_releases_the_object_and_it_settles_within_the_tolerance(block):
+    """Grabbed at l1, carried to l2's anchor, dropped: the constraint is
+    gone, the hand empty, and the block rests on l2 (within observe's 1 cm),
+    upright, its speed zero."""
+    scene, planner = block
+    world = at_anchor(scene, planner, "l1")
+    try:
+        approaches = primitives.Approaches(planner)
+        primitives.grab(world, approaches, "b", "top")
+        g = scene.geometry
+        world.follow(approaches.path(world.config, world.ee_pose(), g.places["l2"] @ g.grasps["top"].pre_image(),
+                                     "carry"))
+        primitives.drop(world, approaches, "l2")
+        assert world.held is None and world._constraint is None
+        assert world.client.getNumConstraints() == 0
+        assert math.dist(base_xyz(world, "b"), g.places["l2"].xyz) <= POSITION
+        _, quat = world.client.getBasePositionAndOrientation(world.bodies["b"])
+        assert Pose((0, 0, 0), tuple(quat)).angle_to(Pose()) < 0.05
+        assert max(map(abs, world.client.getBaseVelocity(world.bodies["b"])[0])) < 0.01
+    finally:
+        world.close()
+
+
+@pytest.fixture(scope="module")
+def push_rule():
+    data = yaml.safe_load((DATA / "push-small.yaml").read_text())
+    scene = scene_from_data(data, source=DATA / "push-small.yaml")
+    planner = planner_class("ompl-fcl")(scene)
+    (rule,) = displacement("push").slides(scene, planner, "behind", anchor_configs(planner, scene))
+    return scene, rule
+
+
+def test_a_push_moves_the_box_only_while_the_hand_touches_it(push_rule):
+    """Every step of the slide is watched (PyBullet's contact points between
+    robot and box): the box travels l1 -> l2 (18 cm) at steps when the hand
+    touches it (or did within 0.1 s), next to nothing otherwise, and ends
+    within the tolerance of l2; randomized worlds too."""
+    scene, rule = push_rule
+    for seed in (0, 1):
+        out = slide_trial(scene, "box", "behind", rule.start, rule.goal, rule.path,
+                          randomization=Randomization(friction=0.2, mass=0.2, pose=0.005), seed=seed)
+        assert out.pushed >= 0.17 and out.untouched < 0.002, out
+        assert out.success and out.error <= POSITION and out.jump < 0.005
+
+
+class Teleport:
+    """A displacement plugin that sets the object on its target, as the
+    kinematic simulator does: the watch must see it."""
+
+    name, kind, fixed_cost = "teleport", "displacement", 2.0
+
+    def execute(self, world, move, path):
+        world.set_config(path[-1])
+        world.place(move.obj, world.geometry.places[move.location])
+        return primitives.Primitive(tuple(path), frozenset())
+
+
+def test_an_object_set_on_its_target_is_seen_moving_untouched(push_rule):
+    scene, rule = push_rule
+    out = slide_trial(scene, "box", "behind", rule.start, rule.goal, rule.path, primitive=Teleport())
+    assert out.success  # where it should be ...
+    assert out.untouched > 0.17 and out.pushed < 0.01 and out.jump > 0.17  # ... but nothing pushed it there
+
+
+def bad_push_scene(tmp_path):
+    """push-small with its contact moved 22 cm aside: the hand passes beside the box."""
+    data = yaml.safe_load((DATA / "push-small.yaml").read_text())
+    data["contacts"]["behind"]["xyz"] = [-0.155, 0.22, 0.12]
+    data["contacts"]["behind"]["absent_at"] = ["e1"]  # the arm cannot reach that far aside there
+    data["planner"]["roadmap_size"] = 60
+    path = tmp_path / "push-beside.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+def test_a_slide_beside_the_box_is_a_state_divergence_in_physics_only(tmp_path, monkeypatch, capsys):
+    """The kinematic world carries the box along whatever the hand does; in
+    the physical world it stays on l1, and simulate reports a `state`
+    divergence 18 cm from l2 (|l1 - l2|), and the run does not complete."""
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path / "cache"))
+    scene = bad_push_scene(tmp_path)
+    assert main(["simulate", str(scene), "--json", "--method", "sg"]) == 0
+    kinematic = json.loads(capsys.readouterr().out)["runs"][0]
+    assert kinematic["completed"] and kinematic["world"] == "kinematic" and kinematic["divergences"] == []
+    assert main(["simulate", str(scene), "--json", "--method", "sg", "--world", "physics",
+                 "--randomize", "friction=0.1,pose=0.002"]) == 1
+    out = json.loads(capsys.readouterr().out)
+    (run,) = out["runs"]
+    assert out["world"] == "physics" and out["randomize"] == "friction=0.1,mass=0,pose=0.002"
+    assert run["world"] == "physics" and not run["completed"] and run["reason"].startswith("stuck")
+    slides = [d for d in run["divergences"] if d["kind"] == "state" and d["distance"] > POSITION]
+    assert len(slides) == MAX_VISITS  # the strategy tried again from the observed state, until stuck
+    for state in slides:
+        assert run["trace"][state["step"] - 1]["action"] == "slide(box,behind,l2)"
+        assert state["distance"] == pytest.approx(0.18, abs=0.005)
+    assert run["placement_error"] == pytest.approx(0.18, abs=0.005)
+    assert run["seconds"] > 0 and run["cost_bound"] is not None and run["cost"] > 0
+
+
+def test_the_good_push_completes_in_physics(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path / "cache"))
+    data = yaml.safe_load((DATA / "push-small.yaml").read_text())
+    data["planner"]["roadmap_size"] = 60
+    scene = tmp_path / "push.yaml"
+    scene.write_text(yaml.safe_dump(data))
+    assert main(["simulate", str(scene), "--json", "--method", "sg", "--world", "physics"]) == 0
+    (run,) = json.loads(capsys.readouterr().out)["runs"]
+    assert run["completed"] and run["divergences"] == [] and run["placement_error"] <= POSITION
+
+
+@pytest.mark.parametrize("text, message", [
+    ("friction=1.5", "relative range in [0, 1)"), ("size=0.1", "KEY one of friction, mass, pose"),
+    ("pose=-1", "distance >= 0"), ("mass=x", "must be a number"),
+])
+def test_bad_randomizations_are_refused(text, message):
+    with pytest.raises(InputError, match=message.replace("[", r"\[").replace(")", r"\)")):
+        Randomization.parse(text)
+    assert Randomization.parse("friction=0.2, mass=0.1,pose=0.005") == Randomization(0.2, 0.1, 0.005)
+
+
+def test_randomize_needs_the_physical_world(capsys):
+    assert main(["simulate", str(DATA / "push-small.yaml"), "--randomize", "mass=0.1"]) == 2
+    assert "add --world physics" in capsys.readouterr().err
+
+
+def test_randomized_worlds_differ_by_seed_and_repeat_by_seed(block):
+    scene, _ = block
+    draws = []
+    for seed in (3, 3, 4):
+        world = PhysicsWorld(scene, randomization=Randomization(0.2, 0.2, 0.005), seed=seed)
+        try:
+            draws.append((world.client.getDynamicsInfo(world.bodies["b"], -1)[:2], world.poses["b"].xyz))
+        finally:
+            world.close()
+    assert draws[0] == draws[1] and draws[0] != draws[2]
+    (mass, friction), xyz = draws[2]
+    assert 0.07 * 0.8 <= mass <= 0.07 * 1.2 and 0.5 * 0.8 <= friction <= 0.5 * 1.2
+    assert max(abs(xyz[0] - 0.5), abs(xyz[1])) <= 0.005
