@@ -26,7 +26,7 @@ from symsynth.execution.simulate import MAX_VISITS
 from symsynth.execution.trial import slide_trial
 from symsynth.planning.anchors import anchor_configs
 from symsynth.planning.registry import planner_class
-from symsynth.primitives import displacement
+from symsynth.primitive_registry import displacement
 from symsynth.scene import scene_from_data
 from symsynth.scene.geometry import Pose
 

@@ -25,7 +25,7 @@ from typing import Any
 from symsynth.execution.observe import POSITION, distance
 from symsynth.execution.physics import PhysicsWorld, Randomization
 from symsynth.game.abstraction import Move, State
-from symsynth.primitives import displacement
+from symsynth.primitive_registry import displacement
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import Scene
 
