@@ -19,7 +19,7 @@ import yaml
 
 from symsynth.cli import main
 from symsynth.errors import InputError
-from symsynth.execution import primitives
+from symsynth.execution import hand_motions
 from symsynth.execution.observe import POSITION
 from symsynth.execution.physics import PhysicsWorld, Randomization
 from symsynth.execution.simulate import MAX_VISITS
@@ -104,7 +104,7 @@ def test_a_grasp_lifts_the_object_with_the_fingers(block):
     for firm in (True, False):
         world = at_anchor(scene, planner, "l1", firm=firm)
         try:
-            primitives.grab(world, primitives.Approaches(planner), "b", "top")
+            hand_motions.grab(world, hand_motions.Approaches(planner), "b", "top")
             assert world.held == "b"
             assert all(world.client.getContactPoints(world.robot, world.bodies["b"], j, -1) for j in world.fingers)
             assert base_xyz(world, "b")[2] == pytest.approx(0.07, abs=0.01)
@@ -121,7 +121,7 @@ def test_fingers_that_close_on_nothing_make_no_constraint(block):
     try:
         world.place("b", scene.geometry.places["l2"])
         g = scene.geometry
-        down = primitives.Approaches(planner).path(world.config, g.places["l1"] @ g.grasps["top"].pre_image(),
+        down = hand_motions.Approaches(planner).path(world.config, g.places["l1"] @ g.grasps["top"].pre_image(),
                                                    g.places["l1"] @ g.grasps["top"].pose, "down")
         world.follow(down)
         assert not world.close_hand("b", "top")
@@ -139,12 +139,12 @@ def test_a_drop_releases_the_object_and_it_settles_within_the_tolerance(block):
     scene, planner = block
     world = at_anchor(scene, planner, "l1")
     try:
-        approaches = primitives.Approaches(planner)
-        primitives.grab(world, approaches, "b", "top")
+        approaches = hand_motions.Approaches(planner)
+        hand_motions.grab(world, approaches, "b", "top")
         g = scene.geometry
         world.follow(approaches.path(world.config, world.ee_pose(), g.places["l2"] @ g.grasps["top"].pre_image(),
                                      "carry"))
-        primitives.drop(world, approaches, "l2")
+        hand_motions.drop(world, approaches, "l2")
         assert world.held is None and world._constraint is None
         assert world.client.getNumConstraints() == 0
         assert math.dist(base_xyz(world, "b"), g.places["l2"].xyz) <= POSITION
@@ -186,7 +186,7 @@ class Teleport:
     def execute(self, world, move, path):
         world.set_config(path[-1])
         world.place(move.obj, world.geometry.places[move.location])
-        return primitives.Primitive(tuple(path), frozenset())
+        return hand_motions.Primitive(tuple(path), frozenset())
 
 
 def test_an_object_set_on_its_target_is_seen_moving_untouched(push_rule):
