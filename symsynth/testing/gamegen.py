@@ -18,6 +18,7 @@ budget-bounded brute force needs.
 from __future__ import annotations
 
 import random
+from typing import Any
 
 from symsynth.scene import Scene, scene_from_data
 
@@ -39,7 +40,7 @@ def random_scene(seed: int, *, positive: bool = False, contacts: bool = False, z
     spots = rng.sample(locations + ["Else"] * len(names), len(names))
     objects = {o: {"tags": rng.sample(TAGS, rng.randint(0, 2)), "at": at}
                for o, at in zip(names, spots)}
-    data = {
+    data: dict[str, Any] = {
         "name": f"random{seed}",
         "objects": objects,
         "locations": locations,
