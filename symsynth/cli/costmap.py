@@ -67,7 +67,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="planner plugin (default: the scene's planner.name, else ompl-fcl; "
                              "with verify: the one the costmap records)")
     parser.add_argument("--seed", type=count, metavar="S", help="roadmap seed (default: the scene's)")
-    parser.add_argument("-o", "--output", type=Path, metavar="FILE", help="also write the costmap to FILE")
+    parser.add_argument("-o", "--output", type=options.output_file, metavar="FILE",
+                        help="also write the costmap to FILE")
     parser.add_argument("--no-cache", action="store_true", help="compute even if a cached costmap exists")
     parser.add_argument("--json", action="store_true", help="print a summary as JSON")
     options.add_executor(parser, "roadmaps built at once (default: one per core)")
@@ -87,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"{args.target[0]}: an abstract scene (no 'robot' key): its costmap is given, "
                          "not computed")
     if args.output is not None:  # before the planning, which takes a while
-        check_writable(args.output, "costmap file")
+        check_writable(args.output, "costmap file", inputs=(Path(args.target[0]),))
     executor = None if args.executor == "local" and args.jobs is None else options.executor(args)
     got = obtain_costmap(scene, args.method, args.planner, args.seed, use_cache=not args.no_cache,
                          executor=executor)
@@ -102,6 +103,8 @@ def run(args: argparse.Namespace) -> int:
     }
     if got.stats is not None:
         summary |= {"seconds": {k: round(v, 3) for k, v in got.stats.seconds.items()},
+                    "wall_seconds": round(got.stats.wall, 3),
+                    "cpu_seconds": round(sum(got.stats.seconds.values()), 3), "workers": got.stats.workers,
                     "roadmaps": got.stats.roadmaps, "vertices": got.stats.vertices,
                     "edges": got.stats.edges}
     if args.json:
@@ -117,7 +120,8 @@ def run(args: argparse.Namespace) -> int:
         s = got.stats
         phases = ", ".join(f"{k} {v:.2f}" for k, v in s.seconds.items())
         print(f"roadmaps   {s.roadmaps} ({s.vertices} vertices, {s.edges} edges)")
-        print(f"seconds    {sum(s.seconds.values()):.2f} ({phases})")
+        print(f"seconds    {s.wall:.2f} on the clock; per phase, summed over {s.workers} "
+              f"process{'es' * (s.workers != 1)}: {phases}")
     print(f"file       {summary['file'] or 'none written (--no-cache without -o FILE)'}")
     return 0
 

@@ -7,6 +7,7 @@ import argparse
 import math
 import os
 from decimal import Decimal, InvalidOperation
+from collections.abc import Sequence
 from pathlib import Path
 
 from symsynth.errors import InputError
@@ -62,12 +63,30 @@ def positive(text: str) -> float:
     return value
 
 
-def check_writable(path: Path, what: str) -> None:
-    """Fail now, not after minutes of work, if `path` cannot be written."""
+def output_file(text: str) -> Path:
+    """An output file's name (-o): not empty (Path('') is '.', the folder)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("expected a file name, found an empty one")
+    return Path(text)
+
+
+def check_writable(path: Path, what: str, inputs: Sequence[Path | None] = ()) -> None:
+    """Fail now, not after minutes of work, if `path` cannot be written: a
+    folder, a file in no writable folder, a read-only file (the atomic write
+    would replace it all the same: a rename needs only the folder), or one
+    of this command's `inputs` (`-o scene.yaml` would put the output in
+    place of the scene)."""
     folder = path.parent
     if path.is_dir() or not folder.is_dir() or not os.access(folder, os.W_OK):
         raise InputError(f"cannot write {what} {path}: "
                          + ("it is a directory" if path.is_dir() else f"{folder} is not a writable directory"))
+    if path.exists() and (not os.access(path, os.W_OK) or not path.stat().st_mode & 0o222):  # (root may write)
+        raise InputError(f"cannot write {what} {path}: the file is read-only (make it writable, or choose "
+                         "another name)")
+    for given in inputs:
+        if given is not None and path.exists() and given.exists() and path.samefile(given):
+            raise InputError(f"cannot write {what} {path}: it is this command's input {given}, which the "
+                             f"{what} would replace; choose another name")
 
 
 def size(text: str) -> tuple[int, int]:

@@ -22,7 +22,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("show", help=HELP, description=DESCRIPTION,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scene", type=Path, help="a physical scene file (YAML, with a robot)")
-    parser.add_argument("-o", "--output", type=Path, metavar="FILE", default=None,
+    parser.add_argument("-o", "--output", type=options.output_file, metavar="FILE", default=None,
                         help="the picture to write (PNG; default: SCENE with .png)")
     parser.add_argument("--size", type=options.size, default=(800, 600), metavar="WxH",
                         help="image size in pixels (default: 800x600)")
@@ -37,7 +37,7 @@ def run(args: argparse.Namespace) -> int:
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has nothing to show")
     output = args.output or args.scene.with_suffix(".png")
-    check_writable(output, "picture")
+    check_writable(output, "picture", inputs=(args.scene,))
     width, height = args.size
     render_scene(scene, output, width=width, height=height, labels=not args.no_labels)
     print(f"wrote {output} ({width}x{height}, {len(scene.locations)} locations, "

@@ -11,14 +11,17 @@ from pathlib import Path
 from symsynth.cli import options
 from symsynth.cli.options import check_writable
 from symsynth.game.abstraction import Move, State, costmap_of, initial_state, motions, robot_moves, slides
+from symsynth.errors import InputError
+from symsynth.game.horizon import TooManyMoves
 from symsynth.game.solution import Solution, Step
 from symsynth.game.strategy import format_state, write_strategy
 from symsynth.game.symmetry import Symmetry
 from symsynth.logic import ast
-from symsynth.planning.build import Obtained
+from symsynth.planning.build import Obtained, Stats
 from symsynth.planning.methods import METHODS
 from symsynth.problem import CostmapRequest, solve, with_costmap, with_task
 from symsynth.scene import Scene, load_scene
+from symsynth.scene.load import where
 from symsynth.scene.model import ELSE
 from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 
@@ -79,20 +82,25 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--resolution", type=options.positive, default=1.0, metavar="R",
                         help="round each action's cost up to a multiple of R (default: 1)")
     parser.add_argument("--json", action="store_true", help="print the solution as JSON")
-    parser.add_argument("-o", "--output", type=Path, metavar="FILE",
+    parser.add_argument("-o", "--output", type=options.output_file, metavar="FILE",
                         help="write the strategy to FILE (symsynth.strategy/1)")
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     if args.output is not None:  # before the solve, which may take minutes
-        check_writable(args.output, "strategy file")
+        check_writable(args.output, "strategy file", inputs=(args.scene, args.costmap))
     request = CostmapRequest(args.method, args.planner, args.seed, not args.no_cache, progress=not args.json)
     scene = load_scene(args.scene, costmap=args.costmap)
+    if args.output is not None and scene.costmap is not None:  # the scene's own costmap file, too
+        check_writable(args.output, "strategy file", inputs=(scene.costmap.source,))
     problem = with_costmap(with_task(scene, args.task, "--task", args.scene), request)
     scene, task, obtained = problem.scene, problem.task, problem.obtained
-    solution = solve(problem, args.solver, k=args.k, budget=args.budget, resolution=args.resolution,
-                     time_limit=args.time_limit)
+    try:
+        solution = solve(problem, args.solver, k=args.k, budget=args.budget, resolution=args.resolution,
+                         time_limit=args.time_limit)
+    except TooManyMoves as error:  # where that k was given
+        raise InputError(f"{'--k' if args.k is not None else where(args.scene, ('human', 'k'))}: {error}") from None
     written = None if args.output is None else write_strategy(args.output, scene, task, solution)
     if args.json:
         out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver}
@@ -118,13 +126,15 @@ def costmap_json(got: Obtained) -> dict:
     out = {"method": got.method, "planner": got.planner, "seed": got.seed, "cached": got.cached,
            "file": None if got.path is None else str(got.path)}
     if got.stats is not None:
-        out["seconds"] = dict(got.stats.seconds)
+        out["seconds"] = dict(got.stats.seconds)  # per phase, summed over the processes that worked
+        out["wall_seconds"] = got.stats.wall
+        out["cpu_seconds"] = sum(got.stats.seconds.values())
     return out
 
 
 def costmap_report(got: Obtained) -> None:
     origin = ("reused from the cache" if got.cached else "computed" if got.stats is None else
-              f"computed in {sum(got.stats.seconds.values()):.1f} s")
+              f"computed in {elapsed(got.stats)}")
     rules = sum(1 for _ in got.costmap.all_rules())
     count = len(got.costmap.slides)
     slides = f"{count} slide{'s' * (count != 1)}, " if count else ""
@@ -132,6 +142,15 @@ def costmap_report(got: Obtained) -> None:
           f"{len(got.costmap.motions)} motions, {slides}{rules} rules, {origin}")
     if got.path is not None:
         print(f"           {got.path}")
+
+
+def elapsed(stats: Stats) -> str:
+    """'12.3 s', and the work summed over the processes when several worked
+    (longer than the wall time: it is not what the user waited)."""
+    work = sum(stats.seconds.values())
+    if stats.workers <= 1:
+        return f"{stats.wall:.1f} s"
+    return f"{stats.wall:.1f} s ({work:.1f} s of work on {stats.workers} processes)"
 
 
 def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: ast.Formula) -> None:

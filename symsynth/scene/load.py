@@ -388,6 +388,21 @@ def schema_message(error: jsonschema.ValidationError) -> str:
     return error.message
 
 
+def where(source: Path | None, path: KeyPath) -> str:
+    """`file:line: key.path` of a key of a scene file, for an error found
+    after loading (the file read again for its lines; `key.path` alone when
+    there is no file or it cannot be read now)."""
+    key = ".".join(map(str, path))
+    if source is None:
+        return key
+    try:
+        _, lines = read_yaml(source, "scene", SceneError)
+    except InputError:
+        return f"{source}: {key}"
+    line = line_of(lines, path)
+    return f"{source}:{line}: {key}" if line else f"{source}: {key}"
+
+
 class Report:
     """The problems of one input file, each `file:line: key.path: message`,
     raised together as one `error` about the `what` (scene, human script)."""
