@@ -101,7 +101,8 @@ def run(args: argparse.Namespace) -> int:
                          time_limit=args.time_limit)
     except TooManyMoves as error:  # where that k was given
         raise InputError(f"{'--k' if args.k is not None else where(args.scene, ('human', 'k'))}: {error}") from None
-    written = None if args.output is None else write_strategy(args.output, scene, task, solution)
+    written = None if args.output is None else write_strategy(args.output, scene, task, solution,
+                                                              formula=problem.formula)
     if args.json:
         out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver}
         if scene.costmap is not None and scene.costmap.absent:
