@@ -42,3 +42,22 @@ def test_the_symbolic_solver_compiles_the_task_once_over_the_horizons_it_tries(c
     solution = solve(problem, "symbolic", k=20)
     assert len(compiles) == 1
     assert solution.units == solve(problem, "explicit", k=20).units
+
+
+def test_the_costmap_options_are_one_declaration():
+    """--method, --planner, the roadmap seed and --no-cache were declared in
+    solve, costmap and simulate, with help that drifted apart and the seed
+    spelled --seed in two and --costmap-seed in one."""
+    from symsynth.cli import build_parser
+
+    subcommands = next(a for a in build_parser()._actions if a.dest == "command").choices
+
+    def options(command):
+        return {o: (a.dest, a.choices, a.default, a.help if o != "--planner" else None)
+                for a in subcommands[command]._actions for o in a.option_strings
+                if o in ("--method", "--planner", "--costmap-seed", "--no-cache")}
+    assert options("solve") == options("costmap") == options("simulate")
+    assert len(options("solve")) == 4
+    # the older spelling still reads the roadmap seed where --seed means nothing else
+    assert subcommands["solve"].parse_args(["x.yaml", "--seed", "3"]).costmap_seed == 3
+    assert subcommands["simulate"].parse_args(["x.yaml", "--seed", "3"]).seed == 3

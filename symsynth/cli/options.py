@@ -11,6 +11,8 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from symsynth.errors import InputError
+from symsynth.planning.methods import METHODS
+from symsynth.problem import CostmapRequest
 
 
 def count(text: str) -> int:
@@ -126,3 +128,30 @@ def executor(args: argparse.Namespace):
     if args.address is not None and args.executor != "ray":
         raise InputError("--address names a Ray cluster: give --executor ray with it")
     return EXECUTORS[args.executor](args.jobs, args.address)
+
+
+PLANNER_HELP = "planner plugin (default: the scene's planner.name)"
+
+
+def add_costmap_options(parser: argparse.ArgumentParser, *, planner_help: str = PLANNER_HELP,
+                        seed_alias: bool = True) -> None:
+    """--method, --planner, --costmap-seed and --no-cache: how a physical
+    scene's costmap is obtained when it has none (`costmap_request`), the
+    same options for every command.  `seed_alias`: also read --seed, the
+    older spelling, where --seed means nothing else (solve, costmap)."""
+    group = parser.add_argument_group("costmap options (physical scenes)",
+                                      "how the costmap is obtained: from the cache, else by motion planning")
+    group.add_argument("--method", choices=tuple(METHODS), default="recursive",
+                       help="sg (start-goal, the paper's Alg. 2) or recursive (Alg. 3; default)")
+    group.add_argument("--planner", metavar="NAME", help=planner_help)
+    group.add_argument("--costmap-seed", type=count, metavar="S",
+                       help="roadmap seed (default: the scene's planner.seed); same seed, same costmap")
+    if seed_alias:
+        group.add_argument("--seed", type=count, dest="costmap_seed", help=argparse.SUPPRESS)
+    group.add_argument("--no-cache", action="store_true",
+                       help="compute the costmap even if a cached one exists (it is then not cached)")
+
+
+def costmap_request(args: argparse.Namespace, progress: bool = True) -> CostmapRequest:
+    """The `problem.CostmapRequest` of `add_costmap_options`' options."""
+    return CostmapRequest(args.method, args.planner, args.costmap_seed, not args.no_cache, progress)

@@ -18,8 +18,7 @@ from symsynth.game.strategy import format_state, write_strategy
 from symsynth.game.symmetry import Symmetry
 from symsynth.logic import ast
 from symsynth.planning.build import Obtained, Stats
-from symsynth.planning.methods import METHODS
-from symsynth.problem import CostmapRequest, solve, with_costmap, with_task
+from symsynth.problem import solve, with_costmap, with_task
 from symsynth.scene import Scene, load_scene
 from symsynth.scene.load import where
 from symsynth.scene.model import ELSE
@@ -65,14 +64,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "the decimal written)")
     parser.add_argument("--costmap", type=Path, metavar="FILE",
                         help="costmap file (symsynth.costmap/1) instead of the scene's")
-    parser.add_argument("--method", choices=tuple(METHODS), default="recursive",
-                        help="physical scenes: costmap method, sg (Alg. 2) or recursive (Alg. 3; default)")
-    parser.add_argument("--planner", metavar="NAME",
-                        help="physical scenes: planner plugin (default: the scene's planner.name)")
-    parser.add_argument("--seed", type=options.count, metavar="S",
-                        help="physical scenes: roadmap seed (default: the scene's planner.seed)")
-    parser.add_argument("--no-cache", action="store_true",
-                        help="physical scenes: compute the costmap even if a cached one exists")
     parser.add_argument("--solver", choices=tuple(SOLVERS), default=DEFAULT_SOLVER,
                         help=f"game solver (default: {DEFAULT_SOLVER})")
     parser.add_argument("--time-limit", type=options.positive, metavar="S",
@@ -84,13 +75,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", action="store_true", help="print the solution as JSON")
     parser.add_argument("-o", "--output", type=options.output_file, metavar="FILE",
                         help="write the strategy to FILE (symsynth.strategy/1)")
+    options.add_costmap_options(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     if args.output is not None:  # before the solve, which may take minutes
         check_writable(args.output, "strategy file", inputs=(args.scene, args.costmap))
-    request = CostmapRequest(args.method, args.planner, args.seed, not args.no_cache, progress=not args.json)
+    request = options.costmap_request(args, progress=not args.json)
     scene = load_scene(args.scene, costmap=args.costmap)
     if args.output is not None and scene.costmap is not None:  # the scene's own costmap file, too
         check_writable(args.output, "strategy file", inputs=(scene.costmap.source,))
