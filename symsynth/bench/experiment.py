@@ -185,9 +185,8 @@ def load_experiment(path: str | Path) -> Experiment:
         report.add(where, f"expected a finite number, found {value}")
     if "trials" in data and "seeds" in data:
         report.add(("seeds",), "give trials (seeds 0..trials-1) or seeds, not both")
-    report.raise_if_any()
-
-    scenes = [variant for i, entry in enumerate(data["scenes"])
+    # the scene files are read now, so that a missing one is said with the problems above
+    scenes = [variant for i, entry in enumerate(data.get("scenes") or []) if _readable(entry)
               for variant in _variants(entry, i, path.parent, report)]
     report.raise_if_any()
     limits = data.get("limits", {})
@@ -222,6 +221,14 @@ def load_experiment(path: str | Path) -> Experiment:
     ordered = tuple(runs.values())
     return Experiment(data["name"], path, ordered, plot_x, data.get("description", ""),
                       tuple(dict.fromkeys(run.cell for run in ordered)))
+
+
+def _readable(entry: Any) -> bool:
+    """Whether a `scenes` entry has the shape `_variants` reads (the schema
+    says what is wrong with one that has not)."""
+    return (isinstance(entry, dict) and isinstance(entry.get("file"), str)
+            and isinstance(entry.get("params", {}), dict) and isinstance(entry.get("sweep", {}), dict)
+            and all(isinstance(values, list) for values in entry.get("sweep", {}).values()))
 
 
 def _variants(entry: dict, index: int, base: Path, report: Report) -> list[tuple[str, str, dict, Scene]]:

@@ -3,6 +3,7 @@ run ends; --resume skips the runs the CSV already has."""
 
 from __future__ import annotations
 
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -55,7 +56,7 @@ def run_experiment(experiment: Experiment, folder: Path, executor: Executor, res
         drop_partial_line(path)
     done = {row["run"] for row in read_rows(path)}
     pending = [run for run in experiment.runs if run.id not in done]
-    failed = 0
+    failed, ended = 0, len(experiment.runs) - len(pending)
     with RowWriter(path) as writer, tqdm(total=len(experiment.runs), initial=len(experiment.runs) - len(pending),
                                          desc=experiment.name, unit="run", disable=None) as bar:
         unfinished = dict.fromkeys(range(len(pending)))  # in the order the runs start
@@ -67,7 +68,19 @@ def run_experiment(experiment: Experiment, folder: Path, executor: Executor, res
                 del unfinished[i]
                 _show(bar, pending, unfinished)
                 bar.update()
+                ended += 1
+                if bar.disable:  # no bar (stderr is a log, not a terminal): a line per run instead
+                    print(finished_line(experiment.name, ended, len(experiment.runs), pending[i], measured),
+                          file=sys.stderr, flush=True)
     return Done(path, len(pending), len(experiment.runs) - len(pending), failed)
+
+
+def finished_line(name: str, n: int, total: int, run: Run, measured: dict[str, Any]) -> str:
+    """One line for a finished run, for a log: which, how it ended, how long."""
+    status = measured.get("status", "?")
+    if status != "ok" and measured.get("error"):
+        status += f" ({str(measured['error'])[:120]})"
+    return f"{name}: run {n} of {total}: {run.cell}, seed {run.seed}: {status}, {measured['seconds_run']:.1f} s"
 
 
 def _show(bar: tqdm, pending: list[Run], unfinished: dict[int, None]) -> None:

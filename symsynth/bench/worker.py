@@ -93,8 +93,7 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
     import dataclasses
 
     from symsynth.automata.shared import dfa_of
-    from symsynth.planning.build import obtain_costmap
-    from symsynth.problem import solve, with_task
+    from symsynth.problem import CostmapRequest, solve, with_costmap, with_task
     from symsynth.scene import load_scene
     from symsynth.solvers import prepare
 
@@ -109,11 +108,13 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
         if run["roadmap_size"] is not None:
             settings = dataclasses.replace(settings, roadmap_size=run["roadmap_size"])
         scene = dataclasses.replace(scene, geometry=dataclasses.replace(scene.geometry, planner=settings))
-        clock = time.perf_counter()
-        got = obtain_costmap(scene, run["method"], run["planner"], run["seed"], use_cache=run["cache"],
-                             progress=False)
+    problem = with_task(scene, None)  # the task as the scene loader parsed it
+    request = CostmapRequest(run["method"] or "recursive", run["planner"], run["seed"], run["cache"], progress=False)
+    clock = time.perf_counter()
+    problem = with_costmap(problem, request)  # the costmap as solve obtains it (none to obtain: abstract)
+    got = problem.obtained
+    if got is not None:
         row["seconds_abstraction"] = time.perf_counter() - clock
-        scene = dataclasses.replace(scene, costmap=got.costmap)
         planner = got.planner
         row |= {"planner": got.planner, "roadmap_size": settings.roadmap_size, "costmap_cached": got.cached,
                 "costmap_rules": sum(1 for _ in got.costmap.all_rules())}
@@ -122,7 +123,6 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
             row |= {f"seconds_{phase.replace(' ', '_')}": value for phase, value in s.seconds.items()}
             row |= {"roadmaps": s.roadmaps, "roadmap_vertices": s.vertices, "roadmap_edges": s.edges,
                     "edge_checks": s.edges, "graph_searches": s.motions, "planner_workers": s.workers}
-    problem = with_task(scene, None)  # the task as the scene loader parsed it
     row["dfa_states"] = dfa_of(problem.formula).num_states  # the DFA every solver composes with the game
     row["seconds_prepare"] = prepare(run["solver"])  # once per process (compiling kernels), before the clock
     clock = time.perf_counter()

@@ -1,0 +1,54 @@
+"""What a fresh user of `symsynth bench` met (issue 33): a log that stays
+empty until the end, Ctrl-C without a word on --resume, a missing scene
+file reported only once the other mistakes were fixed, plots that join
+single runs into zig-zags."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from symsynth.bench import runner
+from symsynth.cli import main
+from support.paper import SCENES
+
+TINY = f"""\
+name: tiny
+scenes:
+  - {{file: "{SCENES / 'toy.yaml'}"}}
+solvers: [explicit]
+k: [0]
+seeds: [0, 1]
+limits: {{seconds: 60, memory_mb: 2048}}
+"""
+
+
+def test_a_log_gets_a_line_per_finished_run(tmp_path, capsys):
+    """With stderr no terminal (a log), there is no bar: a line per run as
+    it ends, so that the log shows the experiment going on."""
+    path = tmp_path / "tiny.yaml"
+    path.write_text(TINY)
+    assert main(["bench", str(path), "-o", str(tmp_path / "out")]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if line.startswith("tiny: run ")]
+    assert len(lines) == 2
+    assert lines[0].startswith("tiny: run 1 of 2: ") and ", seed 0: ok, " in lines[0]
+    assert lines[1].startswith("tiny: run 2 of 2: ") and ", seed 1: ok, " in lines[1]
+
+
+def test_ctrl_c_says_how_to_resume(tmp_path, capsys, monkeypatch):
+    path = tmp_path / "tiny.yaml"
+    path.write_text(TINY)
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+    monkeypatch.setattr("symsynth.cli.bench.run_experiment", interrupted)
+    assert main(["bench", str(path), "-o", str(tmp_path / "out")]) == 130
+    err = capsys.readouterr().err
+    assert "--resume" in err and str(tmp_path / "out" / "results.csv") in err
+
+
+def test_a_missing_scene_file_is_reported_with_the_other_problems(tmp_path, capsys):
+    path = tmp_path / "tiny.yaml"
+    path.write_text(TINY.replace("toy.yaml", "no-such-scene.yaml").replace("k: [0]", "k: [0]\ncolour: red"))
+    assert main(["bench", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "no-such-scene.yaml" in err and "unknown key 'colour'" in err
