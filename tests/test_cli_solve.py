@@ -319,3 +319,13 @@ def test_time_limit_answers_with_the_exact_value_when_it_is_proven_in_time(capsy
     out = solve(capsys, "auto", write_scene(tmp_path), "--k", "1", "--time-limit", "60")
     assert value_line(out) == "34"
     assert re.search(r"^solver\s+auto: forward, as a time limit", out, re.M)
+
+
+def test_the_output_says_what_e_p_is_and_its_unit(capsys):
+    """`solve`'s report printed E_p with no word on what it is (only --help had one)."""
+    assert main(["solve", str(SCENES / "toy.yaml")]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    at = next(i for i, line in enumerate(lines) if line.startswith("E_p "))
+    assert lines[at].split() == ["E_p", "50"]
+    assert "least total cost the robot can guarantee against every human with at most 1 move" in lines[at + 1]
+    assert "units of the scene's costmap" in lines[at + 1]

@@ -175,6 +175,8 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
     else:
         print(f"E_p        {_num(solution.cost_bound)} ({solution.units} units of resolution "
               f"{_num(r)}, each cost rounded up)")
+    if solution.cost_bound is not None or not solution.exact:
+        print(f"           {_meaning(scene, solution.k)}")
     if "interchangeable" in solution.stats:
         print(f"positions  {solution.states} canonical game positions (interchangeable objects: "
               f"{solution.stats['interchangeable']}; one position per renaming of them)")
@@ -209,6 +211,15 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
         print("Principal play: the strategy against the human's worst replies.")
         _print_play(solution.principal_play, solution.objects)
         print(f"total cost {_num(_total(solution.principal_play))} = E_p")
+
+
+def _meaning(scene: Scene, k: int) -> str:
+    """What E_p is, and its unit."""
+    unit = ("costmap units: radians of joint travel x per_radian "
+            f"({_num(scene.geometry.per_radian)}), grab, drop and the other primitives at their fixed costs"
+            if scene.geometry is not None else "the units of the scene's costmap, grab and drop costs")
+    return (f"(E_p: the least total cost the robot can guarantee against every human with at most "
+            f"{k} move{'s' * (k != 1)}; in {unit})")
 
 
 def _horizon(solution: Solution) -> str:
