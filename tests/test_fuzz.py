@@ -432,3 +432,33 @@ def test_a_human_k_too_large_is_named_by_file_and_line(tmp_path, capsys):
     assert err.startswith(f"symsynth solve: {path}:{line}: human.k: k = 100000:")
     _, _, err = run_cli(capsys, ["solve", str(path), "--solver", "explicit", "--k", "300"], allowed=(2,))
     assert err.startswith("symsynth solve: --k: k = 300:")
+
+
+@pytest.mark.parametrize("name", ["Else", "Hand", "home"])
+def test_an_else_sample_may_not_take_a_reserved_name(tmp_path, capsys, name):
+    """`else_samples: [Else]` was accepted: an anchor `Else/top`, and a
+    sample named like the place it samples (or the hand, or the robot's
+    home anchor).  Refused at its line, as such a location is."""
+    path = scene_folder(tmp_path) / "scene.yaml"
+    text = (SCENES / "toy.yaml").read_text().replace("else_samples: [e1]", f"else_samples: [{name}]")
+    path.write_text(text)
+    line = text.splitlines().index(f"else_samples: [{name}]") + 1
+    _, _, err = run_cli(capsys, ["solve", str(path)], allowed=(2,))
+    assert f"{path}:{line}: else_samples.0: '{name}' is reserved and cannot name an Else sample" in err
+
+
+def test_a_scene_of_thousands_of_objects_is_refused_at_once(tmp_path):
+    """5,000 objects ran with no progress and no end; a scene has at most
+    MAX_OBJECTS (docs/input-limits.md), and the refusal says so."""
+    from symsynth.errors import InputError
+    from symsynth.scene.load import MAX_OBJECTS
+
+    def with_objects(n: int) -> Path:
+        objects = dict(TOY["objects"]) | {f"o{i}": {"tags": ["block"]} for i in range(n - len(TOY["objects"]))}
+        path = scene_folder(tmp_path) / f"scene{n}.yaml"
+        path.write_text(yaml.safe_dump(dict(TOY, objects=objects)))
+        return path
+
+    assert len(load_scene(with_objects(MAX_OBJECTS)).objects) == MAX_OBJECTS
+    with pytest.raises(InputError, match=f"{MAX_OBJECTS + 1} objects: symsynth solves games of at most {MAX_OBJECTS}"):
+        load_scene(with_objects(MAX_OBJECTS + 1))
