@@ -8,7 +8,9 @@ exit code 2.  Anything else is a bug and keeps its traceback.
 from __future__ import annotations
 
 import os
+import stat
 from pathlib import Path
+from typing import BinaryIO
 
 
 class SymsynthError(Exception):
@@ -48,15 +50,21 @@ def read_text(path: Path, what: str, error: type[InputError] = InputError,
     (`\\r\\n` and `\\r` are `\\n`); a file that cannot be read, is not UTF-8
     or holds more than `limit` bytes raises `error` naming `what` it is
     ("scene", "costmap", ...).  No more than `limit` + 1 bytes are read, so
-    a device or pipe without end (`/dev/zero`) is refused too."""
+    a device or pipe without end (`/dev/zero`) is refused too.  A named
+    pipe is opened without waiting for a writer (`open` would wait for ever
+    when none comes) and one that gives nothing is refused."""
     try:
-        with open(path, "rb") as file:
-            size = os.fstat(file.fileno()).st_size  # 0 for devices and pipes
+        with _open_now(path) as file:
+            info = os.fstat(file.fileno())
+            size = info.st_size  # 0 for devices and pipes
             if limit is not None and size > limit:
                 raise error(f"{what} {path} is {size:,} bytes: larger than the {limit:,} symsynth reads")
             data = file.read() if limit is None else file.read(limit + 1)
     except OSError as problem:
         raise error(f"cannot read {what} {path}: {problem.strerror}") from None
+    if not data and stat.S_ISFIFO(info.st_mode):
+        raise error(f"{what} {path} is a named pipe and nothing was written to it (no writer had it open): "
+                    f"symsynth reads a {what} from a file, or from a pipe that is being written")
     if limit is not None and len(data) > limit:
         raise error(f"{what} {path} is more than {limit:,} bytes: larger than the {limit:,} symsynth reads")
     try:
@@ -64,3 +72,17 @@ def read_text(path: Path, what: str, error: type[InputError] = InputError,
     except UnicodeDecodeError:
         raise error(f"{what} {path} is not UTF-8 text") from None
     return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def _open_now(path: Path) -> BinaryIO:
+    """`open(path, "rb")` that does not wait: a named pipe is opened
+    non-blocking (then reads from a writer as usual, and as empty without
+    one), every other file as `open` does."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    try:
+        if hasattr(os, "set_blocking"):
+            os.set_blocking(fd, True)  # reads wait for what a writer sends
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise

@@ -37,7 +37,6 @@ import numpy as np
 import yaml
 
 from symsynth.errors import InputError, read_text
-from symsynth.files import check_regular
 
 KeyPath = tuple[Any, ...]
 
@@ -225,7 +224,6 @@ def read_yaml(path: str | Path, what: str,
               error: type[InputError] = InputError) -> tuple[Any, dict[KeyPath, int]]:
     """`load_with_lines` of the file `path`; unreadable text, invalid YAML or
     a limit passed raises `error` naming the file, the line and `what` it is."""
-    check_regular(path, what, error, MAX_BYTES)
     text = read_text(Path(path), what, error, MAX_BYTES)
     try:
         return load_with_lines(text)
@@ -241,7 +239,6 @@ def read_json(path: str | Path, what: str, error: type[InputError] = InputError)
     file, the line and `what` it is.  Nesting is measured on the text before
     it is decoded (`json_depth`), so the decoder never recurses deeper than
     `MAX_DEPTH`."""
-    check_regular(path, what, error, MAX_BYTES)
     text = read_text(Path(path), what, error, MAX_BYTES)
     if json_depth(text) > MAX_DEPTH:
         _refuse_json(text, path, error, f"lists and objects nested more than {MAX_DEPTH} deep")
