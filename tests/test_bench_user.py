@@ -52,3 +52,34 @@ def test_a_missing_scene_file_is_reported_with_the_other_problems(tmp_path, caps
     assert main(["bench", str(path)]) == 2
     err = capsys.readouterr().err
     assert "no-such-scene.yaml" in err and "unknown key 'colour'" in err
+
+
+def test_each_run_gets_the_scene_the_experiment_loaded(tmp_path, monkeypatch):
+    """The parent loads every scene to check the file, and each run's
+    process loaded it again: the runs now get the loaded scene, and never
+    read the file (the file is gone before they start)."""
+    import shutil
+
+    from symsynth.bench import worker
+    from symsynth.bench.experiment import load_experiment
+
+    folder = tmp_path / "scenes"
+    folder.mkdir()
+    for name in ("toy.yaml", "toy.costmap.json"):
+        shutil.copy(SCENES / name, folder / name)
+    path = tmp_path / "tiny.yaml"
+    path.write_text(TINY.replace(str(SCENES / "toy.yaml"), str(folder / "toy.yaml")))
+    experiment = load_experiment(path)
+    shutil.rmtree(folder)
+    sent = []
+
+    def measured_here(spec):
+        sent.append(spec)
+        return worker.measure(spec) | {"status": "ok"}  # in this process, from what the child would get
+    monkeypatch.setattr(runner, "execute", measured_here)
+    from symsynth.parallel import LocalPool
+
+    done = runner.run_experiment(experiment, tmp_path, LocalPool(1))
+    assert done.ran == 2 and done.failed == 0 and all("scene" in spec for spec in sent)
+    rows = (tmp_path / "results.csv").read_text()
+    assert rows.count(",17,") >= 2  # E_p of the toy with k = 0, from the scene the parent loaded

@@ -155,6 +155,9 @@ class Experiment:
     plot_x: str | None = None
     description: str = ""
     cells: tuple[str, ...] = field(default=())
+    #: The scenes as loaded when the file was checked, by `Run.scene_file`:
+    #: handed to the runs' processes, which need not read them again.
+    scenes: dict[str, Scene] = field(default_factory=dict, repr=False, compare=False)
 
 
     def first_trials(self, n: int) -> Experiment:
@@ -220,7 +223,8 @@ def load_experiment(path: str | Path) -> Experiment:
     report.raise_if_any()
     ordered = tuple(runs.values())
     return Experiment(data["name"], path, ordered, plot_x, data.get("description", ""),
-                      tuple(dict.fromkeys(run.cell for run in ordered)))
+                      tuple(dict.fromkeys(run.cell for run in ordered)),
+                      {file: scene for file, _, _, scene in scenes})
 
 
 def _readable(entry: Any) -> bool:

@@ -3,6 +3,8 @@ run ends; --resume skips the runs the CSV already has."""
 
 from __future__ import annotations
 
+import base64
+import pickle
 import sys
 import time
 from dataclasses import dataclass
@@ -16,6 +18,7 @@ from symsynth.bench.results import RowWriter, drop_partial_line, read_rows
 from symsynth.bench.worker import execute
 from symsynth.errors import InputError
 from symsynth.parallel import Executor
+from symsynth.scene import Scene
 
 RESULTS = "results.csv"
 
@@ -37,6 +40,12 @@ def run_row(run: Run, measured: dict[str, Any]) -> dict[str, Any]:
             "scene_file": run.scene_file, "seed": run.seed, "method": run.method, "planner": run.planner,
             "solver": run.solver, "k": run.k, "budget": run.budget, "resolution": run.resolution,
             "roadmap_size": run.roadmap_size, "contacts": "on" if run.contacts else "off"} | measured
+
+
+def packed(scene: Scene | None) -> dict[str, str]:
+    """The scene as loaded in this process, for a run's process (`worker.scene_of`):
+    pickled, in base64 to travel in the run's JSON; nothing when there is none."""
+    return {} if scene is None else {"scene": base64.b64encode(pickle.dumps(scene)).decode("ascii")}
 
 
 def _timed(spec: dict[str, Any]) -> dict[str, Any]:
@@ -62,7 +71,8 @@ def run_experiment(experiment: Experiment, folder: Path, executor: Executor, res
         unfinished = dict.fromkeys(range(len(pending)))  # in the order the runs start
         _show(bar, pending, unfinished)
         with executor as running:
-            for i, measured in running.imap(_timed, [run.to_json() for run in pending]):
+            specs = [run.to_json() | packed(experiment.scenes.get(run.scene_file)) for run in pending]
+            for i, measured in running.imap(_timed, specs):
                 writer.append(run_row(pending[i], measured))
                 failed += measured.get("status") != "ok"
                 del unfinished[i]

@@ -13,8 +13,10 @@ child is killed with its parent (`die_with_parent`), even by SIGKILL.
 
 from __future__ import annotations
 
+import base64
 import json
 import os
+import pickle
 import platform
 import resource
 import signal
@@ -22,7 +24,10 @@ import subprocess
 import sys
 import time
 from importlib import metadata
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from symsynth.scene import Scene
 
 #: Packages whose versions each row records (those that decide the numbers).
 PACKAGES = ("dd", "numpy", "scipy", "ompl", "python-fcl", "pybullet", "lark")
@@ -94,12 +99,11 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
 
     from symsynth.automata.shared import dfa_of
     from symsynth.problem import CostmapRequest, solve, with_costmap, with_task
-    from symsynth.scene import load_scene
     from symsynth.solvers import prepare
 
     row: dict[str, Any] = {"host": platform.node(), "cpus": os.cpu_count(), "load": os.getloadavg()[0],
                            "started": time.strftime("%Y-%m-%dT%H:%M:%S")}
-    scene = load_scene(run["scene_file"])
+    scene = scene_of(run)
     if not run.get("contacts", True):
         scene = scene.without_contacts()
     planner = None
@@ -134,6 +138,16 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
             "synthesis_phases": {name: round(s, 6) for name, s in solution.seconds.items()},
             "versions": versions(planner)}
     return row
+
+
+def scene_of(run: dict[str, Any]) -> Scene:
+    """The run's scene: as the experiment loaded it (`runner.packed`, sent by
+    the parent that checked the file), else read from its file."""
+    if "scene" in run:
+        return pickle.loads(base64.b64decode(run["scene"]))
+    from symsynth.scene import load_scene
+
+    return load_scene(run["scene_file"])
 
 
 def peak_memory_mb() -> float:

@@ -20,7 +20,7 @@ corner), the same projection the renderer used.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -116,7 +116,7 @@ _SPOTS = [(sx * d, sy * d) for d in (1, 3) for sx, sy in ((1, -1), (-1, -1), (1,
 
 
 def label_places(image: Image.Image, scene: Scene, camera: Camera,
-                 objects: dict[str, Sequence[float]] | None = None) -> list[tuple[str, Box]]:
+                 objects: Mapping[str, Sequence[float]] | None = None) -> list[tuple[str, Box]]:
     """Each place's name in a white box beside it, and each object's name
     (at `objects`, world points) in a dark one, with a leader line; a box
     moves round its point rather than cover another label or a labelled
