@@ -50,21 +50,26 @@ def read_text(path: Path, what: str, error: type[InputError] = InputError,
     (`\\r\\n` and `\\r` are `\\n`); a file that cannot be read, is not UTF-8
     or holds more than `limit` bytes raises `error` naming `what` it is
     ("scene", "costmap", ...).  No more than `limit` + 1 bytes are read, so
-    a device or pipe without end (`/dev/zero`) is refused too.  With
-    `regular`, anything but a regular file (a named pipe, which would block
-    in `open` until a writer comes, a device, a directory) is refused
-    before it is read: it is opened without blocking and checked."""
+    a device or pipe without end (`/dev/zero`) is refused too.  A named
+    pipe is opened without waiting for a writer (`open` would wait for ever
+    when none comes) and one that gives nothing is refused.  With
+    `regular`, anything but a regular file (a pipe, a device, a directory)
+    is refused before it is read."""
     try:
-        with _opened(path, regular) as file:
-            if regular and not stat.S_ISREG(os.fstat(file.fileno()).st_mode):
+        with _open_now(path) as file:
+            info = os.fstat(file.fileno())
+            if regular and not stat.S_ISREG(info.st_mode):
                 raise error(f"{what} {path} is not a regular file (a pipe, a device or a directory): "
                             f"symsynth reads {what}s from regular files only")
-            size = os.fstat(file.fileno()).st_size  # 0 for devices and pipes
+            size = info.st_size  # 0 for devices and pipes
             if limit is not None and size > limit:
                 raise error(f"{what} {path} is {size:,} bytes: larger than the {limit:,} symsynth reads")
             data = file.read() if limit is None else file.read(limit + 1)
     except OSError as problem:
         raise error(f"cannot read {what} {path}: {problem.strerror}") from None
+    if not data and stat.S_ISFIFO(info.st_mode):
+        raise error(f"{what} {path} is a named pipe and nothing was written to it (no writer had it open): "
+                    f"symsynth reads a {what} from a file, or from a pipe that is being written")
     if limit is not None and len(data) > limit:
         raise error(f"{what} {path} is more than {limit:,} bytes: larger than the {limit:,} symsynth reads")
     try:
@@ -74,12 +79,15 @@ def read_text(path: Path, what: str, error: type[InputError] = InputError,
     return text.replace("\r\n", "\n").replace("\r", "\n")
 
 
-def _opened(path: Path, nonblocking: bool) -> BinaryIO:
-    """`path` opened for reading in binary; with `nonblocking`, without
-    waiting for a writer when it is a named pipe (O_NONBLOCK, cleared again
-    once open: a regular file ignores it)."""
-    if not nonblocking:
-        return open(path, "rb")
-    descriptor = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
-    os.set_blocking(descriptor, True)
-    return os.fdopen(descriptor, "rb")
+def _open_now(path: Path) -> BinaryIO:
+    """`open(path, "rb")` that does not wait: a named pipe is opened
+    non-blocking (then reads from a writer as usual, and as empty without
+    one), every other file as `open` does."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    try:
+        if hasattr(os, "set_blocking"):
+            os.set_blocking(fd, True)  # reads wait for what a writer sends
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise

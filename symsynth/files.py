@@ -73,3 +73,24 @@ def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return mask
+
+
+# -- input files ---------------------------------------------------------------------
+
+def check_regular(path: str | Path, what: str, error: type[InputError] = InputError,
+                  limit: int | None = None) -> None:
+    """Refuse, before it is opened, an input that is no regular file: a
+    named pipe with no writer blocks `open` for ever, a device (`/dev/zero`)
+    never ends; and, with `limit`, a file of more than `limit` bytes.  A
+    missing file is left to the reader, which names it."""
+    try:
+        info = os.stat(path)
+    except OSError:
+        return
+    if not stat.S_ISREG(info.st_mode):
+        kind = ("a folder" if stat.S_ISDIR(info.st_mode) else "a named pipe" if stat.S_ISFIFO(info.st_mode)
+                else "a socket" if stat.S_ISSOCK(info.st_mode) else "a device")
+        raise error(f"{what} {path} is {kind}, not a regular file: symsynth reads a {what} from a file only "
+                    "(save it to one first)")
+    if limit is not None and info.st_size > limit:
+        raise error(f"{what} {path} is {info.st_size:,} bytes: larger than the {limit:,} symsynth reads")

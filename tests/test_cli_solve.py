@@ -319,3 +319,26 @@ def test_time_limit_answers_with_the_exact_value_when_it_is_proven_in_time(capsy
     out = solve(capsys, "auto", write_scene(tmp_path), "--k", "1", "--time-limit", "60")
     assert value_line(out) == "34"
     assert re.search(r"^solver\s+auto: forward, as a time limit", out, re.M)
+
+
+def test_the_output_says_what_e_p_is_and_its_unit(capsys):
+    """`solve`'s report printed E_p with no word on what it is (only --help had one)."""
+    assert main(["solve", str(SCENES / "toy.yaml")]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    at = next(i for i, line in enumerate(lines) if line.startswith("E_p "))
+    assert lines[at].split() == ["E_p", "50"]
+    assert "least total cost the robot can guarantee against every human with at most 1 move" in lines[at + 1]
+    assert "units of the scene's costmap" in lines[at + 1]
+
+
+def test_a_costmap_computed_in_parallel_reports_wall_time_first():
+    """"computed in 17.0 s" was the phases' seconds summed over the worker
+    processes, longer than the user waited: the wall time now, the sum
+    after it, named as such."""
+    from symsynth.cli.solve import elapsed
+    from symsynth.planning.build import Stats
+
+    stats = Stats(seconds={"anchors": 1.0, "roadmaps": 25.0, "edge checks": 10.0, "searches": 0.1, "slides": 0.0},
+                  workers=2, wall=17.04)
+    assert elapsed(stats) == "17.0 s (36.1 s of work on 2 processes)"
+    assert elapsed(Stats(seconds={"anchors": 3.0}, workers=1, wall=3.2)) == "3.2 s"

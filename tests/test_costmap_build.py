@@ -203,10 +203,12 @@ def test_a_cached_costmap_without_a_record_gets_it_one_of_another_version_is_com
     data = json.loads(first.path.read_text())
     assert data["planner"]["name"] == "planar"
     recorded = data.pop("planner")
+    data[cache.SUM_FIELD] = cache.checksum(data)
     first.path.write_text(json.dumps(data))  # as written before costmaps recorded their planner
     older = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
     assert older.cached and older.costmap.provenance == first.costmap.provenance
-    first.path.write_text(json.dumps(dict(data, planner=dict(recorded, version="9.9"))))
+    other_version = dict(data, planner=dict(recorded, version="9.9"))
+    first.path.write_text(json.dumps(other_version | {cache.SUM_FIELD: cache.checksum(other_version)}))
     other = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
     assert not other.cached and other.costmap.provenance == first.costmap.provenance
     assert json.loads(first.path.read_text())["planner"] == recorded  # overwritten
@@ -223,12 +225,25 @@ def test_a_damaged_cache_entry_is_computed_again(tmp_path, monkeypatch):
     assert obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner).cached
 
 
-def test_an_unwritable_cache_is_one_message(tmp_path, monkeypatch):
+def test_an_unwritable_cache_is_said_before_the_work_and_the_result_kept(tmp_path, monkeypatch):
+    """The cache folder cannot be made: a warning before the planning starts
+    (not an error after it), and the costmap computed is returned, uncached."""
     blocker = tmp_path / "file"
     blocker.write_text("")
     monkeypatch.setenv("SYMSYNTH_CACHE", str(blocker / "cache"))  # a folder inside a file
-    with pytest.raises(InputError, match="cannot write the costmap cache .*SYMSYNTH_CACHE"):
-        obtain_costmap(gap_scene(), "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+    planned = []
+
+    class Watched(PlanarPlanner):
+        def roadmap(self, *args, **kwargs):
+            planned.append(len(caught))
+            return super().roadmap(*args, **kwargs)
+
+    with pytest.warns(SymsynthWarning, match="costmap cache .* cannot be written .*SYMSYNTH_CACHE") as caught:
+        got = obtain_costmap(gap_scene(), "sg", "planar", progress=False, planner_factory=Watched)
+    assert planned and planned[0] == 1  # warned before the first roadmap
+    assert got.path is None and not got.cached
+    assert got.costmap == build(gap_scene(), "sg")
+
 
 
 class TimedPlanar(PlanarPlanner):

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 
 import numpy as np
 import pytest
@@ -14,6 +15,7 @@ from support.paper import SCENES
 from support.planar import PlanarPlanner, planar_scene
 from symsynth.cli import main
 from symsynth.errors import InputError, SymsynthWarning
+from symsynth.planning import cache
 from symsynth.planning.build import compute_costmap, obtain_costmap
 from symsynth.planning.verify import verify_costmap
 from symsynth.scene.costmap import Costmap, write_costmap
@@ -47,6 +49,7 @@ def test_a_cache_file_with_the_right_key_but_foreign_names_is_not_used(tmp_path,
     mine = obtain(scene)
     data = json.loads(mine.path.read_text())
     data["motions"][0]["rules"][0]["free"] = ["l99"]
+    data[cache.SUM_FIELD] = cache.checksum(data)  # (signed anew: the names are checked, not just the sum)
     mine.path.write_text(json.dumps(data))
     with pytest.warns(SymsynthWarning, match="does not fit the scene: .*unknown locations l99"):
         assert not obtain(scene).cached
@@ -163,7 +166,8 @@ def test_a_huge_cost_in_a_cache_file_is_computed_again(tmp_path, monkeypatch):
     scene = gap_scene()
     mine = obtain(scene)
     data = json.loads(mine.path.read_text())
-    data["motions"][0]["rules"][0]["cost"] = "HUGE"
-    mine.path.write_text(json.dumps(data).replace('"HUGE"', "9" * 400))
+    data["motions"][0]["rules"][0]["cost"] = math.inf  # what 400 nines are read as
+    data[cache.SUM_FIELD] = cache.checksum(data)  # (signed anew: the number is checked, not just the sum)
+    mine.path.write_text(json.dumps(data).replace("Infinity", "9" * 400))
     with pytest.warns(SymsynthWarning, match="cost: expected a finite number"):
         assert not obtain(scene).cached

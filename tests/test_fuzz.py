@@ -29,8 +29,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from support.paper import SCENES
+from support.planar import PlanarPlanner, gap_scene
 from symsynth.cli import main
-from symsynth.errors import InputError
+from symsynth.errors import InputError, SymsynthWarning
+from symsynth.planning.build import obtain_costmap
 from symsynth.solvers import SOLVERS
 from symsynth.scene import load_scene
 
@@ -392,3 +394,112 @@ def test_compiled_refuses_64_places_and_auto_falls_back(capsys, tmp_path):
         exact = SOLVERS["explicit"](scene)
     assert fallback.stats["auto"] != "compiled" and "compiled refused it" in fallback.stats["auto_reason"]
     assert fallback.units == exact.units == 3 + 5 + 4 + 5
+
+
+def test_a_cache_entry_edited_under_its_key_is_computed_again(tmp_path, monkeypatch):
+    """Every cost x100 with the key kept: the checksum of the content no
+    longer matches, so the entry is not trusted (issue 33's fuzzer)."""
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path))
+    scene = gap_scene()
+    first = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+    data = json.loads(first.path.read_text())
+    for motion in data["motions"]:
+        for rule in motion["rules"]:
+            rule["cost"] *= 100
+    first.path.write_text(json.dumps(data))
+    with pytest.warns(SymsynthWarning, match="is not used and is computed again: .*checksum"):
+        again = obtain_costmap(scene, "sg", "planar", progress=False, planner_factory=PlanarPlanner)
+    assert not again.cached and again.costmap == first.costmap
+
+
+def test_no_output_is_written_over_an_input(tmp_path, capsys):
+    """`-o scene.yaml` put the strategy in place of the scene; the scene's
+    costmap file and --costmap's are inputs too.  Each stays as it was."""
+    folder = scene_folder(tmp_path)
+    scene = folder / "toy.yaml"
+    scene.write_text((SCENES / "toy.yaml").read_text())
+    for output, extra in ((scene, []), (folder / "toy.costmap.json", []),
+                          (folder / "arch-abstract.costmap.json", ["--costmap", str(folder / "arch-abstract.costmap.json")])):
+        before = output.read_text()
+        code, _, err = run_cli(capsys, ["solve", str(scene), *extra, "-o", str(output)], allowed=(2,))
+        assert "it is this command's input" in err and output.read_text() == before
+
+
+def test_a_read_only_output_is_not_replaced(tmp_path, capsys):
+    """The atomic write renames over the target, which a read-only file does
+    not stop (the folder is writable): refused, the file unchanged."""
+    output = tmp_path / "kept.json"
+    output.write_text("mine")
+    output.chmod(0o444)
+    _, _, err = run_cli(capsys, ["solve", str(SCENES / "toy.yaml"), "-o", str(output)], allowed=(2,))
+    assert "read-only" in err and output.read_text() == "mine"
+
+
+def test_an_empty_output_name_is_refused_as_empty(capsys):
+    """`-o ""` was reported as `.` (Path('') is the current folder)."""
+    _, _, err = run_cli(capsys, ["solve", str(SCENES / "toy.yaml"), "-o", ""], allowed=(2,))
+    assert "empty" in err and "write strategy file ." not in err
+
+
+@pytest.mark.parametrize("role", ["scene", "costmap"])
+def test_a_named_pipe_with_no_writer_is_refused_not_waited_on(tmp_path, capsys, role):
+    """`open` of a FIFO nobody writes to blocks for ever: it is opened
+    without waiting, and refused when nothing comes (a pipe that is being
+    written is read: tests/test_loaders.py)."""
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    argv = ["solve", str(fifo)] if role == "scene" else ["solve", str(SCENES / "toy.yaml"), "--costmap", str(fifo)]
+    _, _, err = run_cli(capsys, argv, allowed=(2,))
+    assert f"{fifo} is a named pipe and nothing was written to it" in err
+
+
+def test_a_scene_without_a_costmap_is_named_by_its_file(tmp_path, capsys):
+    scene = {key: value for key, value in TOY.items() if key != "costmap"}
+    path = tmp_path / "bare.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    _, _, err = run_cli(capsys, ["solve", str(path)], allowed=(2,))
+    assert f"{path}: scene 'toy' has no costmap" in err
+
+
+def test_a_human_k_too_large_is_named_by_file_and_line(tmp_path, capsys):
+    """The toy's value grows by 27 units a move, so a k past the layers
+    solved one by one is refused: the message says where that k is written
+    (the scene's human.k, or --k)."""
+    path = scene_folder(tmp_path) / "scene.yaml"
+    text = (SCENES / "toy.yaml").read_text().replace("human: {k: 1}", "human: {k: 100000}")
+    path.write_text(text)
+    line = text.splitlines().index("human: {k: 100000}") + 1
+    _, _, err = run_cli(capsys, ["solve", str(path), "--solver", "explicit"], allowed=(2,))
+    assert err.startswith(f"symsynth solve: {path}:{line}: human.k: k = 100000:")
+    _, _, err = run_cli(capsys, ["solve", str(path), "--solver", "explicit", "--k", "300"], allowed=(2,))
+    assert err.startswith("symsynth solve: --k: k = 300:")
+
+
+@pytest.mark.parametrize("name", ["Else", "Hand", "home"])
+def test_an_else_sample_may_not_take_a_reserved_name(tmp_path, capsys, name):
+    """`else_samples: [Else]` was accepted: an anchor `Else/top`, and a
+    sample named like the place it samples (or the hand, or the robot's
+    home anchor).  Refused at its line, as such a location is."""
+    path = scene_folder(tmp_path) / "scene.yaml"
+    text = (SCENES / "toy.yaml").read_text().replace("else_samples: [e1]", f"else_samples: [{name}]")
+    path.write_text(text)
+    line = text.splitlines().index(f"else_samples: [{name}]") + 1
+    _, _, err = run_cli(capsys, ["solve", str(path)], allowed=(2,))
+    assert f"{path}:{line}: else_samples.0: '{name}' is reserved and cannot name an Else sample" in err
+
+
+def test_a_scene_of_thousands_of_objects_is_refused_at_once(tmp_path):
+    """5,000 objects ran with no progress and no end; a scene has at most
+    MAX_OBJECTS (docs/input-limits.md), and the refusal says so."""
+    from symsynth.errors import InputError
+    from symsynth.scene.load import MAX_OBJECTS
+
+    def with_objects(n: int) -> Path:
+        objects = dict(TOY["objects"]) | {f"o{i}": {"tags": ["block"]} for i in range(n - len(TOY["objects"]))}
+        path = scene_folder(tmp_path) / f"scene{n}.yaml"
+        path.write_text(yaml.safe_dump(dict(TOY, objects=objects)))
+        return path
+
+    assert len(load_scene(with_objects(MAX_OBJECTS)).objects) == MAX_OBJECTS
+    with pytest.raises(InputError, match=f"{MAX_OBJECTS + 1} objects: symsynth solves games of at most {MAX_OBJECTS}"):
+        load_scene(with_objects(MAX_OBJECTS + 1))

@@ -28,3 +28,14 @@ def test_wheel_ships_grammar_and_compiles(tmp_path):
                          capture_output=True, text=True, env={"PYTHONPATH": str(target)}).stdout.split()
     assert out[0].startswith(str(target)), out  # imported from the wheel, not the checkout
     assert out[1] == "3"  # initial, satisfied, pending
+
+
+def test_the_default_options_leave_the_summary_line_to_the_user():
+    """addopts held -q, so `pytest -q` (-qq) dropped the "N passed" line."""
+    import shlex
+    import tomllib
+    from pathlib import Path
+
+    config = tomllib.loads((Path(__file__).parents[1] / "pyproject.toml").read_text())
+    addopts = shlex.split(config["tool"]["pytest"]["ini_options"]["addopts"])
+    assert not [o for o in addopts if o in ("-q", "--quiet") or (o.startswith("-q") and set(o[1:]) == {"q"})]

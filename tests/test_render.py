@@ -13,6 +13,7 @@ from symsynth.errors import SymsynthError
 from symsynth.execution.render import Camera, render_scene
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import ObjectSpec, Scene
+from support.paper import SCENES
 from symsynth.testing.planner import BLOCK, physical_scene
 
 WIDTH, HEIGHT = 320, 240
@@ -95,3 +96,24 @@ def test_abstract_scene_is_refused(tmp_path):
     scene = Scene("abstract", (), ("l1",), (), ("top",))
     with pytest.raises(SymsynthError, match="no geometry"):
         render_scene(scene, tmp_path / "x.png")
+
+
+def test_labels_name_the_objects_and_cover_no_other_label_or_point():
+    """On the shelf, `out` (on the shelf top) and `under` (below it) project
+    a few pixels apart: their labels overlapped, and the objects had none."""
+    from PIL import Image as PILImage
+
+    from symsynth.execution.render import default_camera, label_places
+    from symsynth.scene import load_scene
+
+    scene = load_scene(SCENES / "shelf.yaml")
+    places = scene.geometry.places
+    objects = {o.name: places[o.at].xyz for o in scene.objects if o.at in places}
+    camera = default_camera(scene, 800, 600)
+    drawn = label_places(PILImage.new("RGB", (800, 600)), scene, camera, objects)
+    assert {name for name, _ in drawn} == set(places) | set(objects)
+    points = [camera.project(p.xyz) for p in places.values()] + [camera.project(xyz) for xyz in objects.values()]
+    for i, (name, (x0, y0, x1, y1)) in enumerate(drawn):
+        for other, (a0, b0, a1, b1) in drawn[i + 1:]:
+            assert x1 <= a0 or a1 <= x0 or y1 <= b0 or b1 <= y0, (name, other)
+        assert not any(x0 <= u <= x1 and y0 <= v <= y1 for u, v in points), name

@@ -246,7 +246,7 @@ def test_a_stuck_robot_at_a_contact_is_told_why(capsys):
     data["costmap"] = box_scene(1).costmap.to_json()
     data["costmap"]["motions"] = [m for m in data["costmap"]["motions"] if m["to"] != "e1/top"]
     scene = scene_from_data(data)
-    from symsynth.cli.solve import stuck_reasons
+    from symsynth.game.stuck import stuck_reasons
     reasons = stuck_reasons(scene, State(("Else",), None, ("box", "push")))
     assert "slide(box,push,...): box is at Else, and only an object at a location of interest is slid" in reasons
     reasons = stuck_reasons(scene, State(("l3",), None, ("box", "push")))

@@ -9,15 +9,20 @@ the formula object itself (not by equality: hashing a formula nested
 100,000 deep would recurse that deep), and the few most recent formulas are
 kept alive with their DFAs, so an id is never reused while it is cached.
 
-The symbolic solver compiles its own copy into the game's BDD manager
-(`compile_ltlf(formula, bdd=...)`): its relations and the DFA must share
-one manager.
+The symbolic solver needs the DFA in the game's BDD manager (its relations
+and the DFA must share one manager), a new one for every horizon it tries
+(`game.horizon`): `dfa_into(formula, bdd)` compiles the DFA once per formula
+in a manager of its own, with the declared order kept (as
+`compile_ltlf(formula, bdd=...)` builds it in a game's manager), and copies
+it into each game's manager.
 """
 
 from __future__ import annotations
 
 from collections import OrderedDict
+from collections.abc import Callable
 
+from symsynth.automata.bdd import BDD, new_manager
 from symsynth.automata.compile import compile_ltlf
 from symsynth.automata.symbolic import SymbolicDFA
 from symsynth.logic import ast
@@ -27,15 +32,32 @@ KEPT = 8
 _kept: OrderedDict[int, tuple[ast.Formula, SymbolicDFA]] = OrderedDict()
 
 
+_ordered: OrderedDict[int, tuple[ast.Formula, SymbolicDFA]] = OrderedDict()
+
+
 def dfa_of(formula: ast.Formula) -> SymbolicDFA:
     """The minimal DFA of `formula` (`compile_ltlf` with its defaults),
     compiled once per formula object."""
-    hit = _kept.get(id(formula))
+    return _once(_kept, formula, lambda: compile_ltlf(formula))
+
+
+def dfa_into(formula: ast.Formula, bdd: BDD) -> SymbolicDFA:
+    """The minimal DFA of `formula` in the manager `bdd`, as
+    `compile_ltlf(formula, bdd=bdd)` makes it (the same variables in the
+    same order, below those `bdd` has), compiled once per formula object."""
+    made = _once(_ordered, formula, lambda: compile_ltlf(formula, bdd=new_manager(reordering=False)))
+    return made.copy_to(bdd)
+
+
+def _once(kept: OrderedDict[int, tuple[ast.Formula, SymbolicDFA]], formula: ast.Formula,
+          make: Callable[[], SymbolicDFA]) -> SymbolicDFA:
+    """`kept`'s DFA for this formula object, else `make()`'s, then kept."""
+    hit = kept.get(id(formula))
     if hit is not None and hit[0] is formula:
-        _kept.move_to_end(id(formula))
+        kept.move_to_end(id(formula))
         return hit[1]
-    dfa = compile_ltlf(formula)
-    _kept[id(formula)] = (formula, dfa)
-    while len(_kept) > KEPT:
-        _kept.popitem(last=False)
+    dfa = make()
+    kept[id(formula)] = (formula, dfa)
+    while len(kept) > KEPT:
+        kept.popitem(last=False)
     return dfa

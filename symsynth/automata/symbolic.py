@@ -72,6 +72,20 @@ class SymbolicDFA:
         self.accepting = accepting
         self.reachable = self._reach() if reachable is None else reachable  # given: the caller knows
 
+    def copy_to(self, bdd: BDD) -> SymbolicDFA:
+        """The same DFA in the manager `bdd`: the variables of this one's
+        manager that `bdd` lacks declared below its own, in this one's
+        order, and its functions copied."""
+        for var in sorted(self.bdd.vars, key=self.bdd.level_of_var):
+            if var not in bdd.vars:
+                bdd.declare(var)
+
+        def copy(u: Function) -> Function:
+            return self.bdd.copy(u, bdd)
+        return SymbolicDFA(bdd, self.atoms, self.bits, {b: copy(d) for b, d in self.delta.items()},
+                           self.initial_assignment, copy(self.accepting), copy(self.reachable),
+                           local=self.local)
+
     # -- running -------------------------------------------------------------
     @property
     def initial(self) -> State:

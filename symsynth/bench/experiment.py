@@ -155,6 +155,9 @@ class Experiment:
     plot_x: str | None = None
     description: str = ""
     cells: tuple[str, ...] = field(default=())
+    #: The scenes as loaded when the file was checked, by `Run.scene_file`:
+    #: handed to the runs' processes, which need not read them again.
+    scenes: dict[str, Scene] = field(default_factory=dict, repr=False, compare=False)
 
 
     def first_trials(self, n: int) -> Experiment:
@@ -185,9 +188,8 @@ def load_experiment(path: str | Path) -> Experiment:
         report.add(where, f"expected a finite number, found {value}")
     if "trials" in data and "seeds" in data:
         report.add(("seeds",), "give trials (seeds 0..trials-1) or seeds, not both")
-    report.raise_if_any()
-
-    scenes = [variant for i, entry in enumerate(data["scenes"])
+    # the scene files are read now, so that a missing one is said with the problems above
+    scenes = [variant for i, entry in enumerate(data.get("scenes") or []) if _readable(entry)
               for variant in _variants(entry, i, path.parent, report)]
     report.raise_if_any()
     limits = data.get("limits", {})
@@ -221,7 +223,16 @@ def load_experiment(path: str | Path) -> Experiment:
     report.raise_if_any()
     ordered = tuple(runs.values())
     return Experiment(data["name"], path, ordered, plot_x, data.get("description", ""),
-                      tuple(dict.fromkeys(run.cell for run in ordered)))
+                      tuple(dict.fromkeys(run.cell for run in ordered)),
+                      {file: scene for file, _, _, scene in scenes})
+
+
+def _readable(entry: Any) -> bool:
+    """Whether a `scenes` entry has the shape `_variants` reads (the schema
+    says what is wrong with one that has not)."""
+    return (isinstance(entry, dict) and isinstance(entry.get("file"), str)
+            and isinstance(entry.get("params", {}), dict) and isinstance(entry.get("sweep", {}), dict)
+            and all(isinstance(values, list) for values in entry.get("sweep", {}).values()))
 
 
 def _variants(entry: dict, index: int, base: Path, report: Report) -> list[tuple[str, str, dict, Scene]]:

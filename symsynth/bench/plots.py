@@ -8,7 +8,7 @@ whole or not at all):
 - `breakdown.png`: where each cell's time went (anchors, roadmaps, edge
   checks, graph searches, synthesis), means over its runs that ended ok;
 - `scaling.png`: game positions against synthesis time, a line per solver
-  and scene label, log-log.
+  and scene label through the means of its cells (±std bars), log-log.
 """
 
 from __future__ import annotations
@@ -92,10 +92,11 @@ def sweep(rows: Sequence[dict[str, str]], x: str, path: Path) -> bool:
 
 
 def breakdown(rows: Sequence[dict[str, str]], cells: Sequence[str], path: Path) -> None:
-    """Stacked horizontal bars, one per cell in the experiment's order."""
+    """Stacked horizontal bars, one per cell in the experiment's order; the
+    legend above the bars, off the data."""
     found = by_cell(_ok(rows))
     shown = [cell for cell in cells if cell in found]
-    figure, axis = plt.subplots(figsize=(BREAKDOWN_WIDTH, 1.5 + 0.4 * max(len(shown), 1)))
+    figure, axis = plt.subplots(figsize=(BREAKDOWN_WIDTH, 1.5 + 0.4 * max(len(shown), 1)), layout="constrained")
     left = [0.0] * len(shown)
     for name, column in PHASES:
         widths = []
@@ -106,29 +107,34 @@ def breakdown(rows: Sequence[dict[str, str]], cells: Sequence[str], path: Path) 
         left = [a + b for a, b in zip(left, widths)]
     axis.set_yticks(range(len(shown)), shown, fontsize="small")
     axis.invert_yaxis()
-    axis.set_xlabel("mean seconds per run (roadmaps, edge checks: CPU seconds summed over the workers)")
-    axis.legend(fontsize="small", loc="best")
-    figure.tight_layout()
+    axis.set_xlabel("mean seconds per run\n(roadmaps, edge checks: summed over the worker processes)",
+                    fontsize="small")
+    figure.legend(fontsize="small", loc="outside upper center", ncols=len(PHASES), frameon=False)
     _save(figure, path)
 
 
 def scaling(rows: Sequence[dict[str, str]], path: Path) -> None:
-    """Positions against synthesis seconds, a series per solver and scene label."""
-    figure, axis = plt.subplots(figsize=SCALING_SIZE)
-    solvers: dict[str, list[tuple[float, float]]] = {}
+    """Positions against synthesis seconds, a series per solver and scene
+    label: each cell one point, the mean of its runs with a bar of ±1 std
+    (a point per run joined by lines zig-zags when the runs of a cell
+    differ); log-log, the legend beside the axes."""
+    figure, axis = plt.subplots(figsize=SCALING_SIZE, layout="constrained")
+    series: dict[str, dict[str, tuple[list[float], list[float]]]] = {}
     for row in _ok(rows):
         size, seconds = number(row["positions"]), number(row["seconds_synthesis"])
         if size and seconds:
-            solvers.setdefault(f"{row['solver']}, {row['label']}", []).append((size, seconds))
-    for solver, points in sorted(solvers.items()):
-        points.sort()
-        axis.plot([p[0] for p in points], [p[1] for p in points], marker="o", linestyle="-", label=solver)
-    if solvers:
+            sizes, times = series.setdefault(f"{row['solver']}, {row['label']}", {}).setdefault(row["cell"], ([], []))
+            sizes.append(size)
+            times.append(seconds)
+    for name, cells in sorted(series.items()):
+        points = sorted((mean_std(sizes)[0], *mean_std(times)) for sizes, times in cells.values())
+        axis.errorbar([p[0] for p in points], [p[1] for p in points], yerr=[p[2] for p in points],
+                      marker="o", linestyle="-", capsize=3, label=name)
+    if series:
         axis.set_xscale("log")
         axis.set_yscale("log")
-        axis.legend()
+        figure.legend(fontsize="small", loc="outside right upper")
     axis.set_xlabel("game positions the solver represented")
-    axis.set_ylabel("synthesis time (s)")
+    axis.set_ylabel("synthesis time (s), mean ± std of a cell's runs")
     axis.grid(alpha=0.3, which="both")
-    figure.tight_layout()
     _save(figure, path)

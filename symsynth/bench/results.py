@@ -19,7 +19,8 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
-from symsynth.errors import InputError
+from symsynth.errors import InputError, read_text
+from symsynth.files import check_regular
 
 #: The CSV's columns, in order (docs/bench.md says what each holds).
 COLUMNS = (
@@ -97,16 +98,18 @@ class RowWriter:
         self.close()
 
 
+#: The largest results.csv read back (a row is about a kilobyte).
+MAX_RESULTS = 256 << 20
+
+
 def read_rows(path: Path) -> list[dict[str, str]]:
     """The whole rows of a results CSV (a last line without its newline is a
     row cut short and is dropped); none if the file does not exist.  A file
     with other columns is refused: it was written by another version."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
+    if not path.exists():
         return []
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"cannot read results {path}: {error}") from None
+    check_regular(path, "results file")
+    text = read_text(path, "results file", limit=MAX_RESULTS)
     if not text.endswith("\n"):
         text = text[:text.rfind("\n") + 1]
     reader = csv.DictReader(io.StringIO(text))

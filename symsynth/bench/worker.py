@@ -13,8 +13,10 @@ child is killed with its parent (`die_with_parent`), even by SIGKILL.
 
 from __future__ import annotations
 
+import base64
 import json
 import os
+import pickle
 import platform
 import resource
 import signal
@@ -22,7 +24,10 @@ import subprocess
 import sys
 import time
 from importlib import metadata
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from symsynth.scene import Scene
 
 #: Packages whose versions each row records (those that decide the numbers).
 PACKAGES = ("dd", "numpy", "scipy", "ompl", "python-fcl", "pybullet", "lark")
@@ -93,14 +98,12 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
     import dataclasses
 
     from symsynth.automata.shared import dfa_of
-    from symsynth.planning.build import obtain_costmap
-    from symsynth.problem import solve, with_task
-    from symsynth.scene import load_scene
+    from symsynth.problem import CostmapRequest, solve, with_costmap, with_task
     from symsynth.solvers import prepare
 
     row: dict[str, Any] = {"host": platform.node(), "cpus": os.cpu_count(), "load": os.getloadavg()[0],
                            "started": time.strftime("%Y-%m-%dT%H:%M:%S")}
-    scene = load_scene(run["scene_file"])
+    scene = scene_of(run)
     if not run.get("contacts", True):
         scene = scene.without_contacts()
     planner = None
@@ -109,11 +112,13 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
         if run["roadmap_size"] is not None:
             settings = dataclasses.replace(settings, roadmap_size=run["roadmap_size"])
         scene = dataclasses.replace(scene, geometry=dataclasses.replace(scene.geometry, planner=settings))
-        clock = time.perf_counter()
-        got = obtain_costmap(scene, run["method"], run["planner"], run["seed"], use_cache=run["cache"],
-                             progress=False)
+    problem = with_task(scene, None)  # the task as the scene loader parsed it
+    request = CostmapRequest(run["method"] or "recursive", run["planner"], run["seed"], run["cache"], progress=False)
+    clock = time.perf_counter()
+    problem = with_costmap(problem, request)  # the costmap as solve obtains it (none to obtain: abstract)
+    got = problem.obtained
+    if got is not None:
         row["seconds_abstraction"] = time.perf_counter() - clock
-        scene = dataclasses.replace(scene, costmap=got.costmap)
         planner = got.planner
         row |= {"planner": got.planner, "roadmap_size": settings.roadmap_size, "costmap_cached": got.cached,
                 "costmap_rules": sum(1 for _ in got.costmap.all_rules())}
@@ -122,7 +127,6 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
             row |= {f"seconds_{phase.replace(' ', '_')}": value for phase, value in s.seconds.items()}
             row |= {"roadmaps": s.roadmaps, "roadmap_vertices": s.vertices, "roadmap_edges": s.edges,
                     "edge_checks": s.edges, "graph_searches": s.motions, "planner_workers": s.workers}
-    problem = with_task(scene, None)  # the task as the scene loader parsed it
     row["dfa_states"] = dfa_of(problem.formula).num_states  # the DFA every solver composes with the game
     row["seconds_prepare"] = prepare(run["solver"])  # once per process (compiling kernels), before the clock
     clock = time.perf_counter()
@@ -134,6 +138,16 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
             "synthesis_phases": {name: round(s, 6) for name, s in solution.seconds.items()},
             "versions": versions(planner)}
     return row
+
+
+def scene_of(run: dict[str, Any]) -> Scene:
+    """The run's scene: as the experiment loaded it (`runner.packed`, sent by
+    the parent that checked the file), else read from its file."""
+    if "scene" in run:
+        return pickle.loads(base64.b64decode(run["scene"]))
+    from symsynth.scene import load_scene
+
+    return load_scene(run["scene_file"])
 
 
 def peak_memory_mb() -> float:

@@ -69,7 +69,12 @@ def run(args: argparse.Namespace) -> int:
     except OSError as error:
         raise InputError(f"cannot make the results folder {folder}: {error.strerror or error}") from None
     options.check_writable(folder / "table.md", "table")
-    done = run_experiment(experiment, folder, options.executor(args), resume=args.resume)
+    try:
+        done = run_experiment(experiment, folder, options.executor(args), resume=args.resume)
+    except KeyboardInterrupt:
+        print(f"symsynth bench: the runs that ended are in {folder / 'results.csv'}; to run the others, "
+              f"give the same command with --resume", file=sys.stderr)
+        raise
     ids = {run.id for run in experiment.runs}
     rows = [row for row in read_rows(done.path) if row["run"] in ids]  # not those of other --trials
     command = "symsynth " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:2] == ["bench"] \

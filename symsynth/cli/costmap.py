@@ -7,11 +7,10 @@ import json
 from pathlib import Path
 
 from symsynth.cli import options
-from symsynth.cli.options import check_writable, count
+from symsynth.cli.options import check_writable
 from symsynth.errors import InputError
 from symsynth.game.abstraction import costmap_of
 from symsynth.planning.build import obtain_costmap
-from symsynth.planning.methods import METHODS
 from symsynth.planning.registry import DEFAULT, planner_class, planner_names, planner_version
 from symsynth.planning.verify import building_planner, verify_costmap
 from symsynth.scene import load_scene
@@ -21,7 +20,7 @@ HELP = "compute a physical scene's conditional costmap by motion planning, or ve
 DESCRIPTION = f"""\
 Compute the conditional costmap of a physical scene (one with a robot):
 
-  symsynth costmap SCENE [--method sg|recursive] [--planner NAME] [--seed S] [-o FILE]
+  symsynth costmap SCENE [--method sg|recursive] [--planner NAME] [--costmap-seed S] [-o FILE]
 
 Anchors come from inverse kinematics; each mode (hand empty, or holding an
 object with a grasp) gets a roadmap against the static obstacles; every
@@ -61,16 +60,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("target", nargs="+", metavar="SCENE | verify FILE",
                         help="a physical scene file, or 'verify' and a costmap file")
     parser.add_argument("--scene", type=Path, help="with verify: the scene the costmap belongs to")
-    parser.add_argument("--method", choices=tuple(METHODS), default="recursive",
-                        help="start-goal (Alg. 2) or recursive (Alg. 3; default)")
-    parser.add_argument("--planner", metavar="NAME",
-                        help="planner plugin (default: the scene's planner.name, else ompl-fcl; "
-                             "with verify: the one the costmap records)")
-    parser.add_argument("--seed", type=count, metavar="S", help="roadmap seed (default: the scene's)")
-    parser.add_argument("-o", "--output", type=Path, metavar="FILE", help="also write the costmap to FILE")
-    parser.add_argument("--no-cache", action="store_true", help="compute even if a cached costmap exists")
+    parser.add_argument("-o", "--output", type=options.output_file, metavar="FILE",
+                        help="also write the costmap to FILE")
     parser.add_argument("--json", action="store_true", help="print a summary as JSON")
     options.add_executor(parser, "roadmaps built at once (default: one per core)")
+    options.add_costmap_options(parser, planner_help=options.PLANNER_HELP[:-1]
+                                + "; with verify: the one the costmap records)")
     parser.set_defaults(run=run)
 
 
@@ -87,9 +82,10 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"{args.target[0]}: an abstract scene (no 'robot' key): its costmap is given, "
                          "not computed")
     if args.output is not None:  # before the planning, which takes a while
-        check_writable(args.output, "costmap file")
+        check_writable(args.output, "costmap file", inputs=(Path(args.target[0]),))
     executor = None if args.executor == "local" and args.jobs is None else options.executor(args)
-    got = obtain_costmap(scene, args.method, args.planner, args.seed, use_cache=not args.no_cache,
+    request = options.costmap_request(args)
+    got = obtain_costmap(scene, request.method, request.planner, request.seed, use_cache=request.use_cache,
                          executor=executor)
     if args.output is not None:
         write_costmap(got.costmap, args.output)
@@ -102,6 +98,8 @@ def run(args: argparse.Namespace) -> int:
     }
     if got.stats is not None:
         summary |= {"seconds": {k: round(v, 3) for k, v in got.stats.seconds.items()},
+                    "wall_seconds": round(got.stats.wall, 3),
+                    "cpu_seconds": round(sum(got.stats.seconds.values()), 3), "workers": got.stats.workers,
                     "roadmaps": got.stats.roadmaps, "vertices": got.stats.vertices,
                     "edges": got.stats.edges}
     if args.json:
@@ -117,7 +115,8 @@ def run(args: argparse.Namespace) -> int:
         s = got.stats
         phases = ", ".join(f"{k} {v:.2f}" for k, v in s.seconds.items())
         print(f"roadmaps   {s.roadmaps} ({s.vertices} vertices, {s.edges} edges)")
-        print(f"seconds    {sum(s.seconds.values()):.2f} ({phases})")
+        print(f"seconds    {s.wall:.2f} on the clock; per phase, summed over {s.workers} "
+              f"process{'es' * (s.workers != 1)}: {phases}")
     print(f"file       {summary['file'] or 'none written (--no-cache without -o FILE)'}")
     return 0
 

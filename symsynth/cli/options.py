@@ -7,9 +7,12 @@ import argparse
 import math
 import os
 from decimal import Decimal, InvalidOperation
+from collections.abc import Sequence
 from pathlib import Path
 
 from symsynth.errors import InputError
+from symsynth.planning.methods import METHODS
+from symsynth.problem import CostmapRequest
 
 
 def count(text: str) -> int:
@@ -62,12 +65,30 @@ def positive(text: str) -> float:
     return value
 
 
-def check_writable(path: Path, what: str) -> None:
-    """Fail now, not after minutes of work, if `path` cannot be written."""
+def output_file(text: str) -> Path:
+    """An output file's name (-o): not empty (Path('') is '.', the folder)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("expected a file name, found an empty one")
+    return Path(text)
+
+
+def check_writable(path: Path, what: str, inputs: Sequence[Path | None] = ()) -> None:
+    """Fail now, not after minutes of work, if `path` cannot be written: a
+    folder, a file in no writable folder, a read-only file (the atomic write
+    would replace it all the same: a rename needs only the folder), or one
+    of this command's `inputs` (`-o scene.yaml` would put the output in
+    place of the scene)."""
     folder = path.parent
     if path.is_dir() or not folder.is_dir() or not os.access(folder, os.W_OK):
         raise InputError(f"cannot write {what} {path}: "
                          + ("it is a directory" if path.is_dir() else f"{folder} is not a writable directory"))
+    if path.exists() and (not os.access(path, os.W_OK) or not path.stat().st_mode & 0o222):  # (root may write)
+        raise InputError(f"cannot write {what} {path}: the file is read-only (make it writable, or choose "
+                         "another name)")
+    for given in inputs:
+        if given is not None and path.exists() and given.exists() and path.samefile(given):
+            raise InputError(f"cannot write {what} {path}: it is this command's input {given}, which the "
+                             f"{what} would replace; choose another name")
 
 
 def size(text: str) -> tuple[int, int]:
@@ -107,3 +128,30 @@ def executor(args: argparse.Namespace):
     if args.address is not None and args.executor != "ray":
         raise InputError("--address names a Ray cluster: give --executor ray with it")
     return EXECUTORS[args.executor](args.jobs, args.address)
+
+
+PLANNER_HELP = "planner plugin (default: the scene's planner.name)"
+
+
+def add_costmap_options(parser: argparse.ArgumentParser, *, planner_help: str = PLANNER_HELP,
+                        seed_alias: bool = True) -> None:
+    """--method, --planner, --costmap-seed and --no-cache: how a physical
+    scene's costmap is obtained when it has none (`costmap_request`), the
+    same options for every command.  `seed_alias`: also read --seed, the
+    older spelling, where --seed means nothing else (solve, costmap)."""
+    group = parser.add_argument_group("costmap options (physical scenes)",
+                                      "how the costmap is obtained: from the cache, else by motion planning")
+    group.add_argument("--method", choices=tuple(METHODS), default="recursive",
+                       help="sg (start-goal, the paper's Alg. 2) or recursive (Alg. 3; default)")
+    group.add_argument("--planner", metavar="NAME", help=planner_help)
+    group.add_argument("--costmap-seed", type=count, metavar="S",
+                       help="roadmap seed (default: the scene's planner.seed); same seed, same costmap")
+    if seed_alias:
+        group.add_argument("--seed", type=count, dest="costmap_seed", help=argparse.SUPPRESS)
+    group.add_argument("--no-cache", action="store_true",
+                       help="compute the costmap even if a cached one exists (it is then not cached)")
+
+
+def costmap_request(args: argparse.Namespace, progress: bool = True) -> CostmapRequest:
+    """The `problem.CostmapRequest` of `add_costmap_options`' options."""
+    return CostmapRequest(args.method, args.planner, args.costmap_seed, not args.no_cache, progress)

@@ -14,9 +14,8 @@ from symsynth.cli.options import check_writable
 from symsynth.cli.solve import costmap_json, costmap_report
 from symsynth.errors import InputError
 from symsynth.game.strategy import format_state
-from symsynth.planning.methods import METHODS
 from symsynth.planning.registry import planner_class
-from symsynth.problem import (CostmapRequest, no_guarantee, simulate, simulation_planner, with_costmap,
+from symsynth.problem import (no_guarantee, simulate, simulation_planner, with_costmap,
                               with_strategy, with_task)
 from symsynth.scene import Scene, load_scene
 from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
@@ -104,13 +103,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="physics: each run's world drawn by its seed: friction and masses scaled by "
                              "up to +-R (relative), initial poses shifted by up to M metres "
                              "(e.g. friction=0.2,mass=0.2,pose=0.005)")
-    parser.add_argument("--method", choices=tuple(METHODS), default="recursive",
-                        help="costmap method (default: recursive)")
-    parser.add_argument("--planner", metavar="NAME",
-                        help="planner plugin (default: the one that built the scene's costmap, else the scene's)")
-    parser.add_argument("--costmap-seed", type=options.count, metavar="S",
-                        help="roadmap seed (default: the scene's planner.seed)")
-    parser.add_argument("--no-cache", action="store_true", help="compute the costmap even if one is cached")
+    options.add_costmap_options(parser, seed_alias=False, planner_help="planner plugin, for the costmap and "
+                                "the run (default: the one that built the scene's costmap, else the scene's)")
     parser.add_argument("--solver", choices=tuple(SOLVERS), default=DEFAULT_SOLVER,
                         help=f"game solver when solving here (default: {DEFAULT_SOLVER})")
     parser.set_defaults(run=run)
@@ -167,8 +161,7 @@ def run(args: argparse.Namespace) -> int:
                              f"found {args.human!r} (no such file)")
         human = read_script(args.human, problem.scene)  # against the k of the strategy
     progress = not args.json
-    request = CostmapRequest(args.method, args.planner, args.costmap_seed, not args.no_cache, progress)
-    problem = with_costmap(problem, request)
+    problem = with_costmap(problem, options.costmap_request(args, progress))
     simulation = simulate(problem, human, planner=planner, solver=args.solver, budget=args.budget,
                           best_effort=args.best_effort, runs=args.runs, seed=args.seed,
                           move_probability=args.move_probability, record=args.record, size=args.size,

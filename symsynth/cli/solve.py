@@ -4,22 +4,23 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 from decimal import Decimal
 from pathlib import Path
 
 from symsynth.cli import objective, options
 from symsynth.cli.options import check_writable
-from symsynth.game.abstraction import Move, State, costmap_of, initial_state, motions, robot_moves, slides
+from symsynth.game.abstraction import initial_state, robot_moves
+from symsynth.errors import InputError
+from symsynth.game.horizon import TooManyMoves
 from symsynth.game.solution import Solution, Step
 from symsynth.game.strategy import format_state, write_strategy
+from symsynth.game.stuck import stuck_reasons
 from symsynth.game.symmetry import Symmetry
 from symsynth.logic import ast
-from symsynth.planning.build import Obtained
-from symsynth.planning.methods import METHODS
-from symsynth.problem import CostmapRequest, solve, with_costmap, with_task
+from symsynth.planning.build import Obtained, Stats
+from symsynth.problem import solve, with_costmap, with_task
 from symsynth.scene import Scene, load_scene
-from symsynth.scene.model import ELSE
+from symsynth.scene.load import where
 from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 
 HELP = "solve a scene's game: the cost the robot can guarantee against the human"
@@ -52,9 +53,6 @@ undefined), class and cooperative_cost.
 Exit status: 0 when the game is solved, whatever the verdict (read it in
 the output, or "realizable" in --json); 2 on bad input."""
 
-_MAX_REASONS = 3  # missing motions listed per action when the robot is stuck
-
-
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("solve", help=HELP, description=DESCRIPTION,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -67,14 +65,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "the decimal written)")
     parser.add_argument("--costmap", type=Path, metavar="FILE",
                         help="costmap file (symsynth.costmap/1) instead of the scene's")
-    parser.add_argument("--method", choices=tuple(METHODS), default="recursive",
-                        help="physical scenes: costmap method, sg (Alg. 2) or recursive (Alg. 3; default)")
-    parser.add_argument("--planner", metavar="NAME",
-                        help="physical scenes: planner plugin (default: the scene's planner.name)")
-    parser.add_argument("--seed", type=options.count, metavar="S",
-                        help="physical scenes: roadmap seed (default: the scene's planner.seed)")
-    parser.add_argument("--no-cache", action="store_true",
-                        help="physical scenes: compute the costmap even if a cached one exists")
     parser.add_argument("--solver", choices=tuple(SOLVERS), default=DEFAULT_SOLVER,
                         help=f"game solver (default: {DEFAULT_SOLVER})")
     parser.add_argument("--time-limit", type=options.positive, metavar="S",
@@ -84,24 +74,31 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--resolution", type=options.positive, default=1.0, metavar="R",
                         help="round each action's cost up to a multiple of R (default: 1)")
     parser.add_argument("--json", action="store_true", help="print the solution as JSON")
-    parser.add_argument("-o", "--output", type=Path, metavar="FILE",
+    parser.add_argument("-o", "--output", type=options.output_file, metavar="FILE",
                         help="write the strategy to FILE (symsynth.strategy/1)")
+    options.add_costmap_options(parser)
     objective.add_arguments(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     if args.output is not None:  # before the solve, which may take minutes
-        check_writable(args.output, "strategy file")
-    request = CostmapRequest(args.method, args.planner, args.seed, not args.no_cache, progress=not args.json)
+        check_writable(args.output, "strategy file", inputs=(args.scene, args.costmap))
+    request = options.costmap_request(args, progress=not args.json)
     scene = load_scene(args.scene, costmap=args.costmap)
+    if args.output is not None and scene.costmap is not None:  # the scene's own costmap file, too
+        check_writable(args.output, "strategy file", inputs=(scene.costmap.source,))
     problem = with_costmap(with_task(scene, args.task, "--task", args.scene), request)
     if args.objective != "worst":  # semantics §9
         return objective.run_objective(args, problem)
     scene, task, obtained = problem.scene, problem.task, problem.obtained
-    solution = solve(problem, args.solver, k=args.k, budget=args.budget, resolution=args.resolution,
-                     time_limit=args.time_limit)
-    written = None if args.output is None else write_strategy(args.output, scene, task, solution)
+    try:
+        solution = solve(problem, args.solver, k=args.k, budget=args.budget, resolution=args.resolution,
+                         time_limit=args.time_limit)
+    except TooManyMoves as error:  # where that k was given
+        raise InputError(f"{'--k' if args.k is not None else where(args.scene, ('human', 'k'))}: {error}") from None
+    written = None if args.output is None else write_strategy(args.output, scene, task, solution,
+                                                              formula=problem.formula)
     if args.json:
         out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver}
         if scene.costmap is not None and scene.costmap.absent:
@@ -126,13 +123,15 @@ def costmap_json(got: Obtained) -> dict:
     out = {"method": got.method, "planner": got.planner, "seed": got.seed, "cached": got.cached,
            "file": None if got.path is None else str(got.path)}
     if got.stats is not None:
-        out["seconds"] = dict(got.stats.seconds)
+        out["seconds"] = dict(got.stats.seconds)  # per phase, summed over the processes that worked
+        out["wall_seconds"] = got.stats.wall
+        out["cpu_seconds"] = sum(got.stats.seconds.values())
     return out
 
 
 def costmap_report(got: Obtained) -> None:
     origin = ("reused from the cache" if got.cached else "computed" if got.stats is None else
-              f"computed in {sum(got.stats.seconds.values()):.1f} s")
+              f"computed in {elapsed(got.stats)}")
     rules = sum(1 for _ in got.costmap.all_rules())
     count = len(got.costmap.slides)
     slides = f"{count} slide{'s' * (count != 1)}, " if count else ""
@@ -140,6 +139,15 @@ def costmap_report(got: Obtained) -> None:
           f"{len(got.costmap.motions)} motions, {slides}{rules} rules, {origin}")
     if got.path is not None:
         print(f"           {got.path}")
+
+
+def elapsed(stats: Stats) -> str:
+    """'12.3 s', and the work summed over the processes when several worked
+    (longer than the wall time: it is not what the user waited)."""
+    work = sum(stats.seconds.values())
+    if stats.workers <= 1:
+        return f"{stats.wall:.1f} s"
+    return f"{stats.wall:.1f} s ({work:.1f} s of work on {stats.workers} processes)"
 
 
 def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: ast.Formula) -> None:
@@ -175,6 +183,8 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
     else:
         print(f"E_p        {_num(solution.cost_bound)} ({solution.units} units of resolution "
               f"{_num(r)}, each cost rounded up)")
+    if solution.cost_bound is not None or not solution.exact:
+        print(f"           {_meaning(scene, solution.k)}")
     if "interchangeable" in solution.stats:
         print(f"positions  {solution.states} canonical game positions (interchangeable objects: "
               f"{solution.stats['interchangeable']}; one position per renaming of them)")
@@ -209,6 +219,15 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
         print("Principal play: the strategy against the human's worst replies.")
         _print_play(solution.principal_play, solution.objects)
         print(f"total cost {_num(_total(solution.principal_play))} = E_p")
+
+
+def _meaning(scene: Scene, k: int) -> str:
+    """What E_p is, and its unit."""
+    unit = ("costmap units: radians of joint travel x per_radian "
+            f"({_num(scene.geometry.per_radian)}), grab, drop and the other primitives at their fixed costs"
+            if scene.geometry is not None else "the units of the scene's costmap, grab and drop costs")
+    return (f"(E_p: the least total cost the robot can guarantee against every human with at most "
+            f"{k} move{'s' * (k != 1)}; in {unit})")
 
 
 def _horizon(solution: Solution) -> str:
@@ -269,67 +288,6 @@ def _counter_report(scene: Scene, solution: Solution) -> None:
     print("with no action available from this state:")
     for reason in stuck_reasons(scene, last):
         print(f"  - {reason}")
-
-
-def stuck_reasons(scene: Scene, v: State) -> list[str]:
-    """Why each action the robot could take in `v` is unavailable (semantics §4, §5)."""
-    held = v.held()
-    wanted = motions(scene, v)
-    reasons: list[str] = []
-    if held is None and not wanted:
-        reasons.append("there is no object to reach")
-    if held is not None:
-        o = scene.object_names[held]
-        if v.ee == ELSE:  # with ee at a (free) location, drop would be available
-            reasons.append(f"drop({o},...): {o} is held but not aligned with a location")
-        if not wanted:
-            reasons.append(f"transfer: {o} is held and every other location is occupied")
-    if held is None and isinstance(v.ee, tuple) and v.ee[1] in scene.contacts:
-        reasons += _why_no_slide(scene, v)
-    return reasons + [_why(scene, m) for m in wanted]
-
-
-def _why_no_slide(scene: Scene, v: State) -> list[str]:
-    """Why the robot, at contact `a` of `o`, cannot slide `o` to each place
-    it cannot (semantics §4b); nothing for the slides it can make."""
-    if not isinstance(v.ee, tuple):  # the hand is at no contact
-        return []
-    o, a = v.ee
-    start = v.at[scene.object_names.index(o)]
-    name = f"slide({o},{a},...)"
-    if start not in scene.locations:
-        return [f"{name}: {o} is at {ELSE}, and only an object at a location of interest is slid"]
-    targets = [l for l in scene.locations if l not in v.at]
-    if not targets:
-        return [f"{name}: every other location is occupied"]
-    available = {m.location for m in slides(scene, v) if m.cost != math.inf}
-    unruled = [l for l in targets if not costmap_of(scene).slide_rules(a, start, l)]
-    blocked = [l for l in targets if l not in unruled and l not in available]
-    reasons = []
-    if unruled:
-        reasons.append(f"{name}: the costmap has no slide rule for {a} from {start} to {', '.join(unruled)}")
-    if blocked:
-        reasons.append(f"{name}: the costmap's slide rules for {a} from {start} to {', '.join(blocked)} "
-                       "all need a location free that is occupied")
-    return reasons
-
-
-def _why(scene: Scene, m: Move) -> str:
-    action, mode = m.action, m.mode
-    if mode is None:  # motions() gives transits and transfers, which have a mode
-        raise ValueError(f"{action} is no motion")
-    if not m.goals:
-        return f"{action}: the object is at {ELSE} and the scene has no else_samples"
-    if not m.starts:
-        return f"{action}: the hand is at {ELSE} and the scene has no else_samples"
-    missing = [f"{s} -> {t}" for s in m.starts for t in m.goals
-               if s != t and not costmap_of(scene).rules(mode, s, t)]
-    if not missing:
-        return (f"{action}: the costmap's rules for {mode} to {', '.join(m.goals)} all need "
-                "a location free that is occupied")
-    more = f" (and {len(missing) - _MAX_REASONS} more)" if len(missing) > _MAX_REASONS else ""
-    return (f"{action}: the costmap has no motion for mode {mode} from "
-            f"{', '.join(missing[:_MAX_REASONS])}{more}")
 
 
 def _total(play: tuple[Step, ...]) -> float:

@@ -5,8 +5,9 @@ The robot stands at home, the static obstacles are grey, each
 object stands at its initial place (a location of interest, or its Else
 pose), and every place is marked by a thin square on the table, green for a
 location of interest and orange for an Else sample, labelled with its name
-(the label's box lies above and to the right of the place, so the place
-itself stays visible).  An object is coloured by its first tag that names a
+in a white box, and every object is labelled with its name in a dark box
+(each box beside its point, never on it, so the place stays visible, and
+moved round its point rather than over another label).  An object is coloured by its first tag that names a
 colour in `execution.world.COLOURS`, else by a palette in object order.
 
 The camera looks at the centre of the places from the front-right, far
@@ -19,7 +20,7 @@ corner), the same projection the renderer used.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -87,10 +88,11 @@ def render_scene(scene: Scene, path: Path | str, *, width: int = 800, height: in
     world = SimWorld(scene)
     try:
         image = snapshot(world, camera)
+        objects = {name: pose.xyz for name, pose in world.poses.items()}
     finally:
         world.close()
     if labels:
-        label_places(image, scene, camera)
+        label_places(image, scene, camera, objects)
     with atomic_output(path, "image") as temporary:
         image.save(temporary, format="PNG")
     return camera
@@ -105,17 +107,58 @@ def snapshot(world: SimWorld, camera: Camera) -> Image.Image:
     return Image.fromarray(pixels[:, :, :3])
 
 
-def label_places(image: Image.Image, scene: Scene, camera: Camera) -> None:
-    """Each place's name in a box above and to its right, with a leader line."""
+Box = tuple[float, float, float, float]  # left, top, right, bottom in pixels
+
+#: Where a label's box may go around its point, tried in this order: above
+#: right (the first choice), above left, below right, below left, then the
+#: same twice as far; the first that overlaps no label drawn yet is taken.
+_SPOTS = [(sx * d, sy * d) for d in (1, 3) for sx, sy in ((1, -1), (-1, -1), (1, 1), (-1, 1))]
+
+
+def label_places(image: Image.Image, scene: Scene, camera: Camera,
+                 objects: Mapping[str, Sequence[float]] | None = None) -> list[tuple[str, Box]]:
+    """Each place's name in a white box beside it, and each object's name
+    (at `objects`, world points) in a dark one, with a leader line; a box
+    moves round its point rather than cover another label or a labelled
+    point.  Returns the boxes drawn."""
     draw = ImageDraw.Draw(image)
     font = ImageFont.load_default(size=max(10, image.height // 40))
-    for name, pose in geometry_of(scene).places.items():
-        u, v = camera.project(pose.xyz)
-        if not (0 <= u < image.width and 0 <= v < image.height):
-            continue
+    taken: list[Box] = []
+    items = [(name, pose.xyz, False) for name, pose in geometry_of(scene).places.items()]
+    items += [(name, (x, y, z + 0.06), True) for name, (x, y, z) in (objects or {}).items()]  # above its top
+    shown = [(name, camera.project(point), is_object) for name, point, is_object in items]
+    shown = [(name, (u, v), is_object) for name, (u, v), is_object in shown
+             if 0 <= u < image.width and 0 <= v < image.height]
+    taken += [(u - 4, v - 4, u + 4, v + 4) for _, (u, v), _ in shown]  # no box on a place or an object
+    drawn: list[tuple[str, Box]] = []
+    for name, (u, v), is_object in shown:
         left, top, right, bottom = draw.textbbox((0, 0), name, font=font)
-        x, y = u + 6, v - 6 - (bottom - top) - 4  # box above-right of the place
-        draw.rectangle((x - 2, y - 2, x + right - left + 2, y + bottom - top + 4), fill=(255, 255, 255),
-                       outline=(60, 60, 60))
-        draw.text((x - left, y - top), name, fill=(0, 0, 0), font=font)
-        draw.line((u + 3, v - 3, x - 2, y + bottom - top + 4), fill=(60, 60, 60))  # the place stays visible
+        w, h = right - left + 4, bottom - top + 6
+        box = _free_spot(u, v, w, h, taken, image.size)
+        taken.append(box)
+        x0, y0, x1, y1 = box
+        near_x = x0 if x0 > u else x1  # the leader ends at the box's corner nearest the point
+        near_y = y1 if y1 < v else y0
+        sx, sy = (1 if near_x > u else -1), (1 if near_y > v else -1)
+        draw.line((u + 3 * sx, v + 3 * sy, near_x, near_y), fill=(60, 60, 60))  # the point stays visible
+        fill, ink = ((40, 40, 90), (255, 255, 255)) if is_object else ((255, 255, 255), (0, 0, 0))
+        draw.rectangle(box, fill=fill, outline=(60, 60, 60))
+        draw.text((x0 + 2 - left, y0 + 2 - top), name, fill=ink, font=font)
+        drawn.append((name, box))
+    return drawn
+
+
+def _free_spot(u: float, v: float, w: float, h: float, taken: list[Box], size: tuple[int, int]) -> Box:
+    """The first of `_SPOTS` for a w x h box at (u, v) that stays in the
+    image and overlaps no box in `taken` (the first choice if none does)."""
+    gap = 6
+    spots = []
+    for dx, dy in _SPOTS:
+        x0 = u + dx * gap if dx > 0 else u + dx * gap - w
+        y0 = v + dy * gap if dy > 0 else v + dy * gap - h
+        spots.append((x0, y0, x0 + w, y0 + h))
+    inside = [b for b in spots if b[0] >= 0 and b[1] >= 0 and b[2] < size[0] and b[3] < size[1]] or spots
+    for box in inside:
+        if not any(box[0] < t[2] and t[0] < box[2] and box[1] < t[3] and t[1] < box[3] for t in taken):
+            return box
+    return inside[0]

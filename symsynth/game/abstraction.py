@@ -349,8 +349,9 @@ def _free_for(scene: Scene, v: State, serves: int) -> frozenset[str]:
 def costmap_of(scene: Scene) -> Costmap:
     """The scene's costmap; a scene without one is an input error."""
     if scene.costmap is None:
-        raise InputError(f"scene {scene.name!r} has no costmap: give one (costmap: FILE) "
-                         "or compute it with a planner")
+        where = f"{scene.source}: " if scene.source is not None else ""
+        raise InputError(f"{where}scene {scene.name!r} has no costmap: give one (costmap: FILE, or "
+                         "--costmap FILE) or, for a physical scene, compute it with a planner")
     return scene.costmap
 
 

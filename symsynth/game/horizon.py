@@ -58,6 +58,11 @@ FIRST_TRY = 8
 MAX_LAYERS = 256
 
 
+class TooManyMoves(InputError):
+    """A `k` whose every move may count, beyond `MAX_LAYERS` (the message
+    starts with `k = K`; the command line says where K came from)."""
+
+
 def least_units(scene: Scene, resolution: float) -> int:
     """A lower bound on the units of every robot action of the scene: the
     least of grab, drop and every costmap rule, rounded up (semantics §4, §5).
@@ -103,7 +108,7 @@ def solve_game(solver: Callable[..., Solution], scene: Scene, formula: str | ast
             seen.append((h, solution.units))
             h *= 2
     if k > MAX_LAYERS:
-        raise InputError(
+        raise TooManyMoves(
             f"k = {k}: the value still grows with the human's moves ("
             + ", ".join(f"E_p = {u} units with {m}" for m, u in seen[-3:])
             + f"), so every one of the {k} moves may count, and the game is solved one layer of "

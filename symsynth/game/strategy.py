@@ -316,10 +316,12 @@ def certify(scene: Scene, table: StrategyFile, formula: ast.Formula | None = Non
                              "from there")
 
 
-def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: Solution) -> int:
+def write_strategy(path: str | Path, scene: Scene, formula_text: str, solution: Solution, *,
+                   formula: ast.Formula | None = None) -> int:
     """Write the strategy of `solution` for `formula_text` to `path`;
-    returns the number of positions written."""
-    table = strategy_table(scene, formula_text, solution)
+    returns the number of positions written.  `formula`: `formula_text`
+    already parsed (the one solved: its DFA is not compiled again)."""
+    table = strategy_table(scene, formula_text, solution, formula=formula)
     header = {
         "format": FORMAT, "scene": table.scene, "task": table.task, "k": table.k,
         "resolution": table.resolution, "units": table.units, "cost_bound": table.cost_bound,

@@ -13,13 +13,14 @@ from __future__ import annotations
 import dataclasses
 import os
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from tqdm import tqdm
 
-from symsynth.errors import InputError
+from symsynth.errors import InputError, SymsynthWarning
 from symsynth.parallel import Executor, LocalPool
 from symsynth.planning import cache
 from symsynth.planning.methods import METHODS, costmap_for_mode
@@ -45,6 +46,7 @@ class Stats:
     rules: int = 0
     searches: int = 0
     workers: int = 1  # processes that built roadmaps; their seconds are summed
+    wall: float = 0.0  # seconds from start to end, as a clock on the wall measures them
 
     def add(self, phase: str, since: float) -> float:
         now = time.perf_counter()
@@ -125,7 +127,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     name = planner_name or settings.name
     seed = settings.seed if seed is None else seed
     stats = Stats()
-    clock = time.perf_counter()
+    clock = begin = time.perf_counter()
     planner = _factory(scene, name, planner_factory)(scene)
     configs = anchor_configs(planner, scene)
     clock = stats.add("anchors", clock)
@@ -172,6 +174,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     stats.add("slides", clock)
     bar.close()
     stats.rules = sum(len(r) for found in result.values() for r in found.values())
+    stats.wall = time.perf_counter() - begin
     return {method: Costmap(dict(sorted(found.items())), provenance(scene, method, name, seed), slides,
                             scene.geometry.absent)
             for method, found in result.items()}, stats
@@ -345,8 +348,18 @@ def obtain_costmap(scene: Scene, method: str = "recursive", planner_name: str | 
             hit = dataclasses.replace(hit, provenance=built)
             cache.store(hit, path)
         return Obtained(hit, method, name, seed, True, path, None)
+    problem = None if path is None else cache.unwritable(path)
+    if path is not None and problem is not None:  # said before the minutes of planning; the result is kept
+        warnings.warn(f"the costmap cache {path.parent} cannot be written ({problem}): the costmap is "
+                      "computed and used but not cached; set SYMSYNTH_CACHE to a writable folder, or "
+                      "give -o FILE (symsynth costmap) to keep it", SymsynthWarning, stacklevel=2)
+        path = None
     costmap, stats = compute_costmap(scene, method, name, seed, progress, planner_factory, executor)
     _check_output(scene, costmap, name)
     if path is not None:
-        cache.store(costmap, path)
+        try:
+            cache.store(costmap, path)
+        except InputError as error:  # a full disk, say: the costmap is still this run's
+            warnings.warn(f"{error}; the costmap is used but not cached", SymsynthWarning, stacklevel=2)
+            path = None
     return Obtained(costmap, method, name, seed, False, path, stats)

@@ -24,15 +24,17 @@ from pathlib import Path
 
 from symsynth import __version__
 from symsynth.errors import InputError, SymsynthWarning
-from symsynth.files import write_atomic
+from symsynth.files import check_regular, write_atomic
 from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data
+from symsynth.scene.mesh import MAX_BYTES
 from symsynth.scene.load import costmap_problems
 from symsynth.scene.yamlpos import read_json
 from symsynth.scene.model import Scene, geometry_of
 
 #: Bumped whenever the way costmaps are computed changes, so that no cached
 #: costmap of an older revision is reused.
-FORMAT_REVISION = 4  # 3: the file holds its key (`KEY_FIELD`); 4: contacts, slides, grasp reach
+FORMAT_REVISION = 5  # 3: the file holds its key (`KEY_FIELD`); 4: contacts, slides, grasp reach;
+# 5: and a checksum of its content (`SUM_FIELD`)
 
 
 def cache_dir() -> Path:
@@ -55,6 +57,7 @@ def cache_key(scene: Scene, method: str, planner: str, seed: int) -> str:
     files = [physical.robot.urdf] + [s.mesh for s in physical.shapes.values() if s.mesh] \
         + [b.shape.mesh for b in physical.obstacles if b.shape.mesh]
     for path in files:
+        check_regular(path, "robot or mesh file", limit=MAX_BYTES)
         digest.update(Path(path).read_bytes())
     return digest.hexdigest()[:24]
 
@@ -89,6 +92,9 @@ def cached(path: Path, scene: Scene) -> Costmap | None:
         data = read_json(path, "cached costmap", CostmapError)
         if not isinstance(data, dict) or data.get(KEY_FIELD) != path.stem.rsplit("-", 1)[-1]:
             raise CostmapError("it was not written under this key (another scene's costmap?)")
+        if data.get(SUM_FIELD) != checksum(data):
+            raise CostmapError("its content is not what was stored (edited or damaged since: the checksum "
+                               f"{SUM_FIELD!r} does not match)")
         costmap = costmap_from_data(data, str(path))
         problems = costmap_problems(scene, costmap)
         if problems:
@@ -103,12 +109,39 @@ def cached(path: Path, scene: Scene) -> Costmap | None:
 #: The top-level key of a cache file that holds its cache key (readers of
 #: the costmap format ignore keys they do not know).
 KEY_FIELD = "cache_key"
+#: The top-level key of a cache file that holds the SHA-256 of the rest of
+#: its content (`checksum`).  A cache hit is trusted as it is, so a file
+#: edited by hand (every cost x100, its key kept) or damaged on disk must
+#: not pass for one: its content no longer matches.  It is no signature:
+#: whoever edits the file on purpose can write the checksum anew.
+SUM_FIELD = "content_sha256"
+
+
+def checksum(data: dict) -> str:
+    """The SHA-256 of a cache file's data without its checksum, over its
+    canonical JSON (sorted keys): the same for what `store` writes and for
+    what `read_json` reads back (numbers keep their value through JSON)."""
+    rest = {key: value for key, value in data.items() if key != SUM_FIELD}
+    return hashlib.sha256(json.dumps(rest, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+
+
+def unwritable(path: Path) -> str | None:
+    """Why the cache file `path` could not be written, checked before the
+    costmap is computed (None when it can be)."""
+    folder = path.parent
+    existing = next((p for p in (folder, *folder.parents) if p.exists()), None)
+    if existing is None or not existing.is_dir():
+        return f"{existing or folder} is not a folder"
+    if not os.access(existing, os.W_OK | os.X_OK):
+        return f"{existing} is not writable"
+    return None
 
 
 def store(costmap: Costmap, path: Path) -> None:
     """Write `costmap` to the cache file `path`, whole or not at all, with
     its key inside."""
     data = costmap.to_json() | {KEY_FIELD: path.stem.rsplit("-", 1)[-1]}
+    data[SUM_FIELD] = checksum(data)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as error:

@@ -28,6 +28,8 @@ every anchor, as in the spec.
 
 from __future__ import annotations
 
+import dataclasses
+
 import json
 import math
 from collections.abc import Iterator, Mapping
@@ -88,6 +90,9 @@ class Costmap:
     slides: Mapping[SlideKey, tuple[Rule, ...]] = field(default_factory=dict)
     #: Anchors that are no robot configuration (the key `absent`, module doc).
     absent: frozenset[str] = frozenset()
+    #: The file it was read from (None: computed, or inline in a scene), so
+    #: that no output is written over it.  Ignored by equality.
+    source: Path | None = field(default=None, compare=False)
 
     def rules(self, mode: str, start: str, goal: str) -> tuple[Rule, ...]:
         return self.motions.get((mode, start, goal), ())
@@ -271,7 +276,8 @@ def _is_number(x: Any) -> bool:
 
 
 def load_costmap(path: Path) -> Costmap:
-    return costmap_from_data(read_json(path, "costmap", CostmapError), str(path))
+    costmap = costmap_from_data(read_json(path, "costmap", CostmapError), str(path))
+    return dataclasses.replace(costmap, source=Path(path))
 
 
 def write_costmap(costmap: Costmap, path: Path) -> None:

@@ -99,6 +99,8 @@ PHYSICAL_SCHEMA = _physical_schema()
 
 #: Problems listed in one message (a costmap of another scene has hundreds).
 MAX_PROBLEMS = 12
+#: The most objects a scene may have (docs/input-limits.md).
+MAX_OBJECTS = 256
 
 
 class SceneError(InputError):
@@ -154,8 +156,15 @@ def scene_from_data(data: Any, source: Path | None = None,
         if name in (ELSE, HAND, HOME):
             report.add(("locations", i), f"{name!r} is reserved and cannot name a location")
     for i, name in enumerate(else_samples):
-        if name in locations:
+        if name in (ELSE, HAND, HOME):  # `at: Else`, the hand and the robot's home are these names
+            report.add(("else_samples", i), f"{name!r} is reserved and cannot name an Else sample")
+        elif name in locations:
             report.add(("else_samples", i), f"{name!r} is already a location of interest")
+    if len(data["objects"]) > MAX_OBJECTS:
+        report.add(("objects",), f"{len(data['objects']):,} objects: symsynth solves games of at most "
+                   f"{MAX_OBJECTS} (its positions grow as the places to the power of the objects; "
+                   "docs/input-limits.md)")
+        report.raise_if_any()
     objects = []
     standing: dict[str, str] = {}
     for name, spec in data["objects"].items():
@@ -335,7 +344,7 @@ def costmap_problems(scene: Scene, costmap: Costmap) -> list[str]:
         what = f"motion {mode} {start} -> {goal}"
         if mode not in modes:
             problems.append(f"{what}: unknown mode {mode!r}; expected {EMPTY!r} or OBJECT/GRASP "
-                            f"with objects {', '.join(scene.object_names)} and grasps {', '.join(scene.grasps)}")
+                            f"with objects {_some(scene.object_names)} and grasps {_some(scene.grasps)}")
         for anchor in (start, goal):
             if anchor not in anchors:
                 problems.append(f"{what}: unknown anchor {anchor!r}; expected {HOME!r} or "
@@ -410,6 +419,27 @@ def schema_message(error: jsonschema.ValidationError) -> str:
     if error.validator == "type":
         return f"expected {error.validator_value}, found {error.instance!r}"
     return error.message
+
+
+def _some(names: tuple[str, ...], shown: int = 12) -> str:
+    """The first `shown` names and how many more (a message stays readable)."""
+    more = f" and {len(names) - shown} more" if len(names) > shown else ""
+    return ", ".join(names[:shown]) + more
+
+
+def where(source: Path | None, path: KeyPath) -> str:
+    """`file:line: key.path` of a key of a scene file, for an error found
+    after loading (the file read again for its lines; `key.path` alone when
+    there is no file or it cannot be read now)."""
+    key = ".".join(map(str, path))
+    if source is None:
+        return key
+    try:
+        _, lines = read_yaml(source, "scene", SceneError)
+    except InputError:
+        return f"{source}: {key}"
+    line = line_of(lines, path)
+    return f"{source}:{line}: {key}" if line else f"{source}: {key}"
 
 
 class Report:

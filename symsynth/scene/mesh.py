@@ -16,9 +16,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from symsynth.errors import InputError
+from symsynth.files import check_regular
 
 if TYPE_CHECKING:
     import trimesh
+
+
+#: The largest mesh file read (the bundled ones are a few kilobytes).
+MAX_BYTES = 256 << 20
 
 
 class MeshError(InputError):
@@ -32,6 +37,7 @@ def load_mesh(path: Path, scale=1.0) -> trimesh.Trimesh:
         stat = Path(path).stat()
     except OSError as error:
         raise MeshError(f"mesh file {str(path)!r} cannot be read: {error.strerror}") from None
+    check_regular(path, "mesh file", MeshError, MAX_BYTES)
     mesh = _read(str(Path(path).resolve()), stat.st_mtime_ns, stat.st_size)
     factors = np.broadcast_to(np.asarray(scale, dtype=float), (3,))
     return mesh.copy().apply_transform(np.diag([*factors, 1.0]))

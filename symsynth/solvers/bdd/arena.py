@@ -46,7 +46,8 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable
 
-from symsynth.automata import SymbolicDFA, compile_ltlf
+from symsynth.automata import SymbolicDFA
+from symsynth.automata.shared import dfa_into
 from symsynth.automata.bdd import Function, new_manager
 from symsynth.game.abstraction import anchors, costmap_of, quantize
 from symsynth.scene.propositions import interpret_all
@@ -71,7 +72,7 @@ class Arena:
         self.bdd = bdd = new_manager(reordering=False, memory=_cache_memory())
         self.props = interpret_all(formula, scene)
         self.h = Domain.declare(bdd, "#h", k + 1)
-        self.dfa: SymbolicDFA = compile_ltlf(formula, bdd=bdd)
+        self.dfa: SymbolicDFA = dfa_into(formula, bdd)  # compiled once per task, not once per game
         self.enc = self._declare_state()
         self.max_units = max(self._all_units(), default=0)
         self.c = Domain.declare(bdd, "#c", self.max_units + 1, primed=False)
