@@ -244,6 +244,10 @@ class Progression:
                 direct.setdefault(f.right, set()).add(f)
             elif isinstance(f, ast.Eventually):
                 direct.setdefault(f.arg, set()).add(f)
+            elif isinstance(f, ast.Release):
+                direct.setdefault(f, set()).add(f.right)
+            elif isinstance(f, ast.Always):
+                direct.setdefault(f, set()).add(f.arg)
             if isinstance(f, ast.UNARY):
                 stack.append(f.arg)
             elif isinstance(f, ast.BINARY):
@@ -260,24 +264,43 @@ class Progression:
             self._implied[f] = closure
 
     def _canonical(self, state: Function) -> Function:
-        """`state` conjoined with the implications among the obligations it
-        names (X f -> X g and WX f -> WX g for f implying g): equal to
+        """`state` with the implications among the obligations it names
+        (X f -> X g and WX f -> WX g for f implying g) applied: equal to
         `state` on every trace, and one BDD for states that differ only by
-        them (`X psi | X(phi U psi)` is `X(phi U psi)`).  Only obligations
-        already in `state` take part, so the support never grows and
-        unfolding it costs no more."""
+        them.  First each implied obligation `g` is replaced by `g | f` for
+        the obligations `f` that imply it (`WX R1 & WX R3` is `WX R1` for
+        R1 = p1 R (p2 R R3): a release chain's states, 2^n without this),
+        then the state is conjoined with the implications among what is
+        left (`X psi | X(phi U psi)` is `X(phi U psi)`: an until chain's).
+        Only obligations already in `state` take part, so the support never
+        grows and unfolding it costs no more."""
+        names = frozenset(name for name in self.bdd.support(state) if name in self._obligation)
+        implied = self._implications(names)
+        if not implied:
+            return state
+        lifted = {b: self.bdd.var(b) | _any(self.bdd, above) for b, above in implied.items()}
+        state = self.bdd.let(lifted, state)  # b := b | (the a -> b)
         names = frozenset(name for name in self.bdd.support(state) if name in self._obligation)
         constraint = self._constraints.get(names)
         if constraint is None:
             constraint = self.bdd.true
-            for name in names:
-                strong, f = self._obligation[name]
-                for g in self._implied.get(f, ()):
-                    other = self._obligation_var.get((strong, g))
-                    if other in names:
-                        constraint &= ~self.bdd.var(name) | self.bdd.var(other)  # X f -> X g
+            for b, above in self._implications(names).items():
+                for a in above:
+                    constraint &= ~self.bdd.var(a) | self.bdd.var(b)  # X f -> X g
             self._constraints[names] = constraint
         return state & constraint if constraint != self.bdd.true else state
+
+    def _implications(self, names: frozenset[str]) -> dict[str, list[str]]:
+        """obligation b -> the obligations a of `names` that imply it, for the
+        b of `names` that some a implies."""
+        found: dict[str, list[str]] = {}
+        for name in names:
+            strong, f = self._obligation[name]
+            for g in self._implied.get(f, ()):
+                other = self._obligation_var.get((strong, g))
+                if other in names:
+                    found.setdefault(other, []).append(name)
+        return found
 
     def dfa(self, formula: ast.Formula, max_edges: int | None = None) -> GuardedDFA:
         """The complete DFA of an NNF formula; states are numbered in BFS order.
@@ -307,6 +330,14 @@ class Progression:
                 out[index[succ]] = guard
             edges.append(out)
         return GuardedDFA(self.bdd, 0, accepting, edges)
+
+
+def _any(bdd: BDD, names: list[str]) -> Function:
+    """The disjunction of the variables `names`."""
+    result = bdd.false
+    for name in names:
+        result |= bdd.var(name)
+    return result
 
 
 def minimize(dfa: GuardedDFA) -> GuardedDFA:
