@@ -97,6 +97,15 @@ MOVES_DEGREE = moves_.SPARSE_DEGREE
 #: `prefix_product` (cost: one pass over the larger operand's edges).
 PREFIX_STATES = 256
 
+#: Two operands over disjoint atoms whose state counts multiply to at most
+#: DISJOINT_PAIRS are tried as an explicit product (`Composer._related`),
+#: kept when it has at most 1 / SHRINK of the pairs' states: independent
+#: parts whose product does not shrink stay apart (GFand's `F q_i`: 2^n).
+DISJOINT_PAIRS = 16
+SHRINK = 2
+#: ... and no more are tried in one `merge` after this many did not shrink.
+DISJOINT_TRIES = 4
+
 #: The edge limit of a product grows to this many times the edges of its
 #: larger operand (a 16,000-state counter times a 4-state initial condition:
 #: 300,000 edges, against a symbolic product of 2^48 codes).
@@ -563,13 +572,15 @@ class Composer:
         from an explicit product (their symbolic product keeps each part's
         bits apart, where an explicit one numbers the pairs densely)."""
         failed: set[tuple[int, int]] = set()
+        kept_apart = 0  # disjoint pairs tried that did not shrink
         while len(dfas) > 1:
             best = None
             for i, a in enumerate(dfas):
                 for j in range(i + 1, len(dfas)):
                     b = dfas[j]
                     key = (id(a), id(b))
-                    if key in failed or not self._small(a, b) or not self._related(a, b):
+                    if key in failed or not self._small(a, b) or \
+                            not self._related(a, b, tried=kept_apart < DISJOINT_TRIES):
                         continue
                     if best is None or a.num_states * b.num_states < best[0]:
                         best = (a.num_states * b.num_states, i, j)
@@ -581,18 +592,31 @@ class Composer:
             except TooLarge:
                 failed.add((id(dfas[i]), id(dfas[j])))
                 continue
+            if not self._related(dfas[i], dfas[j], tried=False) and \
+                    merged.num_states * SHRINK > dfas[i].num_states * dfas[j].num_states:
+                failed.add((id(dfas[i]), id(dfas[j])))  # kept apart: it did not shrink
+                kept_apart += 1
+                continue
             dfas = [d for k, d in enumerate(dfas) if k not in (i, j)] + [merged]
         return dfas
 
-    def _related(self, a: GuardedDFA, b: GuardedDFA) -> bool:
+    def _related(self, a: GuardedDFA, b: GuardedDFA, tried: bool = True) -> bool:
         """Whether an explicit product of `a` and `b` may pay: they read a
         common atom, or one of them reads none (a constant language, or one
         of trace lengths: the product is no larger than the other).
         (Conditions on the first letters over disjoint atoms are not joined
         first: a counter's start reaches thousands of states, and each
-        state of the joined condition's prefix would copy their edges.)"""
+        state of the joined condition's prefix would copy their edges.)
+        With `tried`, also two small operands over disjoint atoms (their
+        state counts multiply to at most DISJOINT_PAIRS), whose product
+        `merge` keeps only when it shrinks: `G(r1 -> F !r1) & G(r2 -> F !r2)
+        & ...` says the last letter has no r_i, 3 states, where a symbolic
+        product of the parts has 2^n codes to minimize (assume-guarantee
+        formulas: 8 pairs, 6.3 s that way)."""
         reads_a, reads_b = self._reads(a), self._reads(b)
-        return self.independent or not reads_a or not reads_b or bool(reads_a & reads_b)
+        if self.independent or not reads_a or not reads_b or bool(reads_a & reads_b):
+            return True
+        return tried and a.num_states * b.num_states <= DISJOINT_PAIRS
 
     def _is_bounded(self, dfa: GuardedDFA) -> bool:
         """Whether `dfa`'s states other than its sinks form no cycle."""
