@@ -610,7 +610,7 @@ class Composer:
         With `tried`, also two small operands over disjoint atoms (their
         state counts multiply to at most DISJOINT_PAIRS), whose product
         `merge` keeps only when it shrinks: `G(r1 -> F !r1) & G(r2 -> F !r2)
-        & ...` says the last letter has no r_i, 3 states, where a symbolic
+        & ...` says the last letter has no r_i, 2 states, where a symbolic
         product of the parts has 2^n codes to minimize (assume-guarantee
         formulas: 8 pairs, 6.3 s that way)."""
         reads_a, reads_b = self._reads(a), self._reads(b)
