@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from support.reference import minimal_num_states
 from symsynth.automata import compile_ltlf
-from symsynth.automata.compile import Composer
+from symsynth.automata.compose import Composer
 from symsynth.automata.progression import GuardedDFA, Progression
 from symsynth.logic import ast, parse_ltlf
 

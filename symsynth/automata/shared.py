@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 
-from symsynth.automata.compile import compile_ltlf
+from symsynth.automata.compose import compile_ltlf
 from symsynth.automata.symbolic import SymbolicDFA
 from symsynth.logic import ast
 
