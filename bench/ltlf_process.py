@@ -189,7 +189,7 @@ def main(argv=None) -> int:
             for name, text in items:
                 if dead:  # a scaling family: past a timeout, the larger ones are skipped
                     rows.append({"family": family, "instance": name, "symsynth_status": "TO*",
-                                 "mona_status": "TO*", "commit": args.commit})
+                                 "mona_status": "TO*", "commit": args.commit, "ours": family in ours})
                     continue
                 row = measure(family, name, text, Path(tmp), args)
                 row["ours"] = family in ours

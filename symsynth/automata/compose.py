@@ -45,7 +45,10 @@ from symsynth.automata.products import (OPS, complement, explicit_product, expli
                                         is_universal, started)
 from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge, minimize
 from symsynth.automata.symbolic import SymbolicDFA, atoms_read, is_local, product
-from symsynth.automata.tuning import (EXPLICIT_SINGLE, EXPLICIT_PRODUCT, EXPLICIT_EDGES, EXPLICIT_DEGREE, MOVES_PAIRS, PREFIX_STATES, DISJOINT_PAIRS, SHRINK, DISJOINT_TRIES, GROWTH, SPARSE_DEGREE, SPARSE_EDGES, FINAL_PRODUCT, FINAL_EDGES, FACTOR_STATES, FACTOR_DEGREE, MERGED_EDGES, MERGED_INVARIANT_EDGES, MERGED_DEGREE)
+from symsynth.automata.tuning import (EXPLICIT_SINGLE, EXPLICIT_PRODUCT, EXPLICIT_EDGES, EXPLICIT_DEGREE,
+                                      MOVES_PAIRS, PREFIX_STATES, DISJOINT_PAIRS, DISJOINT_TRIES, GROWTH,
+                                      SPARSE_DEGREE, SPARSE_EDGES, FINAL_PRODUCT, FINAL_EDGES, FACTOR_STATES,
+                                      FACTOR_DEGREE, MERGED_EDGES, MERGED_INVARIANT_EDGES, MERGED_DEGREE)
 from symsynth.errors import InputError
 from symsynth.logic import ast
 from symsynth.logic.parser import NextSemantics, parse_ltlf
@@ -489,7 +492,7 @@ class Composer:
                 failed.add((id(dfas[i]), id(dfas[j])))
                 continue
             if not self._related(dfas[i], dfas[j], tried=False) and \
-                    merged.num_states * SHRINK > dfas[i].num_states * dfas[j].num_states:
+                    merged.num_states > max(dfas[i].num_states, dfas[j].num_states):
                 failed.add((id(dfas[i]), id(dfas[j])))  # kept apart: it did not shrink
                 kept_apart += 1
                 continue
@@ -505,10 +508,10 @@ class Composer:
         state of the joined condition's prefix would copy their edges.)
         With `tried`, also two small operands over disjoint atoms (their
         state counts multiply to at most DISJOINT_PAIRS), whose product
-        `merge` keeps only when it shrinks: `G(r1 -> F !r1) & G(r2 -> F !r2)
-        & ...` says the last letter has no r_i, 2 states, where a symbolic
-        product of the parts has 2^n codes to minimize (assume-guarantee
-        formulas: 8 pairs, 6.3 s that way)."""
+        `merge` keeps only when it is no larger than the larger of them:
+        `G(r1 -> F !r1) & G(r2 -> F !r2) & ...` says the last letter has no
+        r_i, 2 states, where a symbolic product of the parts has 2^n codes
+        to minimize (assume-guarantee formulas: 8 pairs, 6.3 s that way)."""
         reads_a, reads_b = self._reads(a), self._reads(b)
         if self.independent or not reads_a or not reads_b or bool(reads_a & reads_b):
             return True

@@ -55,10 +55,11 @@ PREFIX_STATES = 256
 
 #: Two operands over disjoint atoms whose state counts multiply to at most
 #: DISJOINT_PAIRS are tried as an explicit product (`Composer._related`),
-#: kept when it has at most 1 / SHRINK of the pairs' states: independent
-#: parts whose product does not shrink stay apart (GFand's `F q_i`: 2^n).
+#: kept when it has no more states than the larger operand: independent
+#: parts whose product grows stay apart (GFand's `F q_i`: 2^n states; the
+#: invariants `G(a_i -> X b_i)`: 4 x 4 pairs, 6 states, whose many parts a
+#: symbolic product in declared order handles best, `symbolic.is_local`).
 DISJOINT_PAIRS = 16
-SHRINK = 2
 #: ... and no more are tried in one `merge` after this many did not shrink.
 DISJOINT_TRIES = 4
 
