@@ -45,7 +45,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ltlf_bench import MONA_FLAGS, parse_mona, read_mona  # noqa: E402
-from ltlf_families import MIRROR, equivalent, instances, mona_program, read  # noqa: E402
+from ltlf_families import MIRROR, equivalent, instances, mona_program, peer_text, read  # noqa: E402
 from ltlf_generated import generated  # noqa: E402
 from provenance import commit  # noqa: E402
 
@@ -89,41 +89,6 @@ def timed(command: list[str], timeout: float, reps: int) -> tuple[float | None, 
 def _children_cpu() -> float:
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
     return usage.ru_utime + usage.ru_stime
-
-
-def peer_text(formula) -> str:
-    """ltlf2dfa's syntax for `formula`, every operand in parentheses (ltlf2dfa
-    reads `a U b R c` as `(a U b) R c`, symsynth as `a U (b R c)`), and
-    `a W b` written `(a U b) | G a`, which ltlf2dfa lacks."""
-    from symsynth.logic import ast
-
-    unary = {ast.Not: "!", ast.Next: "X", ast.WeakNext: "WX", ast.Eventually: "F", ast.Always: "G"}
-    binary = {ast.And: "&", ast.Or: "|", ast.Implies: "->", ast.Equiv: "<->", ast.Until: "U", ast.Release: "R"}
-    done: dict[int, str] = {}
-    stack: list = [(formula, False, None)]
-    while stack:
-        f, visited, alias = stack.pop()
-        if isinstance(f, ast.WeakUntil):
-            f, alias = ast.Or(ast.Until(f.left, f.right), ast.Always(f.left)), f
-        children = [f.arg] if isinstance(f, ast.UNARY) else [f.left, f.right] if isinstance(f, ast.BINARY) else []
-        if children and not visited:
-            stack.append((f, True, alias))
-            stack.extend((c, False, None) for c in children)
-            continue
-        if isinstance(f, ast.Atom):
-            text = f.key
-        elif isinstance(f, ast.Const):
-            text = "true" if f.value else "false"
-        elif isinstance(f, ast.Last):
-            text = "last"
-        elif isinstance(f, ast.UNARY):
-            text = f"{unary[type(f)]}({done[id(f.arg)]})"
-        else:
-            text = f"({done[id(f.left)]}) {binary[type(f)]} ({done[id(f.right)]})"
-        done[id(f)] = text
-        if alias is not None:
-            done[id(alias)] = text
-    return done[id(formula)]
 
 
 def measure(family: str, name: str, text: str, work: Path, args) -> dict:
