@@ -144,6 +144,41 @@ def mona_program(text: str) -> str:
     return MonaProgram(LTLfParser()(text)).mona_program()
 
 
+def peer_text(formula) -> str:
+    """ltlf2dfa's syntax for `formula`, every operand in parentheses (ltlf2dfa
+    reads `a U b R c` as `(a U b) R c`, symsynth as `a U (b R c)`), and
+    `a W b` written `(a U b) | G a`, which ltlf2dfa lacks."""
+    from symsynth.logic import ast
+
+    unary = {ast.Not: "!", ast.Next: "X", ast.WeakNext: "WX", ast.Eventually: "F", ast.Always: "G"}
+    binary = {ast.And: "&", ast.Or: "|", ast.Implies: "->", ast.Equiv: "<->", ast.Until: "U", ast.Release: "R"}
+    done: dict[int, str] = {}
+    stack: list = [(formula, False, None)]
+    while stack:
+        f, visited, alias = stack.pop()
+        if isinstance(f, ast.WeakUntil):
+            f, alias = ast.Or(ast.Until(f.left, f.right), ast.Always(f.left)), f
+        children = [f.arg] if isinstance(f, ast.UNARY) else [f.left, f.right] if isinstance(f, ast.BINARY) else []
+        if children and not visited:
+            stack.append((f, True, alias))
+            stack.extend((c, False, None) for c in children)
+            continue
+        if isinstance(f, ast.Atom):
+            text = f.key
+        elif isinstance(f, ast.Const):
+            text = "true" if f.value else "false"
+        elif isinstance(f, ast.Last):
+            text = "last"
+        elif isinstance(f, ast.UNARY):
+            text = f"{unary[type(f)]}({done[id(f.arg)]})"
+        else:
+            text = f"({done[id(f.left)]}) {binary[type(f)]} ({done[id(f.right)]})"
+        done[id(f)] = text
+        if alias is not None:
+            done[id(alias)] = text
+    return done[id(formula)]
+
+
 def timed_mona(path: Path, timeout: float, wall: float) -> dict:
     """MONA on the program at `path`: its time, or a timeout, or an error
     (MONA stops with a non-zero status when it runs out of its BDD tables:
@@ -200,7 +235,6 @@ def main(argv=None) -> int:
         return 0
     from symsynth.automata import compile_ltlf
     from symsynth.logic import ast, parse_ltlf
-    from symsynth.logic.printer import to_string
 
     measured = commit()
     sym, l2d = Worker("sym-weak", args.timeout, args.wall), Worker("l2d", args.timeout, args.wall)
@@ -221,7 +255,7 @@ def main(argv=None) -> int:
                 formula = parse_ltlf(text, next_semantics="weak")
                 atoms = sorted({a.key for a in ast.atoms(formula)})
                 row["atoms"] = len(atoms)
-                peer = to_string(formula)  # ltlf2dfa's syntax: X strong, WX weak
+                peer = peer_text(formula)  # ltlf2dfa's syntax: X strong, WX weak, all parenthesized
                 for tool, worker, given in (("symsynth", sym, text), ("ltlf2dfa", l2d, peer)):
                     if tool in dead:
                         row[tool], row[f"{tool}_status"] = None, "TO*"

@@ -40,12 +40,13 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path, default=Path("bench/results/moves-products.md"))
     args = parser.parse_args(argv)
 
-    import symsynth.automata.compile as compile_module
+    import symsynth.automata.compose as compose_module  # (the composer calls explicit_product by this name)
+    from symsynth.automata.tuning import MOVES_PAIRS
     from symsynth.automata import compile_ltlf
     from symsynth.automata import moves
     from symsynth.automata.progression import GuardedDFA, TooLarge
 
-    product = compile_module.explicit_product
+    product = compose_module.explicit_product
 
     def with_edges(d: GuardedDFA) -> GuardedDFA:
         """`d`, or a copy with its edges when it has only moves (`d` itself
@@ -65,7 +66,7 @@ def main(argv=None) -> int:
             states = type(error).__name__
         return time.process_time() - clock, states
 
-    def both(a, b, op, max_edges=None, max_degree=None, moves_pairs=compile_module.MOVES_PAIRS):
+    def both(a, b, op, max_edges=None, max_degree=None, moves_pairs=MOVES_PAIRS):
         if a.num_states * b.num_states >= 20:
             ga, gb = with_edges(a), with_edges(b)  # (guards made beforehand: not part of either time)
             guards, size_g = timed(ga, gb, op, max_edges, None, float("inf"))  # (no turn to the moves)
@@ -75,7 +76,7 @@ def main(argv=None) -> int:
                          "guards": guards, "moves": by_moves, "states": size_g, "states_moves": size_m})
         return product(a, b, op, max_edges, max_degree, moves_pairs)
 
-    compile_module.explicit_product = both
+    compose_module.explicit_product = both
     for path in INSTANCES:
         current[0] = Path(path).stem if "Random" not in path else f"{Path(path).parent.name}/{Path(path).stem}"
         print(current[0], flush=True)
@@ -86,7 +87,7 @@ def main(argv=None) -> int:
              f"{os.getloadavg()[0]:.1f}. CPU seconds of each product with its minimization, "
              "made both ways in one process (see the script's docstring). `successors` is "
              "the product of the operands' average successors per state; compile.py's "
-             f"MOVES_PAIRS is {compile_module.MOVES_PAIRS}.", "",
+             f"MOVES_PAIRS is {MOVES_PAIRS}.", "",
              "| instance | op | states | successors per state | successors | guards s | moves s | guards / moves | result |",
              "|---|---|---|---|---:|---:|---:|---:|---|"]
     for r in rows:

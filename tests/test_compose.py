@@ -1,4 +1,4 @@
-"""The compositional DFA construction (symsynth/automata/compile.py) against
+"""The compositional DFA construction (symsynth/automata/compose.py) against
 independent references: the semantics (`holds`), the explicit reference DFA
 of tests/support/reference.py (no BDDs) and the earlier non-compositional
 construction (`compositional=False`: top-level conjuncts by progression).
@@ -200,7 +200,7 @@ def test_the_condition_is_pushed_where_the_products_are():
     `a & (F a -> G b)`: unchanged (the consequent reads no `a`);
     `a & X(F a -> G a)`: unchanged (`expose` makes it `!WX F a | X G a`,
     no implication)."""
-    from symsynth.automata.compile import Composer
+    from symsynth.automata.compose import Composer
     from symsynth.automata.progression import Progression
 
     def pushed(text):

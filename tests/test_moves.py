@@ -12,7 +12,8 @@ from support.reference import distinguishing_trace, minimal_num_states, referenc
 from support.strategies import formulas
 from test_prefix_product import KEYS, Runner, bounded
 from symsynth.automata import moves
-from symsynth.automata.compile import _moves_product, _reject_at_start, explicit_product, prefix_product_moves
+from symsynth.automata.prefix import prefix_product_moves
+from symsynth.automata.products import explicit_product, moves_product, reject_at_start
 from symsynth.automata.normal import nnf
 from symsynth.automata.progression import GuardedDFA, Progression, minimize
 from symsynth.logic import ast, to_string
@@ -44,7 +45,7 @@ def test_the_product_of_moves_is_the_minimal_dfa_of_the_combination(f, g, op):
     a, b = minimize(progression.dfa(nnf(f))), minimize(progression.dfa(nnf(g)))
     whole = OPS[op](f, g)
     text = to_string(whole)
-    got = _moves_product(a, b, op, None)
+    got = moves_product(a, b, op, None)
     assert not got.has_edges(), text  # made and minimized on moves alone
     assert not got.accepting[got.initial], text  # traces are non-empty
     assert got.num_states == minimal_num_states(whole), text
@@ -79,8 +80,8 @@ def test_an_accepting_start_entered_again_gets_a_fresh_start_one_bit_wider():
     fresh start, 'a+ read', the sink); two states take one bit, three two:
     the moves gain a bit that is 0 in every successor."""
     bdd = Progression(KEYS).bdd
-    guards = _reject_at_start(_two_states(bdd))
-    with_moves = _reject_at_start(moves_only(_two_states(bdd)))
+    guards = reject_at_start(_two_states(bdd))
+    with_moves = reject_at_start(moves_only(_two_states(bdd)))
     assert not with_moves.has_edges()
     assert with_moves.num_states == guards.num_states == 3
     assert with_moves.initial == 2 and with_moves.accepting == [True, False, False]

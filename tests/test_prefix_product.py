@@ -11,7 +11,8 @@ from hypothesis import strategies as st
 
 from support.reference import distinguishing_trace, minimal_num_states, reference_dfa
 from support.strategies import formulas
-from symsynth.automata.compile import explicit_product, prefix_product
+from symsynth.automata.prefix import prefix_product
+from symsynth.automata.products import explicit_product
 from symsynth.automata.normal import nnf
 from symsynth.automata.progression import GuardedDFA, Progression, minimize
 from symsynth.logic import ast, to_string

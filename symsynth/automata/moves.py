@@ -36,6 +36,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from symsynth.automata.bdd import BDD, Function, and_exists, branches, exists, split_letters, swap
+from symsynth.automata.refine import refine
 
 #: Successors per state on average up to which a DFA's edges (guards) are
 #: the better form for products: past it a product works on the moves.
@@ -264,9 +265,9 @@ def minimize(bdd: BDD, dfa: Machine) -> Machine | None:
     initial state, in its own width, or None when the DFA is minimal
     already.
 
-    Partition refinement as in progression.minimize (Hopcroft's "all but
-    the largest" worklist), a state's signature being its moves with the
-    successor replaced by its class: one relational product
+    Partition refinement (`refine.refine`, as progression.minimize), a
+    state's signature being its moves with the successor replaced by its
+    class: one relational product
     `exists z. T_s(atoms, z) & B(z, c)` with the map B from states to
     classes, updated as classes split.  The states to recompute after a
     split, those with a successor that moved, are one relational product
@@ -279,51 +280,32 @@ def minimize(bdd: BDD, dfa: Machine) -> Machine | None:
     relation = bdd.false  # E(s, z): z is a successor of s
     for k, succ in enumerate(dfa.after):
         relation |= cube(bdd, ss, k) & succ
-    block = [int(acc) for acc in accepting]
-    members: list[set[int]] = [set(), set()]
-    for state, b in enumerate(block):
-        members[b].add(state)
-    accepting_z = bdd.false
-    for k in members[1]:
-        accepting_z |= zcube[k]
-    states_z = bdd.false
+    accepting_z = states_z = bdd.false
     for k in range(n):
         states_z |= zcube[k]
+        if accepting[k]:
+            accepting_z |= zcube[k]
+    # B(z, c): the class of each state
     classes = (accepting_z & cube(bdd, cs, 1)) | (states_z & ~accepting_z & cube(bdd, cs, 0))
-    signature: list = [None] * n
-    dirty: dict[int, set[int]] = {b: set(ms) for b, ms in enumerate(members) if ms}
-    while dirty:
-        b, changed = dirty.popitem()
-        everyone = members[b]
-        if len(everyone) == 1:
-            signature[next(iter(everyone))] = None
-            continue
-        groups: dict[Function, set[int]] = {}
-        for state in changed:  # (a class's states agree on acceptance: they started split by it)
-            sig = and_exists(bdd, moves[state], classes, zs)
-            signature[state] = sig
-            groups.setdefault(sig, set()).add(state)
-        if len(changed) < len(everyone):  # the others kept one common signature
-            clean = everyone - changed
-            groups.setdefault(signature[next(iter(clean))], set()).update(clean)
-        if len(groups) == 1:
-            continue
-        parts = sorted(groups.values(), key=len, reverse=True)
-        members[b] = parts[0]
+
+    def signature(state: int, block: list[int]) -> Function:
+        return and_exists(bdd, moves[state], classes, zs)  # \E z: T_s(atoms, z) & B(z, c)
+
+    def renumbered(part: list[int], new: int) -> None:
+        nonlocal classes
+        here = bdd.false
+        for state in part:
+            here |= zcube[state]
+        classes = (classes & ~here) | (here & cube(bdd, cs, new))
+
+    def predecessors(states: list[int]) -> list[int]:
         moved = bdd.false
-        for part in parts[1:]:
-            new = len(members)
-            members.append(part)
-            here = bdd.false
-            for state in part:
-                block[state] = new
-                here |= zcube[state]
-            classes = (classes & ~here) | (here & cube(bdd, cs, new))
-            moved |= here
-        for pred in numbers(bdd, and_exists(bdd, relation, moved, zs), ss):
-            dirty.setdefault(block[pred], set()).add(pred)
-    live = [m for m in members if m]
-    if len(live) == n:
+        for state in states:
+            moved |= zcube[state]
+        return numbers(bdd, and_exists(bdd, relation, moved, zs), ss)  # \E z: E(s, z) & Moved(z)
+
+    block = refine(accepting, signature, predecessors, renumbered)
+    if len(set(block)) == n:
         return None
     # classes numbered by their first state (the initial one's first): the
     # input's breadth-first order carries over

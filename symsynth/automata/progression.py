@@ -22,11 +22,13 @@ Every obligation is `X`/`WX` of a subformula, so the construction ends.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from functools import singledispatchmethod
 
 from symsynth.automata import moves as moves_
 from symsynth.automata.bdd import BDD, Function, branches, cofactor, new_manager, split_letters
 from symsynth.automata.growth import grew
+from symsynth.automata.refine import refine
 from symsynth.logic import ast
 
 
@@ -244,6 +246,10 @@ class Progression:
                 direct.setdefault(f.right, set()).add(f)
             elif isinstance(f, ast.Eventually):
                 direct.setdefault(f.arg, set()).add(f)
+            elif isinstance(f, ast.Release):
+                direct.setdefault(f, set()).add(f.right)
+            elif isinstance(f, ast.Always):
+                direct.setdefault(f, set()).add(f.arg)
             if isinstance(f, ast.UNARY):
                 stack.append(f.arg)
             elif isinstance(f, ast.BINARY):
@@ -260,24 +266,43 @@ class Progression:
             self._implied[f] = closure
 
     def _canonical(self, state: Function) -> Function:
-        """`state` conjoined with the implications among the obligations it
-        names (X f -> X g and WX f -> WX g for f implying g): equal to
+        """`state` with the implications among the obligations it names
+        (X f -> X g and WX f -> WX g for f implying g) applied: equal to
         `state` on every trace, and one BDD for states that differ only by
-        them (`X psi | X(phi U psi)` is `X(phi U psi)`).  Only obligations
-        already in `state` take part, so the support never grows and
-        unfolding it costs no more."""
+        them.  First each implied obligation `g` is replaced by `g | f` for
+        the obligations `f` that imply it (`WX R1 & WX R3` is `WX R1` for
+        R1 = p1 R (p2 R R3): a release chain's states, 2^n without this),
+        then the state is conjoined with the implications among what is
+        left (`X psi | X(phi U psi)` is `X(phi U psi)`: an until chain's).
+        Only obligations already in `state` take part, so the support never
+        grows and unfolding it costs no more."""
+        names = frozenset(name for name in self.bdd.support(state) if name in self._obligation)
+        implied = self._implications(names)
+        if not implied:
+            return state
+        lifted = {b: self.bdd.var(b) | _any(self.bdd, above) for b, above in implied.items()}
+        state = self.bdd.let(lifted, state)  # b := b | (the a -> b)
         names = frozenset(name for name in self.bdd.support(state) if name in self._obligation)
         constraint = self._constraints.get(names)
         if constraint is None:
             constraint = self.bdd.true
-            for name in names:
-                strong, f = self._obligation[name]
-                for g in self._implied.get(f, ()):
-                    other = self._obligation_var.get((strong, g))
-                    if other in names:
-                        constraint &= ~self.bdd.var(name) | self.bdd.var(other)  # X f -> X g
+            for b, above in self._implications(names).items():
+                for a in above:
+                    constraint &= ~self.bdd.var(a) | self.bdd.var(b)  # X f -> X g
             self._constraints[names] = constraint
         return state & constraint if constraint != self.bdd.true else state
+
+    def _implications(self, names: frozenset[str]) -> dict[str, list[str]]:
+        """obligation b -> the obligations a of `names` that imply it, for the
+        b of `names` that some a implies."""
+        found: dict[str, list[str]] = {}
+        for name in names:
+            strong, f = self._obligation[name]
+            for g in self._implied.get(f, ()):
+                other = self._obligation_var.get((strong, g))
+                if other in names:
+                    found.setdefault(other, []).append(name)
+        return found
 
     def dfa(self, formula: ast.Formula, max_edges: int | None = None) -> GuardedDFA:
         """The complete DFA of an NNF formula; states are numbered in BFS order.
@@ -309,21 +334,22 @@ class Progression:
         return GuardedDFA(self.bdd, 0, accepting, edges)
 
 
+def _any(bdd: BDD, names: list[str]) -> Function:
+    """The disjunction of the variables `names`."""
+    result = bdd.false
+    for name in names:
+        result |= bdd.var(name)
+    return result
+
+
 def minimize(dfa: GuardedDFA) -> GuardedDFA:
     """Partition refinement; the result is the minimal complete DFA.
 
     Two states stay together while they agree on acceptance and, for every
     class, on the set of letters leading into it (their *signature*; guards
-    are canonical BDDs, so it is a hashable value).  Only reachable states
-    are given (the construction yields no others).
-
-    A worklist version of Moore's rounds, with Hopcroft's "all but the
-    largest" rule: when a class splits, the largest part keeps its number
-    and the states of the other parts are renumbered; only the states with
-    a successor renumbered can change signature, so only they are
-    recomputed, and only the classes holding them are split again.  (Moore's
-    rounds recompute every state once per round, and a counter's DFA needs
-    as many rounds as it counts: 2^k rounds for k bits.)
+    are canonical BDDs, so it is a hashable value), by `refine.refine`'s
+    worklist.  Only reachable states are given (the construction yields no
+    others).
 
     A signature ORs a state's guards class by class, except into the class
     entered on the most of them when they outnumber the classes: its letters
@@ -345,18 +371,12 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
                                                     degrees=found.degrees)
     old_edges = dfa.edges
     n = len(old_edges)
-    predecessors: list[list[int]] = [[] for _ in range(n)]
+    before: list[list[int]] = [[] for _ in range(n)]
     for state, out in enumerate(old_edges):
         for succ in out:
-            predecessors[succ].append(state)
-    block = [int(acc) for acc in dfa.accepting]
-    members: list[set[int]] = [set(), set()]
-    for state, b in enumerate(block):
-        members[b].add(state)
-    signature: list = [None] * n  # valid unless the state is dirty
-    dirty: dict[int, set[int]] = {b: set(ms) for b, ms in enumerate(members) if ms}
+            before[succ].append(state)
 
-    def signature_of(state: int) -> frozenset:
+    def signature_of(state: int, block: list[int]) -> frozenset:
         into: dict[int, list[Function]] = {}
         for succ, guard in old_edges[state].items():
             b = block[succ]
@@ -384,35 +404,12 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
             joined[skip] = ~rest
         return frozenset(joined.items())
 
-    while dirty:
-        b, changed = dirty.popitem()
-        everyone = members[b]
-        if len(everyone) == 1:
-            signature[next(iter(everyone))] = None
-            continue
-        groups: dict[frozenset, set[int]] = {}
-        for state in changed:
-            sig = signature_of(state)
-            signature[state] = sig
-            groups.setdefault(sig, set()).add(state)
-        if len(changed) < len(everyone):  # the others kept one common signature
-            clean = everyone - changed
-            sig = signature[next(iter(clean))]
-            groups.setdefault(sig, set()).update(clean)
-        if len(groups) == 1:
-            continue
-        parts = sorted(groups.values(), key=len, reverse=True)
-        members[b] = parts[0]
-        for part in parts[1:]:
-            new = len(members)
-            members.append(part)
-            for state in part:
-                block[state] = new
-        for part in parts[1:]:  # (after renumbering: `dirty` is keyed by the current class)
-            for state in part:
-                for pred in predecessors[state]:
-                    dirty.setdefault(block[pred], set()).add(pred)
-    if dfa.initial == 0 and sum(1 for m in members if m) == n:
+    def predecessors(states: list[int]) -> Iterator[int]:
+        for state in states:
+            yield from before[state]
+
+    block = refine(dfa.accepting, signature_of, predecessors)
+    if dfa.initial == 0 and len(set(block)) == n:
         return dfa  # already minimal (and numbered from its initial state)
     # renumber blocks in BFS order from the initial state
     rename: dict[int, int] = {block[dfa.initial]: 0}
