@@ -11,8 +11,10 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from symsynth.errors import InputError
-from symsynth.planning.methods import METHODS
-from symsynth.problem import CostmapRequest
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the costmap options' modules are imported only by the commands that declare them
+    from symsynth.problem import CostmapRequest
 
 
 def count(text: str) -> int:
@@ -139,6 +141,8 @@ def add_costmap_options(parser: argparse.ArgumentParser, *, planner_help: str = 
     scene's costmap is obtained when it has none (`costmap_request`), the
     same options for every command.  `seed_alias`: also read --seed, the
     older spelling, where --seed means nothing else (solve, costmap)."""
+    from symsynth.planning.methods import METHODS  # not for dfa and synth, which share count, etc.
+
     group = parser.add_argument_group("costmap options (physical scenes)",
                                       "how the costmap is obtained: from the cache, else by motion planning")
     group.add_argument("--method", choices=tuple(METHODS), default="recursive",
@@ -154,4 +158,6 @@ def add_costmap_options(parser: argparse.ArgumentParser, *, planner_help: str = 
 
 def costmap_request(args: argparse.Namespace, progress: bool = True) -> CostmapRequest:
     """The `problem.CostmapRequest` of `add_costmap_options`' options."""
+    from symsynth.problem import CostmapRequest
+
     return CostmapRequest(args.method, args.planner, args.costmap_seed, not args.no_cache, progress)
