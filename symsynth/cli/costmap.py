@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 from pathlib import Path
 
-from symsynth.cli import options
+from symsynth.cli import options, physical
 from symsynth.cli.options import check_writable, count
 from symsynth.errors import InputError
 from symsynth.game.abstraction import costmap_of
@@ -71,6 +72,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--no-cache", action="store_true", help="compute even if a cached costmap exists")
     parser.add_argument("--json", action="store_true", help="print a summary as JSON")
     options.add_executor(parser, "roadmaps built at once (default: one per core)")
+    physical.add_options(parser)
     parser.set_defaults(run=run)
 
 
@@ -78,6 +80,7 @@ def run(args: argparse.Namespace) -> int:
     if args.target[0] == "verify":
         if len(args.target) != 2 or args.scene is None:
             raise InputError("usage: symsynth costmap verify FILE --scene SCENE")
+        physical.check(args, verify=True)
         return _verify(Path(args.target[1]), args)
     if len(args.target) != 1:
         raise InputError(f"expected one scene file, found {len(args.target)} arguments "
@@ -86,20 +89,31 @@ def run(args: argparse.Namespace) -> int:
     if scene.geometry is None:
         raise InputError(f"{args.target[0]}: an abstract scene (no 'robot' key): its costmap is given, "
                          "not computed")
+    physical.check(args, verify=False)
+    if args.min_success is not None and args.output is None:
+        raise InputError("--min-success writes the costmap without the failing rules to -o FILE (the cache keeps "
+                         "the planner's own): add -o FILE, then solve with --costmap FILE")
     if args.output is not None:  # before the planning, which takes a while
         check_writable(args.output, "costmap file")
     executor = None if args.executor == "local" and args.jobs is None else options.executor(args)
     got = obtain_costmap(scene, args.method, args.planner, args.seed, use_cache=not args.no_cache,
                          executor=executor)
+    costmap, found = got.costmap, None
+    if args.min_success is not None:
+        costmap, found = physical.filtered(dataclasses.replace(scene, costmap=costmap),
+                                           planner_class(got.planner)(scene), args)
     if args.output is not None:
-        write_costmap(got.costmap, args.output)
+        write_costmap(costmap, args.output)
     written = args.output or got.path
     summary = {
         "scene": scene.name, "method": got.method, "planner": got.planner, "seed": got.seed,
         "cached": got.cached, "file": None if written is None else str(written),
-        "motions": len(got.costmap.motions), "slides": len(got.costmap.slides),
-        "rules": sum(1 for _ in got.costmap.all_rules()), "absent": sorted(got.costmap.absent),
+        "motions": len(costmap.motions), "slides": len(costmap.slides),
+        "rules": sum(1 for _ in costmap.all_rules()), "absent": sorted(got.costmap.absent),
     }
+    done = None if found is None else physical.summary(found, args, got.costmap, costmap)
+    if done is not None:
+        summary["physics"] = done
     if got.stats is not None:
         summary |= {"seconds": {k: round(v, 3) for k, v in got.stats.seconds.items()},
                     "roadmaps": got.stats.roadmaps, "vertices": got.stats.vertices,
@@ -118,6 +132,8 @@ def run(args: argparse.Namespace) -> int:
         phases = ", ".join(f"{k} {v:.2f}" for k, v in s.seconds.items())
         print(f"roadmaps   {s.roadmaps} ({s.vertices} vertices, {s.edges} edges)")
         print(f"seconds    {sum(s.seconds.values()):.2f} ({phases})")
+    if done is not None:
+        print(physical.summary_line(done))
     print(f"file       {summary['file'] or 'none written (--no-cache without -o FILE)'}")
     return 0
 
@@ -139,6 +155,8 @@ def _verify(path: Path, args: argparse.Namespace) -> int:
     if built is not None and built.check_step is not None:
         step = min(step, built.check_step)
     step /= 4
+    if args.physics:
+        return physical.verify(scene, planner, str(path), args)
     checked, failures = verify_costmap(costmap, scene, planner, step)
     for failure in failures[:20]:
         print(f"FAIL {failure}")
