@@ -50,6 +50,21 @@ checked with the planner that built the costmap, which the file records
 recorded one is refused, since every path would miss its anchors.
 Exit status 1 if a path fails (a bug in a planner or the algorithms).
 
+  symsynth costmap verify FILE --scene SCENE --physics [--trials N] [--randomize ...] [--seed S] [--play]
+
+tries every transfer and slide rule in the physical world instead, N times
+(seeds S..S+N-1): grab held and lifted, carried along the evidence path,
+dropped and settled within 1 cm of the target; a slide ending within 1 cm,
+moved only by contact.  The other objects stand where the scene (--play: the
+principal play's state) puts them, except where the rule needs a place free.
+A table of success rates, the worst named; exit status 1 when a rule
+succeeds less often than --min-success (default 0.9).
+
+  symsynth costmap SCENE --min-success P [--trials N] -o FILE
+
+writes the costmap without the rules that succeed less often than P in
+the physical world (docs/costmaps.md).
+
 Planners: {', '.join(planner_names()) or 'none installed'} (entry points 'symsynth.planners';
 default {DEFAULT})."""
 
@@ -67,7 +82,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--planner", metavar="NAME",
                         help="planner plugin (default: the scene's planner.name, else ompl-fcl; "
                              "with verify: the one the costmap records)")
-    parser.add_argument("--seed", type=count, metavar="S", help="roadmap seed (default: the scene's)")
+    parser.add_argument("--seed", type=count, metavar="S",
+                        help="roadmap seed (default: the scene's); with verify --physics, the first trial's seed "
+                             "(default 0)")
     parser.add_argument("-o", "--output", type=Path, metavar="FILE", help="also write the costmap to FILE")
     parser.add_argument("--no-cache", action="store_true", help="compute even if a cached costmap exists")
     parser.add_argument("--json", action="store_true", help="print a summary as JSON")
