@@ -178,3 +178,19 @@ def test_the_other_objects_stand_where_the_rule_allows_them():
     assert others({"l3"}) == {"b": "l1"}
     assert others((), goal="l3") == {"b": "l1"}
     assert others((), start="l2", goal="l1") == {"b": "l2", "c": "l3"}
+
+
+def test_an_object_at_else_on_an_else_sample_makes_way_for_a_rule_through_it():
+    """The arch's lintel stands at Else on the pose of its Else sample e1
+    (0.62, 0.3): a transfer from e1 finds it removed, one between two
+    locations finds it where it stands."""
+    scene = load_scene(Path(__file__).parents[1] / "scenes" / "arch.yaml")
+    assert scene.geometry.places["e1"].xyz == scene.geometry.initial["b"].xyz
+
+    def others(start):
+        subject = Subject("transfer", ("w2/top", f"{start}/top", "support1/top"), 0, "w2", "top", start, "support1",
+                          Rule(frozenset(), 1.0, ((0.0,) * 7,)))
+        return {o.name: o.at for o in trial_scene(scene, subject, {"w1": "table1", "w2": "table2", "b": "Else"}).objects}
+
+    assert others("e1") == {"w2": "e1", "w1": "table1"}
+    assert others("table2") == {"w2": "table2", "w1": "table1", "b": "Else"}

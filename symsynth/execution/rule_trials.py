@@ -23,7 +23,8 @@ A *subject* is one rule tried with one object:
 The other objects respect the rule's `free` set: each stands where the
 scene puts it (or where a given state does, `placement`) unless that place
 is in `free` or is one of the rule's two places, in which case it is
-removed.  (Slides are tried with the slid object alone, as `slide_trial`
+removed (an object at Else stands on its own pose in the scene, which is
+an Else sample's when it lies within `POSITION` of one).  (Slides are tried with the slid object alone, as `slide_trial`
 builds its world: removing every other object respects any `free` set.)
 A location that rests on other objects (the arch's `top`) is supported
 only if the placement puts them there: with the scene's initial placement
@@ -39,7 +40,7 @@ from dataclasses import dataclass, field
 
 from symsynth.errors import SymsynthError
 from symsynth.execution.hand_motions import Approaches
-from symsynth.execution.observe import POSITION, distance
+from symsynth.execution.observe import POSITION, distance, place_at
 from symsynth.execution.physics import PhysicsWorld, Randomization
 from symsynth.execution.trial import slide_trial
 from symsynth.game.abstraction import Move, State
@@ -160,10 +161,13 @@ def trial_scene(scene: Scene, subject: Subject, placement: Mapping[str, str]) ->
     """The scene of one trial: the subject's object on its start, the others
     where `placement` puts them unless the rule needs that place free."""
     taken = subject.rule.free | {subject.start, subject.goal}
-    specs = {o.name: o for o in scene.objects}
+    specs, initial = {o.name: o for o in scene.objects}, geometry_of(scene).initial
     objects = [dataclasses.replace(specs[subject.obj], at=subject.start)]
-    objects += [dataclasses.replace(specs[name], at=at) for name, at in placement.items()
-                if name != subject.obj and at not in taken]
+    for name, at in placement.items():
+        # an object at Else stands on its scene pose, which may be an Else sample's
+        where = place_at(scene, initial[name]) if at == ELSE and name in initial else at
+        if name != subject.obj and where not in taken:
+            objects.append(dataclasses.replace(specs[name], at=at))
     return dataclasses.replace(scene, objects=tuple(objects), task=None)
 
 
