@@ -14,11 +14,12 @@ from symsynth.cli import options
 from symsynth.cli.progress import bar
 from symsynth.cli.simulate import _randomization
 from symsynth.errors import InputError
+from symsynth.execution.observe import place_at
 from symsynth.execution.rule_trials import Rate, Subject, rates, state_placement, subjects
 from symsynth.game.abstraction import costmap_of, initial_state, legal_robot_moves, motion_rule, slide_rule
 from symsynth.planning.protocol import Planner
 from symsynth.scene.costmap import Costmap
-from symsynth.scene.model import Scene
+from symsynth.scene.model import ELSE, Scene, geometry_of
 
 #: The worst subjects named under the table.
 WORST = 5
@@ -84,15 +85,38 @@ def play_subjects(scene: Scene, steps: Any) -> Chosen:
     every = {(s.kind, s.key, s.index, s.obj): s for s in subjects(scene, costmap)}
     found: Chosen = []
     v = initial_state(scene)
+    # the held object: the place it was grabbed at, the paths followed since, the place it is over
+    carried: tuple[str, tuple, str] | None = None
     for step in steps:
         if step.who == "robot":
             move = next((m for m in legal_robot_moves(scene, v) if m.action == step.action), None)
+            if move is not None and move.kind == "grab":
+                rest = _resting_place(scene, move.obj, move.location)
+                carried = None if rest is None else (rest, (), rest)
             if move is not None and move.kind in ("transfer", "slide"):
-                for subject in _used(scene, costmap, v, move, every):
+                used = _used(scene, costmap, v, move, every)
+                if move.kind == "transfer" and carried is not None:
+                    rest, lead, here = carried
+                    on = [s for s in used if s.start == here]
+                    if lead:  # carried on from an earlier transfer: tried from the grab
+                        used = [dataclasses.replace(s, rest=rest, lead=lead) if s.start == here else s
+                                for s in used]
+                    carried = (rest, lead + (on[0].rule.path or ()), on[0].goal) if on else None
+                for subject in used:
                     if all(subject != s for s, _ in found):
                         found.append((subject, state_placement(scene, v)))
         v = step.state
     return found
+
+
+def _resting_place(scene: Scene, obj: str, location: str) -> str | None:
+    """The place where a grab takes `obj` standing at `location`: the
+    location, or, at Else, the Else sample its scene pose lies on (None
+    when that is none)."""
+    if location != ELSE:
+        return location
+    pose = geometry_of(scene).initial.get(obj)
+    return None if pose is None else place_at(scene, pose)
 
 
 def _used(scene: Scene, costmap: Costmap, v: Any, move: Any, every: Mapping) -> list[Subject]:

@@ -10,7 +10,11 @@ A *subject* is one rule tried with one object:
   lifted: within `POSITION` of where the grasp puts it in the hand, at
   least half the approach above `x`), the robot follows the rule's evidence
   path holding it, and the `drop` primitive sets it down on `y`, where it
-  must settle within `POSITION` (the observation's tolerance).  So the
+  must settle within `POSITION` (the observation's tolerance).  A
+  principal play's transfer that starts with the object already in the
+  hand (carried on from an earlier transfer) is tried from the grab: the
+  object grabbed where the play grabbed it, the earlier transfers' paths
+  followed first (`Subject.rest`, `Subject.lead`).  So the
   grab, the carry and the drop of the rule are tried together, and the
   grab's own rate is kept apart (`Rate.grabs`).
 - a **slide** rule (contact `a`, from location `x` to `y`): `slide_trial`
@@ -44,7 +48,7 @@ from symsynth.execution.observe import POSITION, distance, place_at
 from symsynth.execution.physics import PhysicsWorld, Randomization
 from symsynth.execution.trial import slide_trial
 from symsynth.game.abstraction import Move, State
-from symsynth.planning.protocol import Planner
+from symsynth.planning.protocol import Config, Planner
 from symsynth.primitive_registry import prehensile_primitives
 from symsynth.scene.costmap import Costmap, Rule
 from symsynth.scene.model import ELSE, EMPTY, HAND, Scene, geometry_of
@@ -66,10 +70,18 @@ class Subject:
     start: str  # places: locations or Else samples
     goal: str
     rule: Rule = field(compare=False)
+    #: Transfers: where the object is grabbed, when not at `start` (a play's
+    #: transfer that starts holding it, e.g. above a place where it cannot
+    #: rest), and the configurations from that place's anchor to the rule's
+    #: first one (the play's earlier transfers while holding it).
+    rest: str | None = None
+    lead: tuple[Config, ...] = field(default=(), compare=False)
 
     @property
     def label(self) -> str:
         what = f"{self.kind} {self.key[0]} {self.key[1]} -> {self.key[2]} #{self.index}"
+        if self.rest is not None:
+            what += f" (grabbed at {self.rest})"
         return what if self.kind == "transfer" else f"{what} ({self.obj})"
 
 
@@ -160,9 +172,10 @@ def state_placement(scene: Scene, state: State) -> dict[str, str]:
 def trial_scene(scene: Scene, subject: Subject, placement: Mapping[str, str]) -> Scene:
     """The scene of one trial: the subject's object on its start, the others
     where `placement` puts them unless the rule needs that place free."""
-    taken = subject.rule.free | {subject.start, subject.goal}
+    rest = subject.start if subject.rest is None else subject.rest
+    taken = subject.rule.free | {subject.start, subject.goal, rest}
     specs, initial = {o.name: o for o in scene.objects}, geometry_of(scene).initial
-    objects = [dataclasses.replace(specs[subject.obj], at=subject.start)]
+    objects = [dataclasses.replace(specs[subject.obj], at=rest)]
     for name, at in placement.items():
         # an object at Else stands on its scene pose, which may be an Else sample's
         where = place_at(scene, initial[name]) if at == ELSE and name in initial else at
@@ -178,22 +191,22 @@ def transfer_trial(scene: Scene, planner: Planner, subject: Subject, placement: 
     geometry = geometry_of(scene)
     grab, drop = prehensile_primitives()
     obj, grasp, goal = subject.obj, subject.hold, subject.goal
-    path = subject.rule.path or ()
+    path, rest = subject.rule.path or (), subject.start if subject.rest is None else subject.rest
     world = PhysicsWorld(trial_scene(scene, subject, placement), randomization=randomization, seed=seed)
     try:
-        world.set_config(path[0])
+        world.set_config((subject.lead or path)[0])
         world.settle()
         approaches = Approaches(planner)
         before = world.poses[obj].xyz[2]
-        grabbed = State((HAND,), grasp, subject.start)
+        grabbed = State((HAND,), grasp, rest)
         try:
-            grab.execute(world, approaches, Move("grab", f"grab({obj})", obj, 0, grasp, subject.start, grabbed))
+            grab.execute(world, approaches, Move("grab", f"grab({obj})", obj, 0, grasp, rest, grabbed))
         except SymsynthError as error:
             return Tried(False, float("inf"), f"grab failed: {error}", False)
         held = _held(world, obj, grasp, before)
         if held:
             return Tried(False, float("inf"), f"grab: {held}", False)
-        world.follow(path)
+        world.follow(subject.lead + path)
         if world.held != obj or _held(world, obj, grasp, before):
             return Tried(False, distance(world.poses[obj], geometry.places[goal]), "slipped during the transfer",
                          True)
