@@ -10,6 +10,7 @@ closes on nothing.  Small sizes: 60-vertex roadmaps, the start-goal method.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -138,8 +139,8 @@ task: F(at(b, l2))
 """
 
 
-def carry(grasp_height: float):
-    scene = scene_from_data(yaml.safe_load(BLOCK.replace("GRASP", str(grasp_height))))
+def carry(grasp_height: float, text: str = BLOCK):
+    scene = scene_from_data(yaml.safe_load(text.replace("GRASP", str(grasp_height))))
     planner = planner_class("ompl-fcl")(scene)
     costmap = obtain_costmap(scene, "sg", use_cache=False, progress=False).costmap
     subject = next(s for s in subjects(scene, costmap) if s.key == ("b/top", "l1/top", "l2/top"))
@@ -194,3 +195,29 @@ def test_an_object_at_else_on_an_else_sample_makes_way_for_a_rule_through_it():
 
     assert others("e1") == {"w2": "e1", "w1": "table1"}
     assert others("table2") == {"w2": "table2", "w1": "table1", "b": "Else"}
+
+
+def test_a_play_s_transfer_that_starts_holding_the_object_is_tried_from_the_grab(cache):
+    """A play that grabs b on l1, carries it to l3 and on to l2 (as after a
+    human's move) tries l1 -> l3 from the grab on l1, and l3 -> l2 from the
+    same grab with l1 -> l3's path followed first: b never rests on l3."""
+    from symsynth.cli.physical import play_subjects
+    from symsynth.game.abstraction import initial_state, legal_robot_moves
+    from symsynth.game.solution import Step
+
+    alone = BLOCK.replace("  c: {tags: [block], box: [0.04, 0.04, 0.06], at: l3}\n", "")
+    scene, _, _ = carry(0.1434, alone)
+    costmap = obtain_costmap(scene, "sg", use_cache=False, progress=False).costmap
+    scene = dataclasses.replace(scene, costmap=costmap)
+    steps, v = [], initial_state(scene)
+    for action in ("transit(b,top)", "grab(b)", "transfer(l3)", "transfer(l2)", "drop(b,l2)"):
+        move = next(m for m in legal_robot_moves(scene, v) if m.action == action)
+        steps.append(Step("robot", action, 0.0, move.after))
+        v = move.after
+    (first, _), (second, placement) = play_subjects(scene, steps)
+    assert (first.key, first.rest, first.lead) == (("b/top", "l1/top", "l3/top"), None, ())
+    assert (second.key, second.rest) == (("b/top", "l3/top", "l2/top"), "l1")
+    (l1_l3,) = costmap.rules("b/top", "l1/top", "l3/top")
+    assert second.lead == l1_l3.path and placement == {}
+    (rate,) = rates(scene, planner_class("ompl-fcl")(scene), [second], 1, placement=placement)
+    assert rate.successes == 1
