@@ -63,19 +63,18 @@ def _fraction(text: str) -> float:
 
 def check(args: argparse.Namespace, verify: bool) -> None:
     """Options that belong together, before anything is computed."""
-    physical = args.physics if verify else args.min_success is not None
-    if not physical:
-        used = [o for o, v in (("--trials", args.trials), ("--randomize", args.randomize),
-                               ("--play", args.play or None), ("--min-success", args.min_success))
-                if v is not None]
-        if args.physics and not verify:
-            used.insert(0, "--physics")
-        if used:
-            raise InputError(f"{', '.join(used)}: only with "
-                             + ("costmap verify --physics" if verify else
-                                "--min-success P (or costmap verify --physics)"))
+    if not verify and args.physics:
+        raise InputError("--physics: only with costmap verify FILE --scene SCENE (to leave out of a costmap the "
+                         "rules that fail in the world as it is built: --min-success P)")
     if not verify and args.play:
         raise InputError("--play: only with costmap verify --physics")
+    if args.physics if verify else args.min_success is not None:
+        return
+    used = [o for o, v in (("--trials", args.trials), ("--randomize", args.randomize),
+                           ("--play", args.play or None), ("--min-success", args.min_success)) if v is not None]
+    if used:
+        raise InputError(f"{', '.join(used)}: only with "
+                         + ("costmap verify --physics" if verify else "--min-success P (or costmap verify --physics)"))
 
 
 def play_subjects(scene: Scene, steps: Any) -> Chosen:
