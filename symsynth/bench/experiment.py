@@ -10,10 +10,11 @@
     solvers: [symbolic]
     trials: 10                                # seeds 0..9 (or seeds: [...])
     limits: {seconds: 600, memory_mb: 4096}
+    worlds: [kinematic, physics]              # physical scenes: the strategy run once per seed
 
 Every list under a matrix key is one axis; the runs are the product of the
 axes and the seeds.  An abstract scene has its costmap already, so the
-costmap axes (methods, planners, roadmap_sizes) do not apply to it: its
+costmap axes (methods, planners, roadmap_sizes) and the worlds do not apply to it: its
 runs have them empty, and the product does not repeat them.  Problems are
 reported together as `file:line: key.path: message` (`ExperimentError`).
 """
@@ -74,6 +75,8 @@ SCHEMA: dict[str, Any] = {
         "roadmap_sizes": _axis({"type": "integer", "minimum": 2}),
         # on / off: YAML reads the bare words as booleans
         "contacts": _axis({"enum": [True, False, "on", "off"]}),
+        # physical scenes: the strategy also run once per seed in this world (execution.simulate)
+        "worlds": _axis({"enum": ["kinematic", "physics"]}),
         "trials": {"type": "integer", "minimum": 1, "maximum": 10_000},
         "seeds": _axis({"type": "integer", "minimum": 0}),
         "limits": {"type": "object", "additionalProperties": False,
@@ -119,6 +122,9 @@ class Run:
     #: False: the scene without its contacts (`Scene.without_contacts`),
     #: the displacement primitives off.
     contacts: bool = True
+    #: The world the strategy is then run in once (a random human, the
+    #: run's seed; physics randomized by `WORLD_RANDOMIZE`), None: not run.
+    world: str | None = None
 
     @property
     def cell(self) -> str:
@@ -134,6 +140,8 @@ class Run:
             parts.append(f"resolution={self.resolution:g}")
         if not self.contacts:
             parts.append("contacts=off")
+        if self.world is not None:
+            parts.append(f"world={self.world}")
         return " ".join(parts)
 
     @property
@@ -197,11 +205,12 @@ def load_experiment(path: str | Path) -> Experiment:
     runs: dict[str, Run] = {}
     # Seed by seed, every cell within each: a change in the machine's load falls on every cell
     # alike, and an experiment stopped early has whole trials of every cell.
-    for seed, (file, label, params, scene), method, planner, solver, k, budget, resolution, size, contacts in \
-            itertools.product(seeds, scenes, data.get("methods", ["recursive"]), data.get("planners", [None]),
-                              data.get("solvers", ["symbolic"]), data.get("k", [None]),
-                              data.get("budgets", [None]), data.get("resolutions", [1.0]),
-                              data.get("roadmap_sizes", [None]), data.get("contacts", [True])):
+    for seed, (file, label, params, scene), method, planner, solver, k, budget, resolution, size, contacts, world \
+            in itertools.product(seeds, scenes, data.get("methods", ["recursive"]), data.get("planners", [None]),
+                                 data.get("solvers", ["symbolic"]), data.get("k", [None]),
+                                 data.get("budgets", [None]), data.get("resolutions", [1.0]),
+                                 data.get("roadmap_sizes", [None]), data.get("contacts", [True]),
+                                 data.get("worlds", [None])):
         physical = scene.geometry is not None
         run = Run(file, label, params, physical, method if physical else None,
                   (planner or scene.geometry.planner.name) if physical else None, solver,
@@ -209,7 +218,7 @@ def load_experiment(path: str | Path) -> Experiment:
                   (size or scene.geometry.planner.roadmap_size) if physical else None, seed,
                   bool(data.get("cache", False)),
                   float(limits.get("seconds", DEFAULT_SECONDS)), int(limits.get("memory_mb", DEFAULT_MEMORY_MB)),
-                  contacts in (True, "on"))
+                  contacts in (True, "on"), world if physical else None)
         same = runs.setdefault(run.id, run)  # an abstract scene's runs repeat over the costmap axes
         if same.scene_file != run.scene_file:
             report.add(("scenes",), f"{same.scene_file} and {run.scene_file} have the same label and "

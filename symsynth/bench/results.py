@@ -38,6 +38,8 @@ COLUMNS = (
     "bdd_peak_nodes", "dfa_states",
     # the machine
     "peak_memory_mb", "versions", "host", "cpus", "load", "started", "seconds_run",
+    # the strategy run in a world (axis worlds: a random human, the run's seed)
+    "world", "completed", "placement_error", "state_divergences", "soundness_bugs", "seconds_simulation",
 )
 #: Columns that differ between two runs of the same cell and seed
 #: (timings, memory, the machine's state); the others must not.
@@ -163,7 +165,13 @@ def _summary(values: list[float | None], digits: int) -> str:
 
 TABLE = (("runs ok", None), ("abstraction s", "seconds_abstraction"), ("synthesis s", "seconds_synthesis"),
          ("E_p", "E_p"), ("positions", "positions"), ("BDD peak nodes", "bdd_peak_nodes"),
-         ("peak MB", "peak_memory_mb"))
+         ("peak MB", "peak_memory_mb"), ("completed", "completed"), ("placement error m", "placement_error"))
+
+
+#: Digits shown of a column's mean (the others: 2 for seconds, else 0).
+DIGITS = {"peak_memory_mb": 1, "completed": 2, "placement_error": 4}
+#: Columns a run may leave empty (a cached costmap, no world): "—" when all do.
+OPTIONAL = ("seconds_abstraction", "completed", "placement_error")
 
 
 def markdown_table(rows: list[dict[str, str]], cells: Iterable[str]) -> str:
@@ -183,8 +191,8 @@ def markdown_table(rows: list[dict[str, str]], cells: Iterable[str]) -> str:
         count = f"{len(ok)}/{len(runs)}" + "".join(f" ({n} {s})" for s, n in sorted(failed.items()))
         values = [count]
         for _, column in TABLE[1:]:
-            digits = 2 if column.startswith("seconds") else (1 if column == "peak_memory_mb" else 0)
-            if column == "seconds_abstraction" and all(r[column] == "" for r in ok):
+            digits = DIGITS.get(column, 2 if column.startswith("seconds") else 0)
+            if column in OPTIONAL and all(r[column] == "" for r in ok):
                 values.append("—")
                 continue
             values.append(_summary([number(r[column]) for r in ok], digits))

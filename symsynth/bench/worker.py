@@ -137,6 +137,8 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
             "bdd_peak_nodes": solution.stats.get("peak_nodes"),
             "synthesis_phases": {name: round(s, 6) for name, s in solution.seconds.items()},
             "versions": versions(planner)}
+    if run.get("world") is not None and solution.cost_bound is not None:
+        row |= in_world(problem, run)
     return row
 
 
@@ -148,6 +150,29 @@ def scene_of(run: dict[str, Any]) -> Scene:
     from symsynth.scene import load_scene
 
     return load_scene(run["scene_file"])
+
+
+#: The randomization of a run in the physical world (`Run.world`).
+WORLD_RANDOMIZE = "friction=0.2,mass=0.2,pose=0.005"
+
+
+def in_world(problem: Any, run: dict[str, Any]) -> dict[str, Any]:
+    """The solved strategy run once in `run["world"]` against a random
+    human (seed: the run's): whether it completed, the placement error at
+    the end (metres), the `state` divergences (where the world did not do
+    what the abstraction says) and soundness bugs."""
+    from symsynth.execution.physics import Randomization
+    from symsynth.problem import simulate
+
+    clock = time.perf_counter()
+    physical = run["world"] == "physics"
+    done = simulate(problem, "random", solver=run["solver"], seed=run["seed"], progress=False,
+                    world=run["world"], randomization=Randomization.parse(WORLD_RANDOMIZE) if physical else None)
+    (played,) = done.runs
+    return {"completed": int(played.completed), "placement_error": played.placement_error,
+            "state_divergences": sum(d.kind == "state" for d in played.divergences),
+            "soundness_bugs": sum(bool(d.soundness) for d in played.divergences),
+            "seconds_simulation": time.perf_counter() - clock}
 
 
 def peak_memory_mb() -> float:

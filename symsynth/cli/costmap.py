@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 from pathlib import Path
 
-from symsynth.cli import options
+from symsynth.cli import options, physical
 from symsynth.cli.options import check_writable
 from symsynth.errors import InputError
 from symsynth.game.abstraction import costmap_of
@@ -48,6 +49,21 @@ checked with the planner that built the costmap, which the file records
 recorded one is refused, since every path would miss its anchors.
 Exit status 1 if a path fails (a bug in a planner or the algorithms).
 
+  symsynth costmap verify FILE --scene SCENE --physics [--trials N] [--randomize ...] [--seed S] [--play]
+
+tries every transfer and slide rule in the physical world instead, N times
+(seeds S..S+N-1): grab held and lifted, carried along the evidence path,
+dropped and settled within 1 cm of the target; a slide ending within 1 cm,
+moved only by contact.  The other objects stand where the scene (--play: the
+principal play's state) puts them, except where the rule needs a place free.
+A table of success rates, the worst named; exit status 1 when a rule
+succeeds less often than --min-success (default 0.9).
+
+  symsynth costmap SCENE --min-success P [--trials N] -o FILE
+
+writes the costmap without the rules that succeed less often than P in
+the physical world (docs/costmaps.md).
+
 Planners: {', '.join(planner_names()) or 'none installed'} (entry points 'symsynth.planners';
 default {DEFAULT})."""
 
@@ -66,6 +82,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     options.add_executor(parser, "roadmaps built at once (default: one per core)")
     options.add_costmap_options(parser, planner_help=options.PLANNER_HELP[:-1]
                                 + "; with verify: the one the costmap records)")
+    physical.add_options(parser)
     parser.set_defaults(run=run)
 
 
@@ -73,6 +90,7 @@ def run(args: argparse.Namespace) -> int:
     if args.target[0] == "verify":
         if len(args.target) != 2 or args.scene is None:
             raise InputError("usage: symsynth costmap verify FILE --scene SCENE")
+        physical.check(args, verify=True)
         return _verify(Path(args.target[1]), args)
     if len(args.target) != 1:
         raise InputError(f"expected one scene file, found {len(args.target)} arguments "
@@ -81,21 +99,32 @@ def run(args: argparse.Namespace) -> int:
     if scene.geometry is None:
         raise InputError(f"{args.target[0]}: an abstract scene (no 'robot' key): its costmap is given, "
                          "not computed")
+    physical.check(args, verify=False)
+    if args.min_success is not None and args.output is None:
+        raise InputError("--min-success writes the costmap without the failing rules to -o FILE (the cache keeps "
+                         "the planner's own): add -o FILE, then solve with --costmap FILE")
     if args.output is not None:  # before the planning, which takes a while
         check_writable(args.output, "costmap file", inputs=(Path(args.target[0]),))
     executor = None if args.executor == "local" and args.jobs is None else options.executor(args)
     request = options.costmap_request(args)
     got = obtain_costmap(scene, request.method, request.planner, request.seed, use_cache=request.use_cache,
                          executor=executor)
+    costmap, found = got.costmap, None
+    if args.min_success is not None:
+        costmap, found = physical.filtered(dataclasses.replace(scene, costmap=costmap),
+                                           planner_class(got.planner)(scene), args)
     if args.output is not None:
-        write_costmap(got.costmap, args.output)
+        write_costmap(costmap, args.output)
     written = args.output or got.path
     summary = {
         "scene": scene.name, "method": got.method, "planner": got.planner, "seed": got.seed,
         "cached": got.cached, "file": None if written is None else str(written),
-        "motions": len(got.costmap.motions), "slides": len(got.costmap.slides),
-        "rules": sum(1 for _ in got.costmap.all_rules()), "absent": sorted(got.costmap.absent),
+        "motions": len(costmap.motions), "slides": len(costmap.slides),
+        "rules": sum(1 for _ in costmap.all_rules()), "absent": sorted(got.costmap.absent),
     }
+    done = None if found is None else physical.summary(found, args, got.costmap, costmap)
+    if done is not None:
+        summary["physics"] = done
     if got.stats is not None:
         summary |= {"seconds": {k: round(v, 3) for k, v in got.stats.seconds.items()},
                     "wall_seconds": round(got.stats.wall, 3),
@@ -117,6 +146,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"roadmaps   {s.roadmaps} ({s.vertices} vertices, {s.edges} edges)")
         print(f"seconds    {s.wall:.2f} on the clock; per phase, summed over {s.workers} "
               f"process{'es' * (s.workers != 1)}: {phases}")
+    if done is not None:
+        print(physical.summary_line(done))
     print(f"file       {summary['file'] or 'none written (--no-cache without -o FILE)'}")
     return 0
 
@@ -138,6 +169,8 @@ def _verify(path: Path, args: argparse.Namespace) -> int:
     if built is not None and built.check_step is not None:
         step = min(step, built.check_step)
     step /= 4
+    if args.physics:
+        return physical.verify(scene, planner, str(path), args)
     checked, failures = verify_costmap(costmap, scene, planner, step)
     for failure in failures[:20]:
         print(f"FAIL {failure}")

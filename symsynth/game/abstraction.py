@@ -281,6 +281,17 @@ def slide_rule(scene: Scene, v: State, move: Move) -> Rule | None:
     return min(satisfied, key=lambda r: r.cost, default=None)
 
 
+def motion_rule(scene: Scene, v: State, move: Move, start: str, goal: str) -> Rule | None:
+    """The rule that gives a transit or transfer from `v` between anchors
+    `start` and `goal` its cost (the least-cost satisfied one); None when
+    none is satisfied."""
+    if move.mode is None:
+        return None
+    free = _free_for(scene, v, move.serves)
+    satisfied = [r for r in costmap_of(scene).rules(move.mode, start, goal) if r.free <= free]
+    return min(satisfied, key=lambda r: r.cost, default=None)
+
+
 def slide_cost(costmap: Costmap, contact: str, start: str, goal: str, free: frozenset[str]) -> float:
     """`slide(a, l, l', v, o)` when the places that count as free are `free`:
     the least cost of a satisfied slide rule, inf when none is."""

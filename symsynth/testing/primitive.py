@@ -20,11 +20,23 @@ by the plugin:
   leaves the object on the goal's pose, the hand empty, and reports the
   path it followed.
 
+In the physical world (`execution.physics`), unless the suite is given
+`physical=False`: each of its slides, executed by the plugin in a world of
+its own (`execution.trial.slide_trial`, the object alone) with seeded
+randomization (`RANDOMIZE`, seeds 0..`TRIALS`-1), ends with the object
+within the observation's tolerance of the goal in at least `PASSING` of
+`TRIALS` trials, and never moves it while nothing of the robot touches it
+(`rule_trials.UNTOUCHED`): a plugin that sets the object's pose (the
+kinematic world's way) fails, however exactly it aims.
+
 A prehensile primitive, on a block standing in the open (the planner
 suite's `single` scene): `holds` and `reaches` answer a bool, the same one
 twice; the primitive that carries out the game's `grab` closes the hand on
 the block and returns to its anchor, the one for `drop` sets the held block
-down on its place and empties the hand.
+down on its place and empties the hand; in the physical world, the two
+together (grab, then drop on the same place) hold and lift the block with
+the fingers and set it down within the tolerance in at least `PASSING`
+of `TRIALS` randomized trials.
 """
 
 from __future__ import annotations
@@ -37,6 +49,9 @@ from typing import Any
 import numpy as np
 
 from symsynth.execution.hand_motions import Approaches
+from symsynth.execution.observe import POSITION
+from symsynth.execution.physics import Randomization
+from symsynth.execution.rule_trials import Rate, Subject, rates, slide_tried
 from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import Move, State
 from symsynth.planning.anchors import anchor_configs
@@ -45,11 +60,15 @@ from symsynth.planning.protocol import Mode, Planner
 from symsynth.planning.registry import planner_class
 from symsynth.primitive_registry import primitive
 from symsynth.scene import load_scene
+from symsynth.scene.costmap import Rule
 from symsynth.scene.model import HAND, Scene
 from symsynth.testing import Conformance
 
 #: How near a dropped object must stand to its place (metres, radians).
 PLACED = (1e-6, 1e-6)
+#: The physical test: randomized trials, and how many must succeed.
+TRIALS, PASSING = 10, 9
+RANDOMIZE = Randomization(friction=0.2, mass=0.2, pose=0.005)
 
 
 class PrimitiveConformance(Conformance):
@@ -57,13 +76,21 @@ class PrimitiveConformance(Conformance):
     displacement primitive: give an absolute path, e.g. next to the test
     file), `contact` (the contact of that scene that uses the primitive),
     `slides` (the (from, to) pairs of locations expected, optional) and
-    `planners` (default: the scene's own)."""
+    `planners` (default: the scene's own), `physical` (default True: the
+    physical test, module doc; False leaves it out, for a primitive meant
+    for the kinematic world only)."""
 
-    OPTIONS = ("scene", "contact", "slides", "planners")
+    OPTIONS = ("scene", "contact", "slides", "planners", "physical")
     scene: str | Path | None = None
     contact: str | None = None
     slides: set[tuple[str, str]] | None = None
     planners: tuple[str, ...] | None = None
+    physical: bool = True
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if not cls.physical:  # not collected: no test that passes by checking nothing
+            cls.test_it_does_in_the_world_what_it_claims = None  # type: ignore[assignment,method-assign]
 
     def test_the_registry_loads_it_under_its_name(self):
         plugin = primitive(self.name)  # the registry checks the kind and the members
@@ -86,6 +113,58 @@ class PrimitiveConformance(Conformance):
             found = check_displacement(plugin, scene, planner_class(name)(scene), self.contact)
             if self.slides is not None:
                 assert {(r.start, r.goal) for r in found} == set(self.slides), name
+
+
+    def test_it_does_in_the_world_what_it_claims(self):
+        plugin = primitive(self.name)
+        if plugin.kind == "prehensile":
+            from symsynth.testing.planner import scene as suite_scene
+
+            block = suite_scene("single")
+            check_prehensile_physics(plugin, block, planner_class((self.planners or ("ompl-fcl",))[0])(block))
+            return
+        assert self.scene is not None and self.contact is not None, \
+            f"the displacement primitive {self.name!r} needs conformance(..., scene=FILE, contact=NAME)"
+        scene = load_scene(self.scene)
+        assert scene.geometry is not None, f"{self.scene}: a primitive acts in physical scenes only"
+        check_displacement_physics(plugin, scene, planner_class(scene.geometry.planner.name)(scene), self.contact)
+
+
+def check_displacement_physics(plugin: Any, scene: Scene, planner: Planner, contact: str) -> list[Rate]:
+    """The physical clause of the module doc for each of the plugin's slides
+    of `contact`, the object the one `_check_slide` takes; the rates."""
+    found = []
+    for rule in plugin.slides(scene, planner, contact, anchor_configs(planner, scene)):
+        obj = ([o for o in scene.objects if o.at == rule.start] or list(scene.objects[:1]))[0].name
+        subject = Subject("slide", (contact, rule.start, rule.goal), 0, obj, contact, rule.start, rule.goal,
+                          Rule(rule.free, rule.cost, rule.path))
+        tried = tuple(slide_tried(scene, subject, randomization=RANDOMIZE, seed=seed, primitive=plugin)
+                      for seed in range(TRIALS))
+        moved = [t.reason for t in tried if "nothing touched" in t.reason]
+        assert not moved, f"{plugin.name}: slide {rule.start} -> {rule.goal} {moved[0]} (a pose set, not a push)"
+        rate = Rate(subject, tried)
+        assert rate.successes >= PASSING, \
+            (f"{plugin.name}: slide {rule.start} -> {rule.goal} ended within {POSITION} m of {rule.goal} in "
+             f"{rate.successes} of {TRIALS} physical trials (at least {PASSING} needed; worst "
+             f"{rate.worst_error:.3f} m off)")
+        found.append(rate)
+    return found
+
+
+def check_prehensile_physics(plugin: Any, scene: Scene, planner: Planner) -> Rate | None:
+    """The physical clause for the game's grab and drop: grab the block
+    where it stands and drop it there again, `TRIALS` randomized times;
+    None for a prehensile primitive the game does not carry out."""
+    if plugin.name not in ("grab", "drop"):
+        return None
+    (obj,), (grasp,) = scene.objects, scene.grasps
+    anchor = tuple(anchor_configs(planner, scene)[f"{obj.at}/{grasp}"])
+    subject = Subject("transfer", (f"{obj.name}/{grasp}", f"{obj.at}/{grasp}", f"{obj.at}/{grasp}"), 0, obj.name,
+                      grasp, obj.at, obj.at, Rule(frozenset(), 0.0, (anchor,)))
+    (rate,) = rates(scene, planner, [subject], TRIALS, randomization=RANDOMIZE)
+    assert rate.successes >= PASSING, (f"{plugin.name}: grab and drop of {obj.name} at {obj.at} succeeded in "
+                                       f"{rate.successes} of {TRIALS} physical trials ({'; '.join(rate.reasons)})")
+    return rate
 
 
 def check_displacement(plugin: Any, scene: Scene, planner: Planner, contact: str) -> list[SlideRule]:
