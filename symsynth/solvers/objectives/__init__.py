@@ -195,9 +195,13 @@ def _expected(arena: Arena, vh: np.ndarray, top: int, cost_bound: float | None, 
         raise OutOfReach(f"the expectation would be computed at {entries} (position, budget) pairs, more than "
                          f"{MAX_ENTRIES}; give a budget closer to E_p or a coarser --resolution")
     levels = np.lexsort((arena.rval, arena.layer)).astype(np.int64)
-    X, Y, choice, xo, xlo, yo, ylo = kernels.expected(
-        np.int64(units), arena.layer, arena.hflag, arena.r_off, arena.r_tgt, arena.r_units, arena.rval, vh, dr,
-        dh, arena.stay, arena.h_off, arena.h_tgt, arena.h_prob, levels)
+    args = (arena.layer, arena.hflag, arena.r_off, arena.r_tgt, arena.r_units, arena.rval, vh, dr, dh,
+            arena.stay, arena.h_off, arena.h_tgt, arena.h_prob, levels)
+    least = int(arena.r_units.min()) if len(arena.r_units) else 1
+    if least > 0:  # no zero-cost move: `least` levels at a time
+        X, Y, choice, xo, xlo, yo, ylo = kernels.expected_chunked(np.int64(units), np.int64(min(least, 64)), *args)
+    else:
+        X, Y, choice, xo, xlo, yo, ylo = kernels.expected(np.int64(units), *args)
     value = float(Y[yo[0] + units - ylo[0]])
     seconds["expected"] = time.perf_counter() - clock
     clock = time.perf_counter()

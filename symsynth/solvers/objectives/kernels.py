@@ -18,7 +18,7 @@ from __future__ import annotations
 import heapq
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 INF = np.int64(1 << 60)
 
@@ -348,3 +348,88 @@ def truncated(B, rounds, hflag, r_tgt, r_units, rval, stay, h_off, h_tgt, h_prob
                     new[s] = c + v
         g, new = new, g
     return -1, bound
+
+
+@njit(cache=True, parallel=True)
+def expected_chunked(B, step, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, stay, h_off, h_tgt, h_prob,
+                     levels):
+    """`expected` for games without zero-cost moves, `step` levels at a time
+    (`step` <= the least cost of a move, in units): a move then reads only
+    levels below the chunk, so each node's budgets in the chunk are computed
+    together, reading each target's values as one run, and the nodes of a
+    layer on numba's threads.  Same values, same choices, same layout."""
+    n = len(layer)
+    xlo = rval.copy()
+    xhi = B - dr
+    ylo = vh
+    yhi = B - dh
+    xo = np.zeros(n + 1, np.int64)
+    yo = np.zeros(n + 1, np.int64)
+    for i in range(n):
+        xo[i + 1] = xo[i] + max(0, xhi[i] - xlo[i] + 1) if xlo[i] < INF and dr[i] < INF else xo[i]
+        yo[i + 1] = yo[i] + max(0, yhi[i] - ylo[i] + 1) if hflag[i] and ylo[i] < INF and dh[i] < INF else yo[i]
+    X = np.full(xo[n], np.inf)
+    Y = np.full(yo[n], np.inf)
+    choice = np.full(xo[n], -1, np.int32)
+    K = 0
+    for i in range(n):
+        K = max(K, layer[i])
+    cut = np.zeros(K + 2, np.int64)
+    for i in range(n):
+        cut[layer[i] + 1] += 1
+    for h in range(K + 1):
+        cut[h + 1] += cut[h]
+    nxt = cut[:K + 1].copy()
+    act = np.empty(n, np.int64)
+    cnt = np.zeros(K + 1, np.int64)
+    for b0 in range(0, B + 1, step):
+        b1 = min(b0 + step, B + 1)
+        for h in range(K + 1):
+            base = cut[h]
+            while nxt[h] < cut[h + 1] and xlo[levels[nxt[h]]] < b1:
+                i = levels[nxt[h]]
+                nxt[h] += 1
+                if xo[i + 1] > xo[i]:
+                    act[base + cnt[h]] = i
+                    cnt[h] += 1
+            kept = 0
+            for a in range(cnt[h]):
+                i = act[base + a]
+                if xhi[i] >= b0:
+                    act[base + kept] = i
+                    kept += 1
+            cnt[h] = kept
+            for a in prange(kept):
+                i = act[base + a]
+                lo = max(b0, xlo[i])
+                hi = min(b1 - 1, xhi[i])
+                for e in range(r_off[i], r_off[i + 1]):
+                    c = r_units[e]
+                    t = r_tgt[e]
+                    for b in range(lo, hi + 1):
+                        s = xo[i] + b - xlo[i]
+                        if t < 0:
+                            if c <= b and c < X[s]:
+                                X[s] = c
+                                choice[s] = e
+                        elif c + vh[t] <= b:
+                            y = c + Y[yo[t] + b - c - ylo[t]]
+                            if y < X[s]:
+                                X[s] = y
+                                choice[s] = e
+            for a in prange(kept):
+                i = act[base + a]
+                if not hflag[i]:
+                    continue
+                lo = max(b0, ylo[i])
+                hi = min(b1 - 1, yhi[i])
+                for b in range(lo, hi + 1):
+                    Y[yo[i] + b - ylo[i]] = stay[i] * X[xo[i] + b - xlo[i]]
+                for e in range(h_off[i], h_off[i + 1]):
+                    j = h_tgt[e]
+                    p = h_prob[e]
+                    if j >= 0 and p > 0.0:
+                        for b in range(lo, hi + 1):
+                            Y[yo[i] + b - ylo[i]] += p * X[xo[j] + b - xlo[j]]
+    return X, Y, choice, xo, xlo, yo, ylo
+
