@@ -433,3 +433,41 @@ def expected_chunked(B, step, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr,
                             Y[yo[i] + b - ylo[i]] += p * X[xo[j] + b - xlo[j]]
     return X, Y, choice, xo, xlo, yo, ylo
 
+
+
+@njit(cache=True)
+def markov(node_choice, stay, r_tgt, r_units, h_off, h_tgt, h_prob, finish):
+    """A strategy that plays node_choice[i] at every robot turn i (-1: none,
+    the play ends unwon), against the model: with `finish`, the probability
+    of winning from each robot turn (value iteration from 0, the least
+    fixpoint); else the expected cost (from 0 too, which is the cost of a
+    strategy that wins with probability 1 and never circles at zero cost,
+    like the worst-case one).  Iterated until no value moves by 1e-13."""
+    n = len(node_choice)
+    x = np.zeros(n)
+    for _ in range(1_000_000):
+        moved = 0.0
+        for i in range(n):
+            e = node_choice[i]
+            if e < 0:
+                continue
+            t = r_tgt[e]
+            if t < 0:
+                y = 1.0 if finish else float(r_units[e])
+            else:
+                y = stay[t] * x[t]
+                for f in range(h_off[t], h_off[t + 1]):
+                    j = h_tgt[f]
+                    if h_prob[f] > 0.0 and j >= 0:
+                        y += h_prob[f] * x[j]
+                    elif h_prob[f] > 0.0 and finish:
+                        y += h_prob[f]  # a move that wins
+                if not finish:
+                    y += r_units[e]
+            d = abs(y - x[i])
+            if d > moved:
+                moved = d
+            x[i] = y
+        if moved <= 1e-13:
+            break
+    return x
