@@ -83,11 +83,9 @@ def _runs(s: ObjectiveSolution, humans: tuple[str, ...], count: int, seed: int) 
     if s.objective == "expected":
         out["every human"] = {"max_cost": check_expected(s.strategy(), budget) * r}
         out["worst-case strategy"] = {"expected_cost": exact(arena, arena.wchoice, False) * r}
-    elif coop is not None:
-        rc = s.tables[0] if s.tables is not None else None
-        choice = best_effort_choice(arena, s.tables[2], rc) if s.tables is not None else None
-        if choice is not None:
-            out["random"]["finish_probability"] = exact(arena, choice, True)
+    elif s.tables is not None and "random" in out:
+        rc, _, moves, _ = s.tables
+        out["random"]["finish_probability"] = exact(arena, best_effort_choice(arena, moves, rc), True)
     return out
 
 
