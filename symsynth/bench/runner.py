@@ -35,7 +35,8 @@ def run_row(run: Run, measured: dict[str, Any]) -> dict[str, Any]:
     return {"run": run.id, "cell": run.cell, "label": run.label, "params": run.params,
             "scene_file": run.scene_file, "seed": run.seed, "method": run.method, "planner": run.planner,
             "solver": run.solver, "k": run.k, "budget": run.budget, "resolution": run.resolution,
-            "roadmap_size": run.roadmap_size, "contacts": "on" if run.contacts else "off"} | measured
+            "roadmap_size": run.roadmap_size, "contacts": "on" if run.contacts else "off",
+            "objective": run.objective, "human_model": run.human_model} | measured
 
 
 def _timed(spec: dict[str, Any]) -> dict[str, Any]:

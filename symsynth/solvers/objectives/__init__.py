@@ -226,3 +226,25 @@ def _entries(low: np.ndarray, dist: np.ndarray, units: int) -> int:
     """How many budgets low..units - dist there are, summed over the turns."""
     ok = (low < INF) & (dist < INF)
     return int(np.maximum(0, units - dist[ok] - low[ok] + 1).sum())
+
+
+def prepare() -> None:
+    """Compile (or load from numba's cache) the kernels of both objectives by
+    solving a two-location game once: comparison runs call it before their
+    clock starts, as `symsynth.solvers.prepare` does for the solvers."""
+    from fractions import Fraction
+
+    from symsynth.game.human_model import RandomModel
+    from symsynth.scene.load import scene_from_data
+
+    anchors = ["home", "l1/top", "l2/top", "e1/top"]
+    for wait in (0, 1):  # a zero-cost move or none: both ways of computing the expectation
+        motions = [{"mode": mode, "from": a, "to": b, "rules": [{"free": [], "cost": wait if a == "e1/top" else 2}]}
+                   for mode in ("empty", "b/top") for a in anchors for b in anchors[1:] if a != b]
+        scene = scene_from_data({"name": "prepare-objectives", "objects": {"b": {"at": "l1"}},
+                                 "locations": ["l1", "l2"], "else_samples": ["e1"], "grasps": ["top"],
+                                 "human": {"k": 1}, "task": "F(at(b, l2))",
+                                 "costmap": {"format": "symsynth.costmap/1", "motions": motions}})
+        for solver in ("explicit", "compiled"):
+            solve_objective(scene, objective="expected", model=RandomModel(Fraction(1, 2)), solver=solver)
+            solve_objective(scene, objective="best-effort", solver=solver)
