@@ -99,7 +99,8 @@ def _print(s: ObjectiveSolution, out: dict[str, Any]) -> None:
         print(f"budget     {s.budget:g}")
         print(f"EX         {s.expected_cost:.10g} (in the abstraction)")
     else:
-        print(f"class      {s.position_class}; C {'infinite' if s.cooperative_cost is None else f'{s.cooperative_cost:g}'}")
+        c = "infinite" if s.cooperative_cost is None else f"{s.cooperative_cost:g}"
+        print(f"class      {s.position_class}; C {c}")
     for human, row in out.items():
         parts = [f"{k} {v:.6g}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items()]
         print(f"{human + ':':<21}{', '.join(parts)}")

@@ -239,8 +239,9 @@ def prepare() -> None:
 
     anchors = ["home", "l1/top", "l2/top", "e1/top"]
     for wait in (0, 1):  # a zero-cost move or none: both ways of computing the expectation
-        motions: list[dict[str, Any]] = [{"mode": mode, "from": a, "to": b, "rules": [{"free": [], "cost": wait if a == "e1/top" else 2}]}
-                   for mode in ("empty", "b/top") for a in anchors for b in anchors[1:] if a != b]
+        motions: list[dict[str, Any]] = [
+            {"mode": mode, "from": a, "to": b, "rules": [{"free": [], "cost": wait if a == "e1/top" else 2}]}
+            for mode in ("empty", "b/top") for a in anchors for b in anchors[1:] if a != b]
         scene = scene_from_data({"name": "prepare-objectives", "objects": {"b": {"at": "l1"}},
                                  "locations": ["l1", "l2"], "else_samples": ["e1"], "grasps": ["top"],
                                  "human": {"k": 1}, "task": "F(at(b, l2))",
