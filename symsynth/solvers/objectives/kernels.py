@@ -61,53 +61,84 @@ def _by_target(off, tgt, n):
 
 
 @njit(cache=True)
+def _push(x, d, W, head, e_node, e_dist, e_next, used):
+    e_node[used] = x
+    e_dist[used] = d
+    e_next[used] = head[d % W]
+    head[d % W] = used
+    return used + 1
+
+
+@njit(cache=True)
 def cooperative(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
     """(rc, hc, choice): C at each robot turn and human turn (INF: losing),
     and the robot move (absolute edge index, -1: none) on a cheapest
-    cooperative play.  Turn ids: robot i is i, human i is n + i."""
+    cooperative play.  Turn ids: robot i is i, human i is n + i.  Dijkstra
+    backwards from the win with a bucket queue (Dial's: costs are small
+    integers, so the turns waiting to settle sit in a ring of W buckets,
+    W above the costliest move), as the compiled solver's layers do."""
     n = len(hflag)
     rs, re_, rsrc = _by_target(r_off, r_tgt, n)  # robot moves into human turn t
     hs, he, hsrc = _by_target(h_off, h_tgt, n)  # human moves into robot turn t
+    W = 1
+    for e in range(len(r_units)):
+        W = max(W, r_units[e] + 1)
+    room = len(r_tgt) + len(h_tgt) + 2 * n + 1  # one entry per improvement at most
+    e_node = np.empty(room, np.int64)
+    e_dist = np.empty(room, np.int64)
+    e_next = np.empty(room, np.int64)
+    head = np.full(W, -1, np.int64)
+    used = 0
     dist = np.full(2 * n, INF, np.int64)
     choice = np.full(n, -1, np.int64)
-    heap = [(np.int64(0), np.int64(-1))]
     for i in range(n):
         for e in range(r_off[i], r_off[i + 1]):
             if r_tgt[e] < 0 and r_units[e] < dist[i]:
                 dist[i] = r_units[e]
                 choice[i] = e
         if dist[i] < INF:
-            heapq.heappush(heap, (dist[i], np.int64(i)))
+            used = _push(i, dist[i], W, head, e_node, e_dist, e_next, used)
         if hflag[i]:
             for e in range(h_off[i], h_off[i + 1]):
                 if h_tgt[e] < 0:
                     dist[n + i] = 0
             if dist[n + i] == 0:
-                heapq.heappush(heap, (np.int64(0), np.int64(n + i)))
+                used = _push(n + i, 0, W, head, e_node, e_dist, e_next, used)
     done = np.zeros(2 * n, np.uint8)
-    while len(heap) > 0:
-        d, x = heapq.heappop(heap)
-        if x < 0 or done[x] or d > dist[x]:
+    pending = used
+    d = 0
+    while pending > 0:
+        x = head[d % W]
+        if x < 0:
+            d += 1
             continue
-        done[x] = 1
-        if x < n:  # a robot turn: the human turns whose pass or move leads here
-            if hflag[x] and d < dist[n + x]:
-                dist[n + x] = d
-                heapq.heappush(heap, (d, n + x))
-            for p in range(hs[x], hs[x + 1]):
+        head[d % W] = e_next[x]
+        pending -= 1
+        y = e_node[x]
+        if done[y] or e_dist[x] != dist[y]:
+            continue  # settled already, or a stale entry
+        done[y] = 1
+        if y < n:  # a robot turn: the human turns whose pass or move leads here
+            if hflag[y] and d < dist[n + y]:
+                dist[n + y] = d
+                used = _push(n + y, d, W, head, e_node, e_dist, e_next, used)
+                pending += 1
+            for p in range(hs[y], hs[y + 1]):
                 j = hsrc[p]
                 if d < dist[n + j]:
                     dist[n + j] = d
-                    heapq.heappush(heap, (d, n + j))
+                    used = _push(n + j, d, W, head, e_node, e_dist, e_next, used)
+                    pending += 1
         else:  # a human turn: the robot moves into it
-            t = x - n
+            t = y - n
             for p in range(rs[t], rs[t + 1]):
                 e, i = re_[p], rsrc[p]
                 c = d + r_units[e]
                 if c < dist[i]:
                     dist[i] = c
                     choice[i] = e
-                    heapq.heappush(heap, (c, i))
+                    used = _push(i, c, W, head, e_node, e_dist, e_next, used)
+                    pending += 1
     return dist[:n].copy(), dist[n:].copy(), choice
 
 
