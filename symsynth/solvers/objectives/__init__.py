@@ -29,7 +29,6 @@ from symsynth.game.human_model import HumanModel
 from symsynth.game.solution import OutOfReach, check_parameters, task_formula
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
-from symsynth.solvers.objectives import kernels
 from symsynth.solvers.objectives.arena import INF, Arena, budget_units, from_compiled, from_explicit
 from symsynth.solvers.objectives.play import BestEffortStrategy, ExpectedStrategy, Strategy
 
@@ -121,6 +120,8 @@ def solve_objective(scene: Scene, formula: str | ast.Formula | None = None, *, o
     its probabilities, for runs), with the explicit or the compiled
     solver's graph (`auto`: the compiled one, the explicit one when the game
     is out of the compiled solver's reach or the model is not uniform)."""
+    from symsynth.solvers.objectives import kernels  # numba: loaded when solving, not with the command line
+
     if objective not in ("expected", "best-effort"):
         raise InputError(f"objective must be expected or best-effort here, not {objective!r}")
     if solver not in SOLVERS:
@@ -180,6 +181,7 @@ def solve_objective(scene: Scene, formula: str | ast.Formula | None = None, *, o
 def _expected(arena: Arena, vh: np.ndarray, top: int, cost_bound: float | None, states: int,
               seconds: dict[str, float], base: dict[str, Any], budget: float | None, resolution: float,
               epsilon: float) -> ObjectiveSolution:
+    from symsynth.solvers.objectives import kernels
     if top >= INF:  # undefined: no strategy wins against every human
         return ObjectiveSolution(cost_bound=None, states=states, seconds=seconds, budget=budget,
                                  realizable=None if budget is None else False, **base)
