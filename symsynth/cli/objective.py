@@ -7,14 +7,19 @@ import argparse
 import json
 import math
 
+from typing import TYPE_CHECKING
+
 from symsynth.cli import options
 from symsynth.errors import InputError
-from symsynth.game.human_model import HumanModel, parse_model
-from symsynth.game.objective_strategy import certify_objective, read_objective_strategy, write_objective_strategy
-from symsynth.problem import Problem
-from symsynth.scene import Scene
-from symsynth.solvers.objectives import EPSILON, OBJECTIVES, ObjectiveSolution, solve_objective
-from symsynth.solvers.objectives.files import objective_table
+
+if TYPE_CHECKING:  # the solvers load numba: imported when an objective is solved, not at start-up
+    from symsynth.game.human_model import HumanModel
+    from symsynth.problem import Problem
+    from symsynth.scene import Scene
+    from symsynth.solvers.objectives import ObjectiveSolution
+
+OBJECTIVES = ("worst", "expected", "best-effort")
+EPSILON = 1e-6  # the default of --epsilon (symsynth.solvers.objectives.EPSILON)
 
 OBJECTIVE_HELP = """\
 what the robot optimizes (semantics §9): worst (default) the cost against the
@@ -40,6 +45,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def human_model(scene: Scene, given: str | None) -> HumanModel | None:
     """The model of `--human-model` (it wins), else the scene's, else None."""
+    from symsynth.game.human_model import parse_model
+
     if given is not None:
         return parse_model(given, "--human-model")
     if scene.human_model is not None:
@@ -48,6 +55,8 @@ def human_model(scene: Scene, given: str | None) -> HumanModel | None:
 
 
 def run_objective(args: argparse.Namespace, problem: Problem) -> int:
+    from symsynth.solvers.objectives import solve_objective
+
     if args.time_limit is not None:
         raise InputError(f"--time-limit applies to --objective worst, not {args.objective}")
     model = human_model(problem.scene, args.human_model) if args.objective == "expected" else None
@@ -72,6 +81,10 @@ def write_table(args: argparse.Namespace, problem: Problem, model: HumanModel | 
     """Write the strategy file (`symsynth.objective-strategy/1`), from the
     explicit solver's graph, whose positions have names; read it back and
     certify it as a reader would."""
+    from symsynth.game.objective_strategy import certify_objective, read_objective_strategy, write_objective_strategy
+    from symsynth.solvers.objectives import solve_objective
+    from symsynth.solvers.objectives.files import objective_table
+
     if solution.arena is None or not solution.arena.positions:
         solution = solve_objective(problem.scene, problem.formula, objective=args.objective, model=model,
                                    k=args.k, budget=args.budget, resolution=args.resolution, solver="explicit",

@@ -18,20 +18,20 @@ import argparse
 import json
 import math
 import random
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from symsynth.cli.objective import human_model
+from symsynth.cli.objective import OBJECTIVES, human_model
 from symsynth.errors import InputError
-from symsynth.game.human_model import parse_model
-from symsynth.problem import Problem
-from symsynth.solvers.objectives import ObjectiveSolution, solve_objective
-from symsynth.solvers.objectives.play import best_effort_choice, check_expected, exact, run
+
+if TYPE_CHECKING:  # the solvers load numba: imported when an objective is solved, not at start-up
+    from symsynth.problem import Problem
+    from symsynth.solvers.objectives import ObjectiveSolution
 
 Z95 = 1.959963984540054  # the normal quantile of a two-sided 95% interval
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--objective", choices=("worst", "expected", "best-effort"), default="worst",
+    parser.add_argument("--objective", choices=OBJECTIVES, default="worst",
                         help="worst (default): the worst-case strategy in the world; expected or best-effort: "
                              "that objective's strategy (semantics §9), run in the abstraction against "
                              "--human (random: the human model; adversarial; cooperative for best-effort)")
@@ -41,6 +41,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run_objective_simulation(args: argparse.Namespace, problem: Problem) -> int:
+    from symsynth.game.human_model import parse_model
+    from symsynth.solvers.objectives import solve_objective
+
     scene = problem.scene
     model = human_model(scene, args.human_model) or parse_model(f"random:{args.move_probability!r}")
     humans = {"expected": ("random", "adversarial"), "best-effort": ("random", "adversarial", "cooperative")}
@@ -61,6 +64,8 @@ def run_objective_simulation(args: argparse.Namespace, problem: Problem) -> int:
 
 
 def _runs(s: ObjectiveSolution, humans: tuple[str, ...], count: int, seed: int) -> dict[str, Any]:
+    from symsynth.solvers.objectives.play import best_effort_choice, check_expected, exact, run
+
     out: dict[str, Any] = {}
     if s.arena is None or (s.objective == "expected" and s.expected_cost is None):
         return out
