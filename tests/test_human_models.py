@@ -17,6 +17,7 @@ import pytest
 
 from symsynth.errors import InputError
 from symsynth.game.human_model import RandomModel, parse_model
+from symsynth.testing import conformance
 from symsynth.testing.human_model import HumanModelConformance
 
 HERE = Path(__file__).parent
@@ -24,16 +25,7 @@ PLUGIN = HERE / "plugins" / "symsynth-tidy"
 WAIT = HERE.parent / "scenes" / "wait.yaml"
 
 
-class TestRandom(HumanModelConformance):
-    spec = "random(0.3)"
-
-
-class TestRandomNeverMoves(HumanModelConformance):
-    spec = "random(0)"
-
-
-class TestRandomAlwaysMoves(HumanModelConformance):
-    spec = "random:1"
+TestRandom = conformance("human-model", "random(0.3)", "random(0)", "random:1")  # as a plugin's repository would
 
 
 def test_random_is_exact_on_the_decimals():
@@ -80,10 +72,8 @@ def installed(tmp_path_factory):
 def test_a_third_party_model_conforms(installed, monkeypatch):
     monkeypatch.syspath_prepend(str(installed))
 
-    class TestTidy(HumanModelConformance):
-        spec = "tidy(1/2)"
-
-    suite = TestTidy()
+    suite = HumanModelConformance()
+    suite.name = "tidy(1/2)"
     for name in dir(suite):
         if name.startswith("test_"):
             getattr(suite, name)()

@@ -148,3 +148,12 @@ def test_sorting_symmetry_keeps_the_value():
     assert values["explicit"].cost_bound == values["compiled"].cost_bound is not None
     assert values["explicit"].states > values["compiled"].states  # the compiled one reduced by symmetry
     assert values["explicit"].expected_cost == pytest.approx(values["compiled"].expected_cost, abs=1e-9)
+
+
+@pytest.mark.parametrize("solver", ["symbolic", "explicit", "compiled", "forward"])
+def test_every_worst_case_solver_agrees_on_the_teaching_scenes(solver):
+    """E_p as the scenes' comments compute it: 21 on wait.yaml, infinite on reach.yaml."""
+    from symsynth.solvers import SOLVERS as WORST
+
+    assert WORST[solver](load_scene(SCENES / "wait.yaml")).cost_bound == 21
+    assert WORST[solver](load_scene(SCENES / "reach.yaml")).cost_bound is None

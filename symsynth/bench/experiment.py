@@ -8,6 +8,8 @@
          sweep: {obstacles: [1, 2, 3, 4]}}
     methods: [sg, recursive]                  # costmap methods (physical scenes)
     solvers: [symbolic]
+    objectives: [worst, expected]             # semantics §9 (default: worst)
+    human_models: ["random(0.3)"]             # the model of expected (default: the scene's)
     trials: 10                                # seeds 0..9 (or seeds: [...])
     limits: {seconds: 600, memory_mb: 4096}
     worlds: [kinematic, physics]              # physical scenes: the strategy run once per seed
@@ -31,6 +33,7 @@ from typing import Any
 import jsonschema
 
 from symsynth.errors import InputError
+from symsynth.scene.load import MODEL_PATTERN
 from symsynth.solvers import SOLVERS
 from symsynth.planning.methods import METHODS
 from symsynth.scene import Scene, load_scene
@@ -77,6 +80,9 @@ SCHEMA: dict[str, Any] = {
         "contacts": _axis({"enum": [True, False, "on", "off"]}),
         # physical scenes: the strategy also run once per seed in this world (execution.simulate)
         "worlds": _axis({"enum": ["kinematic", "physics"]}),
+        # semantics §9: what the solve optimizes, and the human model of `expected`
+        "objectives": _axis({"enum": ["worst", "expected", "best-effort"]}),
+        "human_models": _axis({"type": "string", "pattern": MODEL_PATTERN}),
         "trials": {"type": "integer", "minimum": 1, "maximum": 10_000},
         "seeds": _axis({"type": "integer", "minimum": 0}),
         "limits": {"type": "object", "additionalProperties": False,
@@ -125,6 +131,10 @@ class Run:
     #: The world the strategy is then run in once (a random human, the
     #: run's seed; physics randomized by `WORLD_RANDOMIZE`), None: not run.
     world: str | None = None
+    #: semantics §9: `worst` (E_p alone), `expected` or `best-effort`
+    objective: str = "worst"
+    #: the human model of `expected` as a scene writes it (None: the scene's)
+    human_model: str | None = None
 
     @property
     def cell(self) -> str:
@@ -142,6 +152,10 @@ class Run:
             parts.append("contacts=off")
         if self.world is not None:
             parts.append(f"world={self.world}")
+        if self.objective != "worst":
+            parts.append(f"objective={self.objective}")
+        if self.human_model is not None:
+            parts.append(f"model={self.human_model}")
         return " ".join(parts)
 
     @property
@@ -205,12 +219,14 @@ def load_experiment(path: str | Path) -> Experiment:
     runs: dict[str, Run] = {}
     # Seed by seed, every cell within each: a change in the machine's load falls on every cell
     # alike, and an experiment stopped early has whole trials of every cell.
-    for seed, (file, label, params, scene), method, planner, solver, k, budget, resolution, size, contacts, world \
-            in itertools.product(seeds, scenes, data.get("methods", ["recursive"]), data.get("planners", [None]),
-                                 data.get("solvers", ["symbolic"]), data.get("k", [None]),
-                                 data.get("budgets", [None]), data.get("resolutions", [1.0]),
-                                 data.get("roadmap_sizes", [None]), data.get("contacts", [True]),
-                                 data.get("worlds", [None])):
+    for (seed, (file, label, params, scene), method, planner, solver, k, budget, resolution, size, contacts,
+         objective, model, world) in \
+            itertools.product(seeds, scenes, data.get("methods", ["recursive"]), data.get("planners", [None]),
+                              data.get("solvers", ["symbolic"]), data.get("k", [None]),
+                              data.get("budgets", [None]), data.get("resolutions", [1.0]),
+                              data.get("roadmap_sizes", [None]), data.get("contacts", [True]),
+                              data.get("objectives", ["worst"]), data.get("human_models", [None]),
+                              data.get("worlds", [None])):
         physical = scene.geometry is not None
         run = Run(file, label, params, physical, method if physical else None,
                   (planner or scene.geometry.planner.name) if physical else None, solver,
@@ -218,7 +234,8 @@ def load_experiment(path: str | Path) -> Experiment:
                   (size or scene.geometry.planner.roadmap_size) if physical else None, seed,
                   bool(data.get("cache", False)),
                   float(limits.get("seconds", DEFAULT_SECONDS)), int(limits.get("memory_mb", DEFAULT_MEMORY_MB)),
-                  contacts in (True, "on"), world if physical else None)
+                  contacts in (True, "on"), world if physical else None, objective,
+                  model if objective == "expected" else None)
         same = runs.setdefault(run.id, run)  # an abstract scene's runs repeat over the costmap axes
         if same.scene_file != run.scene_file:
             report.add(("scenes",), f"{same.scene_file} and {run.scene_file} have the same label and "

@@ -26,7 +26,7 @@ from symsynth.files import check_regular
 COLUMNS = (
     # the run
     "run", "cell", "label", "params", "scene_file", "seed", "method", "planner", "solver", "k", "budget",
-    "resolution", "roadmap_size", "contacts",
+    "resolution", "roadmap_size", "contacts", "objective", "human_model",
     # how it ended
     "status", "error",
     # abstraction (physical scenes; empty when the costmap came from the cache or the scene)
@@ -35,7 +35,7 @@ COLUMNS = (
     "costmap_cached", "planner_workers",
     # synthesis
     "seconds_prepare", "seconds_synthesis", "synthesis_phases", "E_p", "units", "realizable", "positions",
-    "bdd_peak_nodes", "dfa_states",
+    "bdd_peak_nodes", "dfa_states", "expected_cost", "class", "cooperative_cost",
     # the machine
     "peak_memory_mb", "versions", "host", "cpus", "load", "started", "seconds_run",
     # the strategy run in a world (axis worlds: a random human, the run's seed)

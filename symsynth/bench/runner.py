@@ -40,7 +40,7 @@ def run_row(run: Run, measured: dict[str, Any]) -> dict[str, Any]:
             "scene_file": run.scene_file, "seed": run.seed, "method": run.method, "planner": run.planner,
             "solver": run.solver, "k": run.k, "budget": run.budget, "resolution": run.resolution,
             "roadmap_size": run.roadmap_size, "contacts": "on" if run.contacts else "off",
-            "world": run.world} | measured
+            "world": run.world, "objective": run.objective, "human_model": run.human_model} | measured
 
 
 def packed(scene: Scene | None) -> dict[str, str]:

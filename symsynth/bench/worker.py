@@ -129,6 +129,13 @@ def measure(run: dict[str, Any]) -> dict[str, Any]:
                     "edge_checks": s.edges, "graph_searches": s.motions, "planner_workers": s.workers}
     row["dfa_states"] = dfa_of(problem.formula).num_states  # the DFA every solver composes with the game
     row["seconds_prepare"] = prepare(run["solver"])  # once per process (compiling kernels), before the clock
+    if run.get("objective", "worst") != "worst":
+        from symsynth.solvers.objectives import prepare as prepare_objectives
+
+        clock = time.perf_counter()
+        prepare_objectives()
+        row["seconds_prepare"] += time.perf_counter() - clock
+        return row | _objective(run, problem) | {"versions": versions(planner)}
     clock = time.perf_counter()
     solution = solve(problem, run["solver"], k=run["k"], budget=run["budget"], resolution=run["resolution"])
     row["seconds_synthesis"] = time.perf_counter() - clock
@@ -173,6 +180,28 @@ def in_world(problem: Any, run: dict[str, Any]) -> dict[str, Any]:
             "state_divergences": sum(d.kind == "state" for d in played.divergences),
             "soundness_bugs": sum(bool(d.soundness) for d in played.divergences),
             "seconds_simulation": time.perf_counter() - clock}
+
+
+def _objective(run: dict[str, Any], problem: Any) -> dict[str, Any]:
+    """`measure` for an objective of semantics §9: its value and seconds."""
+    from symsynth.errors import InputError
+    from symsynth.game.human_model import parse_model
+    from symsynth.solvers.objectives import SOLVERS as OBJECTIVE_SOLVERS
+    from symsynth.solvers.objectives import solve_objective
+
+    text = run.get("human_model") or problem.scene.human_model
+    model = None if text is None else parse_model(text, "human_models")
+    if run["solver"] not in OBJECTIVE_SOLVERS:
+        raise InputError(f"objective {run['objective']} is computed by the solvers {', '.join(OBJECTIVE_SOLVERS)}, "
+                         f"not {run['solver']}")
+    clock = time.perf_counter()
+    s = solve_objective(problem.scene, problem.formula, objective=run["objective"], model=model, k=run["k"],
+                        budget=run["budget"], resolution=run["resolution"], solver=run["solver"])
+    return {"seconds_synthesis": time.perf_counter() - clock, "k": s.k,
+            "E_p": "inf" if s.cost_bound is None else s.cost_bound, "positions": s.states,
+            "realizable": s.realizable, "human_model": s.human_model, "expected_cost": s.expected_cost,
+            "class": s.position_class, "cooperative_cost": s.cooperative_cost,
+            "synthesis_phases": {name: round(t, 6) for name, t in s.seconds.items()}}
 
 
 def peak_memory_mb() -> float:

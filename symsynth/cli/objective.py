@@ -7,12 +7,19 @@ import argparse
 import json
 import math
 
+from typing import TYPE_CHECKING
+
 from symsynth.cli import options
 from symsynth.errors import InputError
-from symsynth.game.human_model import HumanModel, parse_model
-from symsynth.problem import Problem
-from symsynth.scene import Scene
-from symsynth.solvers.objectives import EPSILON, OBJECTIVES, ObjectiveSolution, solve_objective
+
+if TYPE_CHECKING:  # the solvers load numba: imported when an objective is solved, not at start-up
+    from symsynth.game.human_model import HumanModel
+    from symsynth.problem import Problem
+    from symsynth.scene import Scene
+    from symsynth.solvers.objectives import ObjectiveSolution
+
+OBJECTIVES = ("worst", "expected", "best-effort")
+EPSILON = 1e-6  # the default of --epsilon (symsynth.solvers.objectives.EPSILON)
 
 OBJECTIVE_HELP = """\
 what the robot optimizes (semantics §9): worst (default) the cost against the
@@ -38,6 +45,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def human_model(scene: Scene, given: str | None) -> HumanModel | None:
     """The model of `--human-model` (it wins), else the scene's, else None."""
+    from symsynth.game.human_model import parse_model
+
     if given is not None:
         return parse_model(given, "--human-model")
     if scene.human_model is not None:
@@ -46,21 +55,44 @@ def human_model(scene: Scene, given: str | None) -> HumanModel | None:
 
 
 def run_objective(args: argparse.Namespace, problem: Problem) -> int:
-    if args.output is not None:
-        raise InputError(f"-o writes worst-case strategies only; --objective {args.objective} strategies "
-                         "are not written yet")
+    from symsynth.solvers.objectives import solve_objective
+
     if args.time_limit is not None:
         raise InputError(f"--time-limit applies to --objective worst, not {args.objective}")
     model = human_model(problem.scene, args.human_model) if args.objective == "expected" else None
     solution = solve_objective(problem.scene, problem.formula, objective=args.objective, model=model, k=args.k,
                                budget=args.budget, resolution=args.resolution, solver=args.solver,
                                epsilon=args.epsilon)
+    written = None if args.output is None else write_table(args, problem, model, solution)
     if args.json:
         out = solution.to_json() | {"scene": problem.scene.name, "task": problem.task.strip()}
+        if written is not None:
+            out["strategy"] = {"file": str(args.output), "entries": written}
         print(json.dumps(out, indent=2))
         return 0
     report(problem, solution)
+    if written is not None:
+        print(f"\nwrote {args.output} ({written} entries), read back and certified")
     return 0
+
+
+def write_table(args: argparse.Namespace, problem: Problem, model: HumanModel | None,
+                solution: ObjectiveSolution) -> int:
+    """Write the strategy file (`symsynth.objective-strategy/1`), from the
+    explicit solver's graph, whose positions have names; read it back and
+    certify it as a reader would."""
+    from symsynth.game.objective_strategy import certify_objective, read_objective_strategy, write_objective_strategy
+    from symsynth.solvers.objectives import solve_objective
+    from symsynth.solvers.objectives.files import objective_table
+
+    if solution.arena is None or not solution.arena.positions:
+        solution = solve_objective(problem.scene, problem.formula, objective=args.objective, model=model,
+                                   k=args.k, budget=args.budget, resolution=args.resolution, solver="explicit",
+                                   epsilon=args.epsilon)
+    table = objective_table(problem.scene, problem.task, problem.formula, solution)
+    written = write_objective_strategy(args.output, table)
+    certify_objective(problem.scene, read_objective_strategy(args.output))
+    return written
 
 
 def report(problem: Problem, s: ObjectiveSolution) -> None:

@@ -9,7 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from symsynth.cli import options
+from symsynth.cli import objective_runs, options
 from symsynth.cli.options import check_writable
 from symsynth.cli.solve import costmap_json, costmap_report
 from symsynth.errors import InputError
@@ -62,6 +62,12 @@ and the world.  A measured cost above the abstract cost of its action, or
 an evidence path that collides although its rule held, is a SOUNDNESS BUG
 and is reported as one.
 
+--objective expected | best-effort runs that objective's strategy
+(semantics §9) in the abstraction instead (any scene, abstract ones too):
+against the random human of --human-model (mean cost with its 95%
+confidence interval next to EX), the adversary, and for best effort a
+cooperating human, with the share of runs that finish.
+
 Exit status: 0 when every run completed within E_p without a soundness
 divergence; 1 otherwise (or when no guarantee holds and --best-effort was
 not given); 2 on bad input."""
@@ -107,6 +113,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                                 "the run (default: the one that built the scene's costmap, else the scene's)")
     parser.add_argument("--solver", choices=tuple(SOLVERS), default=DEFAULT_SOLVER,
                         help=f"game solver when solving here (default: {DEFAULT_SOLVER})")
+    objective_runs.add_arguments(parser)
     parser.set_defaults(run=run)
 
 
@@ -137,6 +144,11 @@ def run(args: argparse.Namespace) -> int:
     from symsynth.bullet import check_display
     from symsynth.execution.human import HUMANS, read_script
 
+    if args.objective != "worst":  # semantics §9: the objective's strategy, in the game
+        scene = load_scene(args.scene)
+        problem = with_task(scene if args.k is None else dataclasses.replace(scene, k=args.k), None)
+        request = CostmapRequest(args.method, args.planner, args.costmap_seed, not args.no_cache, not args.json)
+        return objective_runs.run_objective_simulation(args, with_costmap(problem, request))
     if args.record is not None:
         check_writable(args.record, "recording")
     if args.randomize is not None and args.world != "physics":

@@ -19,7 +19,10 @@ The kinds (docs/plugins.md):
 - `solver` (`testing.solver`): hand-solved games and the properties of a
   solution on generated ones (`testing.gamegen`);
 - `human` (`testing.human`): a simulated human answers the turns of a game
-  with what is offered, the same way for the same seed.
+  with what is offered, the same way for the same seed;
+- `human-model` (`testing.human_model`): a human model of semantics §9
+  gives exact, complete distributions; its "name" is the model as a scene
+  writes it (`random(0.3)`).
 
 symsynth's own tests run the built-ins and the example plugins of
 `tests/plugins/` through exactly these lines.
@@ -36,7 +39,8 @@ import pytest
 SUITES = {"planner": ("symsynth.testing.planner", "PlannerConformance"),
           "primitive": ("symsynth.testing.primitive", "PrimitiveConformance"),
           "solver": ("symsynth.testing.solver", "SolverConformance"),
-          "human": ("symsynth.testing.human", "HumanConformance")}
+          "human": ("symsynth.testing.human", "HumanConformance"),
+          "human-model": ("symsynth.testing.human_model", "HumanModelConformance")}
 
 
 def conformance(kind: str, *names: str, **options: Any) -> type:

@@ -2,13 +2,12 @@
 plugin registers in `symsynth.human_models` must pass it, and symsynth's
 own `random(P)` does (tests/test_human_models.py).
 
-Use it from pytest by subclassing, with the model's text as it is written
-in a scene::
+Run it from pytest as every suite of `symsynth.testing` is run, with the
+model's text as a scene writes it standing for the plugin's name::
 
-    from symsynth.testing.human_model import HumanModelConformance
+    from symsynth.testing import conformance
 
-    class TestMine(HumanModelConformance):
-        spec = "mine(0.2)"
+    TestMine = conformance("human-model", "mine(0.2)")
 
 It checks, on every human turn of a small scene (one to three blocks, some
 at Else, with 0 to 2 moves left): a distribution of exact fractions, one
@@ -30,6 +29,7 @@ from symsynth.game.abstraction import State, legal_human_moves
 from symsynth.game.human_model import HumanModel, draw, parse_model
 from symsynth.scene.load import scene_from_data
 from symsynth.scene.model import ELSE, HAND, Scene
+from symsynth.testing import Conformance
 
 
 def conformance_scene() -> Scene:
@@ -60,13 +60,11 @@ def human_turns(scene: Scene) -> list[tuple[State, int]]:
     return turns
 
 
-class HumanModelConformance:
-    """Subclass with `spec`, the model as a scene writes it."""
-
-    spec: str = ""
+class HumanModelConformance(Conformance):
+    """`self.name`: the model as a scene writes it (`random(0.3)`)."""
 
     def model(self) -> HumanModel:
-        return parse_model(self.spec, f"{type(self).__name__}.spec")
+        return parse_model(self.name, f"{type(self).__name__}")
 
     def test_is_a_model_with_a_name(self):
         model = self.model()

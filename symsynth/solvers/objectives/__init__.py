@@ -29,7 +29,6 @@ from symsynth.game.human_model import HumanModel
 from symsynth.game.solution import OutOfReach, check_parameters, task_formula
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
-from symsynth.solvers.objectives import kernels
 from symsynth.solvers.objectives.arena import INF, Arena, budget_units, from_compiled, from_explicit
 from symsynth.solvers.objectives.play import BestEffortStrategy, ExpectedStrategy, Strategy
 
@@ -121,6 +120,8 @@ def solve_objective(scene: Scene, formula: str | ast.Formula | None = None, *, o
     its probabilities, for runs), with the explicit or the compiled
     solver's graph (`auto`: the compiled one, the explicit one when the game
     is out of the compiled solver's reach or the model is not uniform)."""
+    from symsynth.solvers.objectives import kernels  # numba: loaded when solving, not with the command line
+
     if objective not in ("expected", "best-effort"):
         raise InputError(f"objective must be expected or best-effort here, not {objective!r}")
     if solver not in SOLVERS:
@@ -180,6 +181,7 @@ def solve_objective(scene: Scene, formula: str | ast.Formula | None = None, *, o
 def _expected(arena: Arena, vh: np.ndarray, top: int, cost_bound: float | None, states: int,
               seconds: dict[str, float], base: dict[str, Any], budget: float | None, resolution: float,
               epsilon: float) -> ObjectiveSolution:
+    from symsynth.solvers.objectives import kernels
     if top >= INF:  # undefined: no strategy wins against every human
         return ObjectiveSolution(cost_bound=None, states=states, seconds=seconds, budget=budget,
                                  realizable=None if budget is None else False, **base)
@@ -195,9 +197,13 @@ def _expected(arena: Arena, vh: np.ndarray, top: int, cost_bound: float | None, 
         raise OutOfReach(f"the expectation would be computed at {entries} (position, budget) pairs, more than "
                          f"{MAX_ENTRIES}; give a budget closer to E_p or a coarser --resolution")
     levels = np.lexsort((arena.rval, arena.layer)).astype(np.int64)
-    X, Y, choice, xo, xlo, yo, ylo = kernels.expected(
-        np.int64(units), arena.layer, arena.hflag, arena.r_off, arena.r_tgt, arena.r_units, arena.rval, vh, dr,
-        dh, arena.stay, arena.h_off, arena.h_tgt, arena.h_prob, levels)
+    args = (arena.layer, arena.hflag, arena.r_off, arena.r_tgt, arena.r_units, arena.rval, vh, dr, dh,
+            arena.stay, arena.h_off, arena.h_tgt, arena.h_prob, levels)
+    least = int(arena.r_units.min()) if len(arena.r_units) else 1
+    if least > 0:  # no zero-cost move: `least` levels at a time
+        X, Y, choice, xo, xlo, yo, ylo = kernels.expected_chunked(np.int64(units), np.int64(min(least, 64)), *args)
+    else:
+        X, Y, choice, xo, xlo, yo, ylo = kernels.expected(np.int64(units), *args)
     value = float(Y[yo[0] + units - ylo[0]])
     seconds["expected"] = time.perf_counter() - clock
     clock = time.perf_counter()
@@ -222,3 +228,26 @@ def _entries(low: np.ndarray, dist: np.ndarray, units: int) -> int:
     """How many budgets low..units - dist there are, summed over the turns."""
     ok = (low < INF) & (dist < INF)
     return int(np.maximum(0, units - dist[ok] - low[ok] + 1).sum())
+
+
+def prepare() -> None:
+    """Compile (or load from numba's cache) the kernels of both objectives by
+    solving a two-location game once: comparison runs call it before their
+    clock starts, as `symsynth.solvers.prepare` does for the solvers."""
+    from fractions import Fraction
+
+    from symsynth.game.human_model import RandomModel
+    from symsynth.scene.load import scene_from_data
+
+    anchors = ["home", "l1/top", "l2/top", "e1/top"]
+    for wait in (0, 1):  # a zero-cost move or none: both ways of computing the expectation
+        motions: list[dict[str, Any]] = [
+            {"mode": mode, "from": a, "to": b, "rules": [{"free": [], "cost": wait if a == "e1/top" else 2}]}
+            for mode in ("empty", "b/top") for a in anchors for b in anchors[1:] if a != b]
+        scene = scene_from_data({"name": "prepare-objectives", "objects": {"b": {"at": "l1"}},
+                                 "locations": ["l1", "l2"], "else_samples": ["e1"], "grasps": ["top"],
+                                 "human": {"k": 1}, "task": "F(at(b, l2))",
+                                 "costmap": {"format": "symsynth.costmap/1", "motions": motions}})
+        for solver in ("explicit", "compiled"):
+            solve_objective(scene, objective="expected", model=RandomModel(Fraction(1, 2)), solver=solver)
+            solve_objective(scene, objective="best-effort", solver=solver)

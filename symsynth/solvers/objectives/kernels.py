@@ -18,7 +18,7 @@ from __future__ import annotations
 import heapq
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 INF = np.int64(1 << 60)
 
@@ -61,53 +61,84 @@ def _by_target(off, tgt, n):
 
 
 @njit(cache=True)
+def _push(x, d, W, head, e_node, e_dist, e_next, used):
+    e_node[used] = x
+    e_dist[used] = d
+    e_next[used] = head[d % W]
+    head[d % W] = used
+    return used + 1
+
+
+@njit(cache=True)
 def cooperative(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
     """(rc, hc, choice): C at each robot turn and human turn (INF: losing),
     and the robot move (absolute edge index, -1: none) on a cheapest
-    cooperative play.  Turn ids: robot i is i, human i is n + i."""
+    cooperative play.  Turn ids: robot i is i, human i is n + i.  Dijkstra
+    backwards from the win with a bucket queue (Dial's: costs are small
+    integers, so the turns waiting to settle sit in a ring of W buckets,
+    W above the costliest move), as the compiled solver's layers do."""
     n = len(hflag)
     rs, re_, rsrc = _by_target(r_off, r_tgt, n)  # robot moves into human turn t
     hs, he, hsrc = _by_target(h_off, h_tgt, n)  # human moves into robot turn t
+    W = 1
+    for e in range(len(r_units)):
+        W = max(W, r_units[e] + 1)
+    room = len(r_tgt) + len(h_tgt) + 2 * n + 1  # one entry per improvement at most
+    e_node = np.empty(room, np.int64)
+    e_dist = np.empty(room, np.int64)
+    e_next = np.empty(room, np.int64)
+    head = np.full(W, -1, np.int64)
+    used = 0
     dist = np.full(2 * n, INF, np.int64)
     choice = np.full(n, -1, np.int64)
-    heap = [(np.int64(0), np.int64(-1))]
     for i in range(n):
         for e in range(r_off[i], r_off[i + 1]):
             if r_tgt[e] < 0 and r_units[e] < dist[i]:
                 dist[i] = r_units[e]
                 choice[i] = e
         if dist[i] < INF:
-            heapq.heappush(heap, (dist[i], np.int64(i)))
+            used = _push(i, dist[i], W, head, e_node, e_dist, e_next, used)
         if hflag[i]:
             for e in range(h_off[i], h_off[i + 1]):
                 if h_tgt[e] < 0:
                     dist[n + i] = 0
             if dist[n + i] == 0:
-                heapq.heappush(heap, (np.int64(0), np.int64(n + i)))
+                used = _push(n + i, 0, W, head, e_node, e_dist, e_next, used)
     done = np.zeros(2 * n, np.uint8)
-    while len(heap) > 0:
-        d, x = heapq.heappop(heap)
-        if x < 0 or done[x] or d > dist[x]:
+    pending = used
+    d = 0
+    while pending > 0:
+        x = head[d % W]
+        if x < 0:
+            d += 1
             continue
-        done[x] = 1
-        if x < n:  # a robot turn: the human turns whose pass or move leads here
-            if hflag[x] and d < dist[n + x]:
-                dist[n + x] = d
-                heapq.heappush(heap, (d, n + x))
-            for p in range(hs[x], hs[x + 1]):
+        head[d % W] = e_next[x]
+        pending -= 1
+        y = e_node[x]
+        if done[y] or e_dist[x] != dist[y]:
+            continue  # settled already, or a stale entry
+        done[y] = 1
+        if y < n:  # a robot turn: the human turns whose pass or move leads here
+            if hflag[y] and d < dist[n + y]:
+                dist[n + y] = d
+                used = _push(n + y, d, W, head, e_node, e_dist, e_next, used)
+                pending += 1
+            for p in range(hs[y], hs[y + 1]):
                 j = hsrc[p]
                 if d < dist[n + j]:
                     dist[n + j] = d
-                    heapq.heappush(heap, (d, n + j))
+                    used = _push(n + j, d, W, head, e_node, e_dist, e_next, used)
+                    pending += 1
         else:  # a human turn: the robot moves into it
-            t = x - n
+            t = y - n
             for p in range(rs[t], rs[t + 1]):
                 e, i = re_[p], rsrc[p]
                 c = d + r_units[e]
                 if c < dist[i]:
                     dist[i] = c
                     choice[i] = e
-                    heapq.heappush(heap, (c, i))
+                    used = _push(i, c, W, head, e_node, e_dist, e_next, used)
+                    pending += 1
     return dist[:n].copy(), dist[n:].copy(), choice
 
 
@@ -348,3 +379,126 @@ def truncated(B, rounds, hflag, r_tgt, r_units, rval, stay, h_off, h_tgt, h_prob
                     new[s] = c + v
         g, new = new, g
     return -1, bound
+
+
+@njit(cache=True, parallel=True)
+def expected_chunked(B, step, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, stay, h_off, h_tgt, h_prob,
+                     levels):
+    """`expected` for games without zero-cost moves, `step` levels at a time
+    (`step` <= the least cost of a move, in units): a move then reads only
+    levels below the chunk, so each node's budgets in the chunk are computed
+    together, reading each target's values as one run, and the nodes of a
+    layer on numba's threads.  Same values, same choices, same layout."""
+    n = len(layer)
+    xlo = rval.copy()
+    xhi = B - dr
+    ylo = vh
+    yhi = B - dh
+    xo = np.zeros(n + 1, np.int64)
+    yo = np.zeros(n + 1, np.int64)
+    for i in range(n):
+        xo[i + 1] = xo[i] + max(0, xhi[i] - xlo[i] + 1) if xlo[i] < INF and dr[i] < INF else xo[i]
+        yo[i + 1] = yo[i] + max(0, yhi[i] - ylo[i] + 1) if hflag[i] and ylo[i] < INF and dh[i] < INF else yo[i]
+    X = np.full(xo[n], np.inf)
+    Y = np.full(yo[n], np.inf)
+    choice = np.full(xo[n], -1, np.int32)
+    K = 0
+    for i in range(n):
+        K = max(K, layer[i])
+    cut = np.zeros(K + 2, np.int64)
+    for i in range(n):
+        cut[layer[i] + 1] += 1
+    for h in range(K + 1):
+        cut[h + 1] += cut[h]
+    nxt = cut[:K + 1].copy()
+    act = np.empty(n, np.int64)
+    cnt = np.zeros(K + 1, np.int64)
+    for b0 in range(0, B + 1, step):
+        b1 = min(b0 + step, B + 1)
+        for h in range(K + 1):
+            base = cut[h]
+            while nxt[h] < cut[h + 1] and xlo[levels[nxt[h]]] < b1:
+                i = levels[nxt[h]]
+                nxt[h] += 1
+                if xo[i + 1] > xo[i]:
+                    act[base + cnt[h]] = i
+                    cnt[h] += 1
+            kept = 0
+            for a in range(cnt[h]):
+                i = act[base + a]
+                if xhi[i] >= b0:
+                    act[base + kept] = i
+                    kept += 1
+            cnt[h] = kept
+            for a in prange(kept):
+                i = act[base + a]
+                lo = max(b0, xlo[i])
+                hi = min(b1 - 1, xhi[i])
+                for e in range(r_off[i], r_off[i + 1]):
+                    c = r_units[e]
+                    t = r_tgt[e]
+                    for b in range(lo, hi + 1):
+                        s = xo[i] + b - xlo[i]
+                        if t < 0:
+                            if c <= b and c < X[s]:
+                                X[s] = c
+                                choice[s] = e
+                        elif c + vh[t] <= b:
+                            y = c + Y[yo[t] + b - c - ylo[t]]
+                            if y < X[s]:
+                                X[s] = y
+                                choice[s] = e
+            for a in prange(kept):
+                i = act[base + a]
+                if not hflag[i]:
+                    continue
+                lo = max(b0, ylo[i])
+                hi = min(b1 - 1, yhi[i])
+                for b in range(lo, hi + 1):
+                    Y[yo[i] + b - ylo[i]] = stay[i] * X[xo[i] + b - xlo[i]]
+                for e in range(h_off[i], h_off[i + 1]):
+                    j = h_tgt[e]
+                    p = h_prob[e]
+                    if j >= 0 and p > 0.0:
+                        for b in range(lo, hi + 1):
+                            Y[yo[i] + b - ylo[i]] += p * X[xo[j] + b - xlo[j]]
+    return X, Y, choice, xo, xlo, yo, ylo
+
+
+
+@njit(cache=True)
+def markov(node_choice, stay, r_tgt, r_units, h_off, h_tgt, h_prob, finish):
+    """A strategy that plays node_choice[i] at every robot turn i (-1: none,
+    the play ends unwon), against the model: with `finish`, the probability
+    of winning from each robot turn (value iteration from 0, the least
+    fixpoint); else the expected cost (from 0 too, which is the cost of a
+    strategy that wins with probability 1 and never circles at zero cost,
+    like the worst-case one).  Iterated until no value moves by 1e-13."""
+    n = len(node_choice)
+    x = np.zeros(n)
+    for _ in range(1_000_000):
+        moved = 0.0
+        for i in range(n):
+            e = node_choice[i]
+            if e < 0:
+                continue
+            t = r_tgt[e]
+            if t < 0:
+                y = 1.0 if finish else float(r_units[e])
+            else:
+                y = stay[t] * x[t]
+                for f in range(h_off[t], h_off[t + 1]):
+                    j = h_tgt[f]
+                    if h_prob[f] > 0.0 and j >= 0:
+                        y += h_prob[f] * x[j]
+                    elif h_prob[f] > 0.0 and finish:
+                        y += h_prob[f]  # a move that wins
+                if not finish:
+                    y += r_units[e]
+            d = abs(y - x[i])
+            if d > moved:
+                moved = d
+            x[i] = y
+        if moved <= 1e-13:
+            break
+    return x

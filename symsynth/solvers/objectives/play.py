@@ -170,3 +170,22 @@ def _reply(arena: Arena, t: int, human: str, rng: random.Random, coop: np.ndarra
     if coop is None:
         raise ValueError("a cooperative human needs the cooperative costs")
     return min(options, key=lambda j: -1 if j < 0 else coop[j])
+
+
+def exact(arena: Arena, node_choice: np.ndarray, finish: bool) -> float:
+    """From the start, against the model, for a strategy that plays
+    node_choice[i] at robot turn i (-1: none): the probability of winning
+    (`finish`) or the expected cost (the strategy must win with probability 1)."""
+    from symsynth.solvers.objectives.kernels import markov
+
+    x = markov(node_choice, arena.stay, arena.r_tgt, arena.r_units, arena.h_off, arena.h_tgt, arena.h_prob, finish)
+    y = arena.stay[0] * x[0]
+    for e in range(int(arena.h_off[0]), int(arena.h_off[1])):
+        j = int(arena.h_tgt[e])
+        y += arena.h_prob[e] * (x[j] if j >= 0 else float(finish))
+    return float(y)
+
+
+def best_effort_choice(arena: Arena, coop: np.ndarray, rc: np.ndarray) -> np.ndarray:
+    """The best-effort strategy as one move per node (-1 at losing turns)."""
+    return np.where(arena.rval < INF, arena.wchoice, np.where(rc < INF, coop, -1)).astype(np.int64)

@@ -1,0 +1,57 @@
+"""The objectives of semantics §9 against the worst-case solve, side by side
+in one process, on the game family (bench/gamefamily.py).
+
+    python bench/objectives_bench.py 5x7 [--colours C] [--P 0.3]
+
+Prints, for `pattern_scene(n, m, k=3)` (with `colours=C`: the sorting
+variant), the compiled worst-case solve, best effort and expected (B = E_p,
+random(P)) with their seconds and the ratios to the worst-case solve.  The
+kernels of all three are compiled (or loaded) before any clock starts.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from fractions import Fraction
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from bench.gamefamily import pattern_scene  # noqa: E402
+from bench.provenance import commit  # noqa: E402
+from symsynth.game.human_model import RandomModel  # noqa: E402
+from symsynth.solvers.compiled import compile_kernels, solve_compiled  # noqa: E402
+from symsynth.solvers.objectives import prepare, solve_objective  # noqa: E402
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("size", help="NxM: blocks x locations")
+    parser.add_argument("--colours", type=int, default=None)
+    parser.add_argument("--P", default="0.3")
+    args = parser.parse_args()
+    n, m = map(int, args.size.split("x"))
+    compile_kernels()
+    prepare()
+    scene = pattern_scene(n, m, k=3, colours=args.colours)
+    print(f"commit {commit()}, load {os.getloadavg()[0]:.2f}, pattern_scene({n}, {m}, k=3, colours={args.colours})")
+    clock = time.perf_counter()
+    worst = solve_compiled(scene)
+    tw = time.perf_counter() - clock
+    print(f"worst        E_p {worst.cost_bound}, {worst.states} positions, {tw:.3f} s {worst.seconds}")
+    clock = time.perf_counter()
+    best = solve_objective(scene, objective="best-effort", solver="compiled")
+    tb = time.perf_counter() - clock
+    print(f"best-effort  {best.position_class}, C {best.cooperative_cost}, {tb:.3f} s ({tb / tw:.2f}x) {best.seconds}")
+    clock = time.perf_counter()
+    exp = solve_objective(scene, objective="expected", model=RandomModel(Fraction(args.P)), solver="compiled")
+    te = time.perf_counter() - clock
+    print(f"expected     EX {exp.expected_cost}, {exp.stats}, {te:.3f} s ({te / tw:.2f}x) {exp.seconds}")
+    print(f"load at end {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    main()
