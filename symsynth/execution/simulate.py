@@ -50,7 +50,7 @@ from symsynth.errors import SymsynthError
 from symsynth.execution import motion as motions
 from symsynth.execution import primitives
 from symsynth.execution.human import Human, Option, Request, ScriptedHuman, Turn
-from symsynth.execution.observe import distance, observe, place_at
+from symsynth.execution.observe import close, distance, observe, place_at
 from symsynth.execution.physics import PhysicsWorld, Randomization
 from symsynth.execution.record import STRIDE, Recorder
 from symsynth.execution.world import SimWorld
@@ -462,8 +462,15 @@ class _Episode:
             mode = Mode(obj, grasp)
             place = move.location
             target = geometry.places[place] @ geometry.hand_frame(grasp).pre_image()
+        off = None
+        if place is not None and move.kind == "transit":  # a physical world moves objects off the exact pose
+            at_anchor = geometry.places[place] @ geometry.hand_frame(grasp).pre_image()
+            if not close(at_anchor, target):
+                off = (f"{obj} stands {distance(at_anchor, target) * 100:.1f} cm and {at_anchor.angle_to(target):.2f} "
+                       f"rad off {place}'s pose, so {place}'s anchor is not its pre-image")
+                place = None
         goal = None if place is None else anchors(scene, place, grasp)[0]  # one of move.goals
-        outside = self._outside(obj, goal)
+        outside = off or self._outside(obj, goal)
         found = None
         if self.anchor is not None and goal is not None:
             free = self._free(obj)
