@@ -14,8 +14,9 @@ move only as PyBullet integrates them:
   Static obstacles (the table) take a `physics: {friction}` too.
 - **The robot** follows a path by position control of its joints with the
   URDF's force limits (87 N m and 12 N m for the Panda): the target moves
-  along the path at `JOINT_SPEED` radians per second (joint-space norm;
-  `SLIDE_SPEED` along a slide), and at the path's end the robot is held on
+  along the path, each leg in the time its fastest joint needs at
+  `SPEED_FRACTION` of its URDF velocity limit (a slide's hand at most
+  `SLIDE_SPEED` near the object), and at the path's end the robot is held on
   its last configuration until every joint is within `ARRIVED` radians of
   it (at most `CONVERGE_STEPS`).  A path's cost is the radians of the path
   commanded, as the costmap measures it.
@@ -23,9 +24,9 @@ move only as PyBullet integrates them:
   open at 4 cm): `close_hand` drives them to their lower limit with their
   force limit (20 N), and when *both* fingers then touch the object
   (contact points read from PyBullet) and it stopped them short of closing
-  fully (`STOPPED`: fingers on its top close all the way) the grasp is firmed by a fixed
-  constraint between the hand and the object at their relative pose of that
-  moment (`FIRM_FORCE` at most).  PyBullet's friction grasps slip with
+  fully (`STOPPED`: fingers on its top close all the way), the grasp is
+  firmed by a fixed constraint between the hand and the object at their
+  relative pose of that moment (`FIRM_FORCE` at most).  PyBullet's friction grasps slip with
   small, light blocks over long transfers; the constraint stands for the
   real gripper's grip, and is made only where the fingers hold the object.
   Fingers that close on nothing make no constraint: the object stays where
@@ -130,8 +131,6 @@ Watch = Callable[["PhysicsWorld"], None]
 class PhysicsWorld(SimWorld):
     """The scene with dynamics (module doc); `seed` draws the randomization."""
 
-    dynamic = True
-
     def __init__(self, scene: Scene, *, gui: bool = False, randomization: Randomization | None = None,
                  seed: int = 0, firm: bool = True) -> None:
         self.randomization = randomization or Randomization()
@@ -159,7 +158,7 @@ class PhysicsWorld(SimWorld):
         self._constraint: int | None = None
         self.watch: Watch | None = None  # called after every step (a test's or a verifier's eye)
         self.frame: Callable[[], None] | None = None  # a recording's camera, every `frame_every` steps
-        self.frame_every = 24
+        self.frame_every = 36  # 0.15 s of the world between frames of a recording
         self.steps = 0
         self.touches: set[str] = set()  # objects the robot touched while `watching`
         self.watching = False

@@ -74,6 +74,11 @@ WORLDS = ("kinematic", "physics")
 #: failed in the world each time) ends the run: a winning strategy never
 #: returns to a position in the abstraction (E_p decreases along its plays).
 MAX_VISITS = 3
+#: The physical world: an object farther than this from its place's pose (metres,
+#: radians) is not where the costmap's rules assume it, so a rule that fails
+#: there is `outside`, not a soundness bug.
+EXACT = 1e-3
+EXACT_ANGLE = 0.01
 
 
 @dataclass(frozen=True)
@@ -517,6 +522,25 @@ class _Episode:
                if o != self.world.held and place_at(self.scene, self.world.poses[o]) is None]
         if off:
             return f"{', '.join(off)} stand{'s' if len(off) == 1 else ''} on no place"
+        if isinstance(self.world, PhysicsWorld):  # the costmap's rules assume objects exactly on their places
+            places = self.world.geometry.places
+            shifted = []
+            for o in self.scene.object_names:
+                place = None if o == self.world.held else place_at(self.scene, self.world.poses[o])
+                pose = self.world.poses[o]
+                if place is not None and (distance(pose, places[place]) > EXACT
+                                          or pose.angle_to(places[place]) > EXACT_ANGLE):
+                    shifted.append(f"{o} {distance(pose, places[place]) * 1000:.0f} mm, "
+                                   f"{pose.angle_to(places[place]):.2f} rad off {place}")
+            held = self.world.held
+            if held is not None and self.world.grasp is not None:  # held as the grasp says?
+                nominal = self.world.ee_pose() @ self.world.geometry.hand_frame(self.world.grasp).pose.inverse()
+                pose = self.world.poses[held]
+                if distance(pose, nominal) > EXACT or pose.angle_to(nominal) > EXACT_ANGLE:
+                    shifted.append(f"{held} {distance(pose, nominal) * 1000:.0f} mm, "
+                                   f"{pose.angle_to(nominal):.2f} rad off its grasp in the hand")
+            if shifted:
+                return "in the physical world " + "; ".join(shifted) + " (the rules assume the exact poses)"
         return None
 
     def _free(self, serves: str) -> frozenset[str]:
