@@ -286,3 +286,18 @@ def test_the_built_in_push_passes_the_physical_conformance_clause(push_rule):
     cheat = slide_trials(scene, "box", "behind", rule.start, rule.goal, rule.path, 2, primitive=Teleport(),
                          randomization=randomization)
     assert all(o.success for o in cheat) and not any(o.untouched < 0.005 and o.jump < 0.005 for o in cheat)
+
+
+def test_costmap_verify_physics_names_the_bad_slide(tmp_path, monkeypatch, capsys):
+    """The slide beside the box passes the static check (its path touches no
+    obstacle) and fails every physical trial: the box stays 18 cm short."""
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path / "cache"))
+    scene = bad_push_scene(tmp_path)
+    costmap = tmp_path / "beside.json"
+    assert main(["costmap", str(scene), "--method", "sg", "-o", str(costmap)]) == 0
+    capsys.readouterr()
+    assert main(["costmap", "verify", str(costmap), "--scene", str(scene), "--physics", "--trials", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "all evidence paths hold" in out
+    assert "slide(box,behind,l1->l2)                 success    0%  worst error 18." in out
+    assert "worst      slide(box,behind,l1->l2): 0%" in out

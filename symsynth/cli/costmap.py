@@ -48,6 +48,11 @@ checked with the planner that built the costmap, which the file records
 (written by hand or by an older symsynth), and another planner than the
 recorded one is refused, since every path would miss its anchors.
 Exit status 1 if a path fails (a bug in a planner or the algorithms).
+With --physics, every slide rule's evidence is then executed --trials
+times per object in the physical world (randomized by --randomize, the
+object alone on the table, the robot on the rule's first configuration):
+the share that leaves the object within 1 cm of the target by contact
+alone, and the worst named (docs/simulation.md).
 
 Planners: {', '.join(planner_names()) or 'none installed'} (entry points 'symsynth.planners';
 default {DEFAULT})."""
@@ -70,6 +75,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("-o", "--output", type=Path, metavar="FILE", help="also write the costmap to FILE")
     parser.add_argument("--no-cache", action="store_true", help="compute even if a cached costmap exists")
     parser.add_argument("--json", action="store_true", help="print a summary as JSON")
+    parser.add_argument("--physics", action="store_true",
+                        help="with verify: also execute every slide rule's evidence in the physical world, "
+                             "--trials times per object, and print its success rate")
+    parser.add_argument("--trials", type=count, default=10, metavar="N",
+                        help="with verify --physics: randomized trials per slide rule and object (default: 10)")
+    parser.add_argument("--randomize", default="friction=0.2,mass=0.2,pose=0.005", metavar="SPEC",
+                        help="with verify --physics: the trials' randomization (as simulate's; "
+                             "default: friction=0.2,mass=0.2,pose=0.005)")
     options.add_executor(parser, "roadmaps built at once (default: one per core)")
     parser.set_defaults(run=run)
 
@@ -147,4 +160,31 @@ def _verify(path: Path, args: argparse.Namespace) -> int:
     verdict = "all evidence paths hold" if not failures else f"{len(failures)} failed"
     print(f"verified   {checked} rules of {path} with planner {name} at check step "
           f"{step:g} rad: {verdict}")
+    if args.physics:
+        _verify_physics(scene, costmap, args)
     return 1 if failures else 0
+
+
+def _verify_physics(scene, costmap, args: argparse.Namespace) -> None:
+    """Each slide rule's evidence executed `--trials` times per object in the
+    physical world (`execution.trial`): the share of trials whose object ends
+    within the observation's tolerance of the target, by contact alone."""
+    from symsynth.execution.physics import Randomization
+    from symsynth.execution.trial import slide_trials
+
+    randomization = Randomization.parse(args.randomize)
+    rows = []
+    for (contact, start, goal), rules in sorted(costmap.slides.items()):
+        for rule in rules:
+            for obj in scene.object_names:
+                outcomes = slide_trials(scene, obj, contact, start, goal, tuple(map(tuple, rule.path)), args.trials,
+                                        randomization=randomization)
+                good = sum(o.success and o.untouched < 0.005 for o in outcomes)
+                rows.append((good / args.trials, f"slide({obj},{contact},{start}->{goal})",
+                             max(o.error for o in outcomes)))
+    print(f"physics    {args.trials} trials per slide rule and object ({randomization}):")
+    for rate, what, worst in rows:
+        print(f"  {what:<40} success {rate:5.0%}  worst error {worst * 100:.1f} cm")
+    if rows:
+        rate, what, _ = min(rows)
+        print(f"worst      {what}: {rate:.0%}")
