@@ -11,8 +11,10 @@ object ahead of it.  They differ in where that takes the object:
   object out, e.g. from under a shelf.
 
 Any object can be slid: no grasp is needed, so a box wider than the
-gripper opens can still be pushed.  In the simulator the object keeps
-its pose relative to the hand while it slides (kinematically).
+gripper opens can still be pushed.  In the kinematic simulator the object
+keeps its pose relative to the hand while it slides; in the physical one
+(`simulate --world physics`) the fingers close and the hand pushes it,
+slowing near it, and it moves only by contact (`execution.primitives`).
 """
 
 from __future__ import annotations

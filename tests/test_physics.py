@@ -23,7 +23,7 @@ from symsynth.execution import hand_motions
 from symsynth.execution.observe import POSITION
 from symsynth.execution.physics import PhysicsWorld, Randomization
 from symsynth.execution.simulate import MAX_VISITS
-from symsynth.execution.trial import slide_trial
+from symsynth.execution.trial import slide_trial, slide_trials
 from symsynth.planning.anchors import anchor_configs
 from symsynth.planning.registry import planner_class
 from symsynth.primitive_registry import displacement
@@ -270,3 +270,19 @@ def test_randomized_worlds_differ_by_seed_and_repeat_by_seed(block):
     (mass, friction), xyz = draws[2]
     assert 0.07 * 0.8 <= mass <= 0.07 * 1.2 and 0.5 * 0.8 <= friction <= 0.5 * 1.2
     assert max(abs(xyz[0] - 0.5), abs(xyz[1])) <= 0.005
+
+
+def test_the_built_in_push_passes_the_physical_conformance_clause(push_rule):
+    """A plugin's slide, executed in physics, moves the object to its target
+    within the tolerance in at least 9 of 10 randomized trials, and moves it
+    only by contact; the teleporting plugin reaches its target as often but
+    is caught by what moved untouched."""
+    scene, rule = push_rule
+    randomization = Randomization(friction=0.2, mass=0.2, pose=0.005)
+    outcomes = slide_trials(scene, "box", "behind", rule.start, rule.goal, rule.path, 10,
+                            randomization=randomization)
+    assert sum(o.success for o in outcomes) >= 9
+    assert all(o.untouched < 0.005 and o.jump < 0.005 for o in outcomes)
+    cheat = slide_trials(scene, "box", "behind", rule.start, rule.goal, rule.path, 2, primitive=Teleport(),
+                         randomization=randomization)
+    assert all(o.success for o in cheat) and not any(o.untouched < 0.005 and o.jump < 0.005 for o in cheat)

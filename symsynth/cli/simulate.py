@@ -40,6 +40,16 @@ and are planned at run time otherwise; grab and drop are primitives (a
 Cartesian approach by inverse kinematics).  Measured cost: radians
 travelled x per_radian, plus the fixed grab and drop costs.
 
+--world physics runs the same steps with PyBullet dynamics (gravity, a
+1/240 s step, masses and friction from the scene's physics: blocks): the
+joints follow the paths by position control, the fingers close on the
+object (a constraint firms the grasp only once both touch it), a dropped
+object settles, a pushed or pulled object moves only by contact.  After
+each step the settled world is observed; an object not where the
+abstraction says is a state divergence with its distance, and the
+strategy goes on from what is observed.  --randomize draws each run's
+friction, masses and initial poses from its seed (docs/simulation.md).
+
 Humans (--human): none; random (on each of its turns, a random legal move
 with probability --move-probability, at most k moves); adversarial (the
 solver's worst case: the move after which the strategy may have to spend

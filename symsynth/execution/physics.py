@@ -14,17 +14,19 @@ move only as PyBullet integrates them:
   Static obstacles (the table) take a `physics: {friction}` too.
 - **The robot** follows a path by position control of its joints with the
   URDF's force limits (87 N m and 12 N m for the Panda): the target moves
-  along the path at `JOINT_SPEED` radians per second (joint-space norm;
-  `SLIDE_SPEED` along a slide), and at the path's end the robot is held on
+  along the path, each leg in the time its fastest joint needs at
+  `SPEED_FRACTION` of its URDF velocity limit (a slide's hand at most
+  `SLIDE_SPEED` near the object), and at the path's end the robot is held on
   its last configuration until every joint is within `ARRIVED` radians of
   it (at most `CONVERGE_STEPS`).  A path's cost is the radians of the path
   commanded, as the costmap measures it.
 - **The gripper** is the robot's `fixed` joints (the Panda's fingers, held
   open at 4 cm): `close_hand` drives them to their lower limit with their
   force limit (20 N), and when *both* fingers then touch the object
-  (contact points read from PyBullet) the grasp is firmed by a fixed
-  constraint between the hand and the object at their relative pose of that
-  moment (`FIRM_FORCE` at most).  PyBullet's friction grasps slip with
+  (contact points read from PyBullet) and it stopped them short of closing
+  fully (`STOPPED`: fingers on its top close all the way), the grasp is
+  firmed by a fixed constraint between the hand and the object at their
+  relative pose of that moment (`FIRM_FORCE` at most).  PyBullet's friction grasps slip with
   small, light blocks over long transfers; the constraint stands for the
   real gripper's grip, and is made only where the fingers hold the object.
   Fingers that close on nothing make no constraint: the object stays where
@@ -36,6 +38,9 @@ move only as PyBullet integrates them:
   `REST_SPIN` (rad/s) for `REST_STEPS` steps in a row, at most
   `SETTLE_STEPS`; only then are the poses read (`poses`, what `observe`
   reads).
+- **Human moves** are kinematic (no human body is simulated): the object
+  is put at rest on its new pose (not within `CLEARANCE` of the robot) and
+  settles.
 - **Randomization** (`Randomization`, seeded): each object's mass and
   friction, and the table's friction, scaled by a factor drawn uniformly
   in [1 - r, 1 + r]; each object's initial pose shifted on the table by up
@@ -67,15 +72,19 @@ DENSITY = 500.0  # kg/m³: an object's default mass is its volume's
 MESH_MASS = 0.1  # kg: the default for a mesh (its volume is not computed)
 FRICTION = 0.5  # objects' and obstacles' default Coulomb coefficient
 FINGER_FRICTION = 1.0  # the gripper's pads
-SPEED_FRACTION = 0.8  # of each joint's URDF velocity limit, along a motion
+SPEED_FRACTION = 0.5  # of each joint's URDF velocity limit, along a motion
 DEFAULT_SPEED = 1.0  # rad/s (m/s) for a joint whose URDF gives no velocity limit
 DEFAULT_EFFORT = 100.0  # N m (N) for a joint whose URDF gives no force limit
 DEFAULT_GRIP = 20.0  # N for a gripper joint whose URDF gives none
 SLIDE_SPEED = 0.05  # m/s: the hand's speed along a slide, at most (the object is not thrown)
+POSITION_GAIN = 0.1  # PyBullet's position control gains (its defaults: 0.1, 1.0)
+VELOCITY_GAIN = 1.0
 ARRIVED = 2e-3  # radians: every joint this close to the end of its path
 CONVERGE_STEPS = 240
 GRIP_STEPS = 60  # steps the fingers take to close or open (4 cm at 0.2 m/s is 48)
+STOPPED = 1e-3  # metres: a finger this far from fully closed was stopped by the object
 FIRM_FORCE = 200.0  # newtons: the firming constraint's strength
+CLEARANCE = 0.005  # metres: the closest a human puts an object to the robot
 REST_SPEED = 5e-3  # m/s
 REST_SPIN = 0.05  # rad/s
 REST_STEPS = 5
@@ -122,8 +131,6 @@ Watch = Callable[["PhysicsWorld"], None]
 class PhysicsWorld(SimWorld):
     """The scene with dynamics (module doc); `seed` draws the randomization."""
 
-    dynamic = True
-
     def __init__(self, scene: Scene, *, gui: bool = False, randomization: Randomization | None = None,
                  seed: int = 0, firm: bool = True) -> None:
         self.randomization = randomization or Randomization()
@@ -151,7 +158,7 @@ class PhysicsWorld(SimWorld):
         self._constraint: int | None = None
         self.watch: Watch | None = None  # called after every step (a test's or a verifier's eye)
         self.frame: Callable[[], None] | None = None  # a recording's camera, every `frame_every` steps
-        self.frame_every = 24
+        self.frame_every = 36  # 0.15 s of the world between frames of a recording
         self.steps = 0
         self.touches: set[str] = set()  # objects the robot touched while `watching`
         self.watching = False
@@ -308,7 +315,8 @@ class PhysicsWorld(SimWorld):
         zero = [0.0] * len(self.joints)
         self.client.setJointMotorControlArray(
             self.robot, self.joints, pybullet.POSITION_CONTROL, targetPositions=list(map(float, target)),
-            targetVelocities=zero if velocity is None else list(map(float, velocity)), forces=self._efforts)
+            targetVelocities=zero if velocity is None else list(map(float, velocity)), forces=self._efforts,
+            positionGains=[POSITION_GAIN] * len(self.joints), velocityGains=[VELOCITY_GAIN] * len(self.joints))
         fingers = list(self._grip)
         self.client.setJointMotorControlArray(
             self.robot, fingers, pybullet.POSITION_CONTROL, targetPositions=[self._grip[j] for j in fingers],
@@ -362,9 +370,14 @@ class PhysicsWorld(SimWorld):
         self.settle()
 
     def fingers_touch(self, name: str) -> bool:
-        """Whether every finger touches object `name` (PyBullet's contact points)."""
+        """Whether the fingers hold object `name` between them: every finger
+        touches it (PyBullet's contact points) and stopped short of closing
+        fully (fingers pressed on its top, or beside it, close all the way)."""
         body = self.bodies[name]
-        return all(self.client.getContactPoints(self.robot, body, j, -1) for j in self.fingers)
+        closed = [self.client.getJointInfo(self.robot, j)[8] for j in self.fingers]
+        at = [s[0] for s in self.client.getJointStates(self.robot, list(self.fingers))]
+        return (all(self.client.getContactPoints(self.robot, body, j, -1) for j in self.fingers)
+                and all(a > c + STOPPED for a, c in zip(at, closed)))
 
     def robot_touches(self, name: str) -> bool:
         return bool(self.client.getContactPoints(self.robot, self.bodies[name]))
@@ -379,6 +392,13 @@ class PhysicsWorld(SimWorld):
         self.settle()
 
     def blocked(self, name: str, pose: Pose) -> set[str]:
-        hits = super().blocked(name, pose)
+        """As in the kinematic world, and `robot` also where the object would
+        come within `CLEARANCE` of the robot: a human does not put an object
+        against the hand (which would drag it along as it leaves)."""
+        before = self.poses[name]
+        self._place_body(name, pose)
+        near = bool(self.client.getClosestPoints(self.robot, self.bodies[name], CLEARANCE))
+        self._place_body(name, before)
+        hits = super().blocked(name, pose) | ({"robot"} if near else set())
         self.client.resetBaseVelocity(self.bodies[name], [0, 0, 0], [0, 0, 0])
         return hits

@@ -50,7 +50,7 @@ from symsynth.errors import SymsynthError
 from symsynth.execution import motion as motions
 from symsynth.execution import hand_motions
 from symsynth.execution.human import Human, Option, Request, ScriptedHuman, Turn
-from symsynth.execution.observe import distance, observe, place_at
+from symsynth.execution.observe import close, distance, observe, place_at
 from symsynth.execution.physics import PhysicsWorld, Randomization
 from symsynth.execution.record import STRIDE, Recorder
 from symsynth.execution.world import SimWorld
@@ -74,6 +74,11 @@ WORLDS = ("kinematic", "physics")
 #: failed in the world each time) ends the run: a winning strategy never
 #: returns to a position in the abstraction (E_p decreases along its plays).
 MAX_VISITS = 3
+#: The physical world: an object farther than this from its place's pose (metres,
+#: radians) is not where the costmap's rules assume it, so a rule that fails
+#: there is `outside`, not a soundness bug.
+EXACT = 1e-3
+EXACT_ANGLE = 0.01
 
 
 @dataclass(frozen=True)
@@ -462,8 +467,15 @@ class _Episode:
             mode = Mode(obj, grasp)
             place = move.location
             target = geometry.places[place] @ geometry.hand_frame(grasp).pre_image()
+        off = None
+        if place is not None and move.kind == "transit":  # a physical world moves objects off the exact pose
+            at_anchor = geometry.places[place] @ geometry.hand_frame(grasp).pre_image()
+            if not close(at_anchor, target):
+                off = (f"{obj} stands {distance(at_anchor, target) * 100:.1f} cm and {at_anchor.angle_to(target):.2f} "
+                       f"rad off {place}'s pose, so {place}'s anchor is not its pre-image")
+                place = None
         goal = None if place is None else anchors(scene, place, grasp)[0]  # one of move.goals
-        outside = self._outside(obj, goal)
+        outside = off or self._outside(obj, goal)
         found = None
         if self.anchor is not None and goal is not None:
             free = self._free(obj)
@@ -510,6 +522,25 @@ class _Episode:
                if o != self.world.held and place_at(self.scene, self.world.poses[o]) is None]
         if off:
             return f"{', '.join(off)} stand{'s' if len(off) == 1 else ''} on no place"
+        if isinstance(self.world, PhysicsWorld):  # the costmap's rules assume objects exactly on their places
+            places = self.world.geometry.places
+            shifted = []
+            for o in self.scene.object_names:
+                place = None if o == self.world.held else place_at(self.scene, self.world.poses[o])
+                pose = self.world.poses[o]
+                if place is not None and (distance(pose, places[place]) > EXACT
+                                          or pose.angle_to(places[place]) > EXACT_ANGLE):
+                    shifted.append(f"{o} {distance(pose, places[place]) * 1000:.0f} mm, "
+                                   f"{pose.angle_to(places[place]):.2f} rad off {place}")
+            held = self.world.held
+            if held is not None and self.world.grasp is not None:  # held as the grasp says?
+                nominal = self.world.ee_pose() @ self.world.geometry.hand_frame(self.world.grasp).pose.inverse()
+                pose = self.world.poses[held]
+                if distance(pose, nominal) > EXACT or pose.angle_to(nominal) > EXACT_ANGLE:
+                    shifted.append(f"{held} {distance(pose, nominal) * 1000:.0f} mm, "
+                                   f"{pose.angle_to(nominal):.2f} rad off its grasp in the hand")
+            if shifted:
+                return "in the physical world " + "; ".join(shifted) + " (the rules assume the exact poses)"
         return None
 
     def _free(self, serves: str) -> frozenset[str]:

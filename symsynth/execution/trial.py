@@ -102,3 +102,13 @@ class _Watch:
             self.pushed += moved
         else:
             self.untouched += moved
+
+
+def slide_trials(scene: Scene, obj: str, contact: str, start: str, goal: str,
+                 path: tuple[tuple[float, ...], ...], trials: int, *, primitive: Any = None,
+                 randomization: Randomization | None = None, seed: int = 0) -> list[Outcome]:
+    """`slide_trial` `trials` times, seeds `seed`, `seed + 1`, ...: the
+    success rate of a slide rule in a family of randomized worlds is
+    `sum(o.success for o in outcomes) / trials`."""
+    return [slide_trial(scene, obj, contact, start, goal, path, primitive=primitive, randomization=randomization,
+                        seed=seed + i) for i in range(trials)]

@@ -96,6 +96,8 @@ class Displacement(Protocol):
     def execute(self, world: Any, move: Any, path: tuple[Config, ...]) -> Any:
         """Carry out the slide `move` (the game's `Move`: object, contact,
         target location) in the simulator's world along `path`, the evidence
-        of its slide rule: the object moves with the contact, kinematically.
+        of its slide rule: in the kinematic world the object moves with the
+        contact; in the physical one (`execution.physics.PhysicsWorld`) it
+        must move only as the robot pushes it (`execution.trial` watches).
         Returns what `execution.hand_motions` returns (`path`, `touched`,
         `radians`)."""
