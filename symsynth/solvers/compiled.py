@@ -64,7 +64,6 @@ naming the limit; `--solver explicit` solves them.
 
 from __future__ import annotations
 
-import math
 import sys
 import threading
 import time
@@ -80,41 +79,22 @@ from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.packed import kernels
 from symsynth.solvers.packed.graph import CompiledStrategy, Graph
-from symsynth.solvers.packed.bound import BoundTables
-from symsynth.solvers.packed.kernels import INF, _explore, _explore_bounded, _human_moves, _letter, _lower, _solve
+from symsynth.solvers.packed.kernels import INF, _explore, _human_moves, _letter, _solve
 from symsynth.solvers.packed.tables import BATCH, HUMAN_MOVES_KEPT, Tables, TooLarge, check_width
 
 __all__ = ["TooLarge", "Tables", "compile_kernels", "kernels_cached", "solve_compiled",
            "_explore", "_human_moves", "_letter"]
 
-#: The bounded search is the default past this many positions (`auto.position_bound`; pattern
-#: family 5 x 7: 3.2 million)
-BOUNDED_FROM = 2_000_000
-#: Each round of the bounded search raises its cutoff by this factor (or to the best value found)
-GROWTH = 1.05
-#: With a time limit, a round is started only when this many times the last one's time is left
-ROUND_RATIO = 2.0
-
 
 
 def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
                    k: int | None = None, budget: float | None = None,
-                   resolution: float = 1.0, symmetric: bool = True, bounded: bool | None = None,
-                   time_limit: float | None = None) -> Solution:
-    """E_p, a strategy and plays, as `solve_explicit` computes them.
-
-    `bounded`: by the bounded search (module doc) instead of every position
-    the start reaches; None: when the game is large (`BOUNDED_FROM`
-    positions at most, by `auto.position_bound`) or `time_limit` is given,
-    and the task's lower bound guides it.  With `time_limit` (seconds), the
-    bounded search's rounds stop when the next one would not end in time:
-    then `Solution.lower_units <= E_p <= units`, with a strategy for `units`
-    (None when no round found one)."""
+                   resolution: float = 1.0, symmetric: bool = True) -> Solution:
+    """E_p, a strategy and plays, as `solve_explicit` computes them."""
     k = check_parameters(scene, k, resolution)
     took = compile_kernels()  # the first solve of the process only
     seconds = {} if took is None else {"compile": took}
     clock = time.perf_counter()
-    deadline = None if time_limit is None else clock + time_limit
     formula = task_formula(scene, formula)
     symmetry = Symmetry.of(scene, formula) if symmetric else None
     tables = Tables(scene, formula, resolution, symmetry, k)
@@ -124,144 +104,40 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
     q0 = tables.step(tables.dfa_index[tables.dfa.initial], tables.pack(v0))
     if tables.accepting[q0]:
         return won_at_start(scene, k, resolution, budget, seconds | {"explore": 0.0, "solve": 0.0})
-    start = tables.key(tables.canon(tables.pack(v0)), q0)
-    if bounded is None:
-        bounded = time_limit is not None or _large(scene, formula, k)
-    search = Bounded(tables, formula, start) if bounded else None
-    if search is None or not search.useful():
-        graph, stats = _full(tables, start, seconds)
-        lower = None
-    else:
-        graph, stats, lower = search.rounds(seconds, deadline)
-    return _solution(tables, graph, stats, lower, budget, seconds)
 
-
-def _large(scene: Scene, formula: ast.Formula, k: int) -> bool:
-    from symsynth.solvers.auto import position_bound  # (auto imports the registry, not this module)
-
-    return position_bound(scene, formula, k) > BOUNDED_FROM
-
-
-def _full(tables: Tables, start: int, seconds: dict[str, float]) -> tuple[Graph, dict]:
-    """Every position the start reaches, solved."""
     clock = time.perf_counter()
+    start = tables.key(tables.canon(tables.pack(v0)), q0)
     explored = _explore(start, *tables.kernel_args(HUMAN_MOVES_KEPT, BATCH))
     seconds["explore"] = time.perf_counter() - clock
+
     clock = time.perf_counter()
-    graph = _solved(tables, explored, absent_lost=False)
-    seconds["solve"] = time.perf_counter() - clock
-    return graph, graph.stats
-
-
-def _solved(tables: Tables, explored: tuple, absent_lost: bool) -> Graph:
-    """The explored nodes with their values (`_solve`)."""
-    keys, r_tgt = explored[0], explored[5]
+    keys, hflag, r_tgt, human_moves = explored[0], explored[1], explored[5], int(explored[7])
     if max(len(keys), len(r_tgt)) >= 1 << 31:
         raise TooLarge("the compiled solver holds fewer than 2^31 nodes and robot moves; "
                        f"this game has {len(keys)} nodes and {len(r_tgt)} robot moves")
-    rval, choice, top, missing = _solve(*explored[:7], *explored[8:10], *tables.human_args(), absent_lost)
+    rval, choice, top, missing = _solve(*explored[:7], *explored[8:], *tables.human_args())
     if missing:
         raise RuntimeError(f"internal error: {missing} human moves left the explored nodes")
-    graph = Graph(tables, explored[:7], rval, choice, int(top))
-    human_moves, humans = int(explored[7]), int(np.count_nonzero(explored[1]))
-    graph.stats = {"edges": len(r_tgt) + human_moves + humans, "robot_moves": len(r_tgt),
-                   "human_moves": human_moves}
-    graph.states = len(keys) + humans
-    return graph
-
-
-def _solution(tables: Tables, graph: Graph | None, stats: dict, lower: int | None, budget: float | None,
-              seconds: dict[str, float]) -> Solution:
-    """The Solution of a solved graph (None: no strategy found in time), exact
-    unless `lower` (then lower <= E_p <= the graph's value)."""
-    scene, resolution, k = tables.scene, tables.resolution, tables.k
-    clock = time.perf_counter()
-    result = None if graph is None or graph.top >= INF else graph.top
-    principal: tuple[Step, ...] = ()
-    counter: tuple[Step, ...] | None = None
-    strategy: Mapping = {}
-    if lower is not None:  # an interval
-        realizable = _bracket_verdict(lower, result, resolution, budget)
+    graph = Graph(tables, explored[:7], rval, choice)
+    top = int(top)
+    result = None if top >= INF else top
+    realizable = verdict(result, resolution, budget)
+    principal: tuple[Step, ...]
+    counter: tuple[Step, ...] | None
+    if result is None:
+        principal, counter = (), graph.counter_play(0)
+        strategy: Mapping = {}
     else:
-        realizable = verdict(result, resolution, budget)
-    if graph is not None and result is None and lower is None:
-        counter = graph.counter_play(0)
-    elif result is not None and graph is not None:
         principal = graph.principal_play(0)
-        counter = principal if realizable is False and lower is None else None
+        counter = principal if realizable is False else None
         strategy = CompiledStrategy(graph)
-    seconds["plays"] = time.perf_counter() - clock
-    states = 0 if graph is None else graph.states
-    if lower is not None:
-        stats = stats | {"lower_units": lower}
+    seconds["solve"] = time.perf_counter() - clock
+    humans = int(np.count_nonzero(hflag))
+    stats = {"edges": len(r_tgt) + human_moves + humans, "robot_moves": len(r_tgt), "human_moves": human_moves}
     solution = Solution(None if result is None else result * resolution, result, resolution, budget,
-                        realizable, k, states, seconds, strategy, principal, counter,
-                        scene.object_names, stats, lower_units=lower)
-    return solution if tables.symmetry is None else tables.symmetry.realize(solution)
-
-
-def _bracket_verdict(lower: int, upper: int | None, resolution: float, budget: float | None) -> bool | None:
-    """Realizable within `budget` when E_p lies in [lower, upper]: True at or
-    above upper, False below lower, None (undecided) between."""
-    if budget is None:
-        return None
-    if upper is not None and verdict(upper, resolution, budget):
-        return True
-    if not verdict(lower, resolution, budget):
-        return False
-    return None
-
-
-class Bounded:
-    """The bounded search (module doc): rounds of `_explore_bounded` with a
-    growing cutoff U, each proving E_p > U or solving the game exactly."""
-
-    def __init__(self, tables: Tables, formula: ast.Formula, start: int):
-        self.tables, self.start = tables, start
-        self.bound = BoundTables(tables, formula)
-        t = tables
-        self.first = int(_lower(np.int64(start >> t.qbits), t.k, False, t.n, t.m, t.F, t.pb, t.eb, t.gb,
-                                *self.bound.args()))
-
-    def useful(self) -> bool:
-        """Whether the task's lower bound guides the search (else every round
-        would explore about what the full search explores), and the start's
-        bound is finite (else E_p is infinite, and the full search says why)."""
-        return self.bound.enabled and 0 < self.first < INF
-
-    def explore(self, U: int) -> tuple:
-        t = self.tables
-        C = np.int64(t.max_units + 1)
-        return _explore_bounded(np.int64(self.start), *t.kernel_args(HUMAN_MOVES_KEPT, BATCH)[:-1],
-                                np.int64(U), C, *self.bound.args())
-
-    def rounds(self, seconds: dict[str, float], deadline: float | None) -> tuple[Graph | None, dict, int | None]:
-        """(the graph of the last round or the best strategy found, stats,
-        None when E_p is exact else the proven lower bound)."""
-        U, lower, best = self.first, self.first, None
-        log: list[dict] = []
-        seconds["explore"] = seconds["solve"] = 0.0
-        while True:
-            clock = time.perf_counter()
-            explored = self.explore(U)
-            took = time.perf_counter() - clock
-            seconds["explore"] += took
-            clock = time.perf_counter()
-            graph = _solved(self.tables, explored, absent_lost=True)
-            seconds["solve"] += time.perf_counter() - clock
-            took += time.perf_counter() - clock
-            log.append({"cutoff": U, "states": graph.states, "value": None if graph.top >= INF else graph.top,
-                        "seconds": round(took, 3)})
-            stats = graph.stats | {"bounded": log}
-            if graph.top <= U or explored[11] == 0:  # E_p <= U, or nothing was cut: exact
-                return graph, stats, None
-            lower = U + 1  # E_p > U, else this round would have found it
-            if graph.top < INF and (best is None or graph.top < best.top):
-                best = graph
-            grown = max(U + 1, math.ceil(U * GROWTH))
-            U = grown if best is None else min(grown, best.top)
-            if deadline is not None and time.perf_counter() + took * ROUND_RATIO > deadline:
-                return best, (best.stats if best is not None else {}) | {"bounded": log}, lower
+                        realizable, k, len(keys) + humans, seconds, strategy, principal, counter,
+                        scene.object_names, stats)
+    return solution if symmetry is None else symmetry.realize(solution)
 
 
 _compiled = False  # compile_kernels has run in this process

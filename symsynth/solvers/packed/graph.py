@@ -19,12 +19,9 @@ class Graph:
     the human-turn position at the same (v, q, h) (its pass leads to the
     robot's); h is the node's layer."""
 
-    def __init__(self, tables: Tables, explored: tuple, rval: np.ndarray, choice: np.ndarray, top: int):
+    def __init__(self, tables: Tables, explored: tuple, rval: np.ndarray, choice: np.ndarray):
         self.keys, self.hflag, self.lo, self.hi, self.r_off, self.r_tgt, self.r_move = explored
         self.rval = rval
-        self.top = top  # the value of the start's human turn (INF: lost)
-        self.stats: dict = {}
-        self.states = 0
         self.choice = choice  # the chosen robot move, relative to r_off (-1: none)
         self.tables = tables
         self._sorted: dict[int, tuple[np.ndarray, np.ndarray]] = {}
@@ -73,8 +70,9 @@ class Graph:
             w = t.canon(t.pack(mv.after))
             q2 = t.step(qi, w)
             j = -1 if t.accepting[q2] else self.index(w, q2, h - 1)
-            value = INF if j is None else 0 if j < 0 else int(self.rval[j])  # None: cut by a bounded search
-            out.append((Step("human", mv.action, 0.0, mv.after), -2 if j is None else j, value))
+            if j is None:
+                raise RuntimeError("internal error: a human move left the explored nodes")
+            out.append((Step("human", mv.action, 0.0, mv.after), j, 0 if j < 0 else int(self.rval[j])))
         return out
 
     def principal_play(self, start: int) -> tuple[Step, ...]:

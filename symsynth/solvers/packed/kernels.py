@@ -754,8 +754,7 @@ def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home
 
 @njit(cache=True)
 def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n, m, F, pb, eb, gb, qbits,
-           atom_at, free_at, free_all, trans, accepting, class_members, class_offsets, place_rank, rank_place,
-           absent_lost):
+           atom_at, free_at, free_all, trans, accepting, class_members, class_offsets, place_rank, rank_place):
     """The value of every node's robot turn (rval) and the robot's chosen move
     (choice, relative to r_off[i]; -1: none), layer by layer from h = 0 up;
     also the value of the start's human turn (node 0; INF: lost) and the
@@ -795,7 +794,7 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
                 best = -1
                 for e in range(h_off[i], h_off[i + 1]):
                     t = h_tgt[e]
-                    v = 0 if t == -1 else (INF if t < 0 else rval[t])  # -3: a move the bounded search cut
+                    v = 0 if t < 0 else rval[t]
                     if v > best:
                         best = v
                 K[i - a] = best
@@ -808,8 +807,7 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
                 _insert(table, bits, keys[r], rval[r])
             missing += _human_values_par(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits,
                                          atom_at, free_at, free_all, trans, accepting, obj_class, obj_pos,
-                                         class_members, class_offsets, place_rank, rank_place, room,
-                                         absent_lost)
+                                         class_members, class_offsets, place_rank, rank_place, room)
             table = _table(np.int64(1))  # freed before the layer's scratch is taken
             missing &= (1 << 32) - 1
         moves = r_off[b] - r_off[a]
@@ -835,7 +833,7 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
 @njit(cache=True, parallel=True)
 def _human_values_par(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits, atom_at, free_at,
                       free_all, trans, accepting, obj_class, obj_pos, class_members, class_offsets,
-                      place_rank, rank_place, room, absent_lost):
+                      place_rank, rank_place, room):
     """`_human_values` on the threads numba runs (`numba.set_num_threads`):
     the nodes a..b in chunks, each with its own scratch; the table and the
     layer below are only read, and each chunk writes its own part of K."""
@@ -849,15 +847,14 @@ def _human_values_par(a, b, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qb
         mv_letter = np.empty(room, np.int64)
         missing += _human_values(lo, hi, a, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits, atom_at,
                                  free_at, free_all, trans, accepting, obj_class, obj_pos, class_members,
-                                 class_offsets, place_rank, rank_place, desc, mv_after, mv_letter,
-                                 absent_lost)
+                                 class_offsets, place_rank, rank_place, desc, mv_after, mv_letter)
     return missing
 
 
 @njit(cache=True)
 def _human_values(a, b, base, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, qbits, atom_at, free_at,
                   free_all, trans, accepting, obj_class, obj_pos, class_members, class_offsets, place_rank,
-                  rank_place, desc, mv_after, mv_letter, absent_lost):
+                  rank_place, desc, mv_after, mv_letter):
     """K[i - base] for the human turns i of nodes a..b: the largest value among
     the human's moves (0 for a move that wins, the value `table` holds with
     the key of its node in layer h - 1 otherwise: one random read per move),
@@ -883,11 +880,8 @@ def _human_values(a, b, base, keys, hflag, K, table, bits, n, m, F, pb, eb, gb, 
             if w >= 0:
                 v = _find(table, bits, w)
                 if v < 0:
-                    if absent_lost:  # cut by the bounded search: the human's best move
-                        v = INF
-                    else:
-                        missing += 1
-                        continue
+                    missing += 1
+                    continue
             if v > best:
                 best = v
         K[i - base] = best
@@ -1016,371 +1010,3 @@ def _solve_layer(a, b, C, code_bits, hflag, r_off, r_tgt, r_move, rval, hval, ch
 def dispatchers() -> list:
     """Every kernel of this module (numba dispatchers), for cache checks."""
     return [value for value in globals().values() if isinstance(value, numba.core.registry.CPUDispatcher)]
-
-
-@njit(cache=True)
-def _lower(x, h, robot, n, m, F, pb, eb, gb, lb_on, lb_place, lb_cand, lb_carry, lb_held, lb_transit,
-           lb_anywhere, lb_grab, lb_drop, lb_strike):
-    """`solvers.bound.LowerBound` at packed state x with h human moves left,
-    at the robot's turn (`robot`) or the human's, in units (INF: no way);
-    0 when the bound is off (`packed.bound`)."""
-    if not lb_on:
-        return 0
-    pmask = (1 << pb) - 1
-    ee = (x >> (n * pb)) & ((1 << eb) - 1)
-    grip = (x >> (n * pb + eb)) & ((1 << gb) - 1)
-    aimed = (ee - 1 - m) // F if ee > m else -1
-    held = -1
-    occupant = np.full(m + 2, -1, np.int64)  # (a small array per call: n and m are small)
-    for i in range(n):
-        p = (x >> (i * pb)) & pmask
-        if p == m + 1:
-            held = i
-        elif p < m:
-            occupant[p] = i
-    total = 0
-    missing = 0
-    last = -1
-    for g in range(len(lb_place)):
-        l = lb_place[g]
-        o = occupant[l]
-        if o >= 0 and (lb_cand[g] >> o) & 1:
-            continue
-        missing += 1
-        last = l
-        best = INF
-        for i in range(n):
-            if not (lb_cand[g] >> i) & 1:
-                continue
-            if i == held:
-                over = m if ee == 0 else ee - 1
-                c = lb_held[i, over, grip - 1, g]
-                cost = INF if c >= INF else lb_drop + c
-            else:
-                p = (x >> (i * pb)) & pmask
-                c = lb_carry[i, p, g]
-                t = 0 if aimed == i else lb_transit[p]
-                cost = INF if c >= INF or t >= INF else lb_drop + c + lb_grab + t
-            if cost < best:
-                best = cost
-        if best >= INF:
-            return INF
-        total += best
-    brink = missing == 1 and held >= 0 and 1 <= ee <= m and ee - 1 == last and grip != 0
-    if brink:  # held in C(last)?
-        for g in range(len(lb_place)):
-            if lb_place[g] == last and not (lb_cand[g] >> held) & 1:
-                brink = False
-    if missing > 0 and held < 0 and ee == 0:  # the first transit is from anywhere
-        extra = INF
-        found = False
-        for i in range(n):
-            p = (x >> (i * pb)) & pmask
-            if lb_transit[p] < INF:
-                found = True
-                d = INF if lb_anywhere[p] >= INF else lb_anywhere[p] - lb_transit[p]
-                if d < extra:
-                    extra = d
-        if found:
-            if extra >= INF:
-                return INF
-            total += extra
-    if robot and brink:
-        return total
-    return total + h * lb_strike
-
-
-@njit(cache=True)
-def _explore_bounded(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_starts, samples_mask,
-                     rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
-                     grab_units, drop_units, atom_at, free_at, free_all, trans, accepting,
-                     class_members, class_offsets, place_rank, rank_place, code_bits, human_cap,
-                     U, C, lb_on, lb_place, lb_cand, lb_carry, lb_held, lb_transit, lb_anywhere, lb_grab,
-                     lb_drop, lb_strike):
-    """`_explore` kept to the positions a strategy of cost at most U can
-    visit (`solvers.compiled`, "The bounded search"): every layer is
-    explored in order of g, the least cost of robot moves from the start
-    (Dijkstra, a ring of C buckets, C above every move's units), and a move
-    is kept only when g + the lower bound at its target is at most U.  A
-    robot move that fails the test is dropped; a human move that fails it
-    (its target not explored otherwise) is stored as -3 and valued INF.  The
-    nodes of a layer are numbered in the order they are expanded, so each
-    node's robot moves follow one another as `_explore` leaves them.
-    Returns what `_explore` returns and, last, each node's g."""
-    keys = np.empty(1 << 16, np.int64)
-    hflag = np.zeros(1 << 16, np.uint8)
-    g = np.empty(1 << 16, np.int64)  # the robot turn's least cost from the start
-    gh = np.empty(1 << 16, np.int64)  # the human turn's (the robot moves into it)
-    hl = np.full(1 << 16, -1, np.int64)  # the human turn's lower bound (`_reply_bound`; -1: not yet)
-    cut = 0
-    r_off = np.zeros((1 << 16) + 1, np.int64)
-    h_off = np.zeros((1 << 16) + 1, np.int64)
-    h_tgt = np.empty(min(1 << 18, human_cap), np.int32)
-    r_tgt = np.empty(1 << 18, np.int32)
-    r_move = np.empty(1 << 18, np.int32)
-    lo = np.zeros(k + 1, np.int64)
-    hi = np.zeros(k + 1, np.int64)
-    bits = np.int64(17)
-    table = _table(bits)
-    keys[0] = start
-    hflag[0] = 1
-    g[0] = 0
-    gh[0] = 0
-    _insert(table, bits, start, np.int64(0))
-    count = 1
-    obj_class = np.full(n, -1, np.int64)
-    obj_pos = np.zeros(n, np.int64)
-    for c in range(len(class_offsets) - 1):
-        for r in range(class_offsets[c], class_offsets[c + 1]):
-            obj_class[class_members[r]] = c
-            obj_pos[class_members[r]] = r - class_offsets[c]
-    room = 4 * (n * (F + m + 2) + m + 2)
-    at = np.empty(n, np.int64)
-    free = np.empty(n, np.int64)
-    desc = np.empty(n, np.int64)
-    S = np.empty(len(home_starts) + anchor_at.shape[2], np.int64)
-    T = np.empty(anchor_at.shape[2], np.int64)
-    moves = np.empty(room, np.int64)
-    units = np.empty(room, np.int64)
-    codes = np.empty(room, np.int64)
-    letters = np.empty(room, np.int64)
-    scratch = np.empty(room, np.int64)
-    scratch_letters = np.empty(room, np.int64)
-    head = np.empty(C, np.int64)
-    ent_node = np.empty(1 << 16, np.int64)
-    ent_next = np.empty(1 << 16, np.int64)
-    ne = 0
-    nh = 0
-    store = True
-    for h in range(k, -1, -1):
-        a = lo[h]
-        # the seeds in order of g, released as the ring reaches them
-        seeds = a + np.argsort(g[a:count], kind="mergesort")
-        seedg = g[seeds]
-        rank = np.full(count - a, -1, np.int64)  # grows with the layer (below)
-        head[:] = -1
-        used = 0
-        pending = 0
-        sp = 0
-        expanded = 0
-        d = 0
-        while sp < len(seeds) or pending > 0:
-            if pending == 0 and seedg[sp] > d:
-                d = seedg[sp]
-            while True:
-                if sp < len(seeds) and seedg[sp] <= d:
-                    j = seeds[sp]
-                    sp += 1
-                else:
-                    x = head[d % C]
-                    if x < 0:
-                        break
-                    head[d % C] = ent_next[x]
-                    pending -= 1
-                    j = ent_node[x]
-                if g[j] != d or rank[j - a] >= 0:
-                    continue  # a stale entry, or expanded already
-                # expand j: its robot moves, kept when g + the bound at the target is within U
-                if count + room > len(keys):
-                    size = 2 * (count + room)
-                    keys = _grow(keys, size)
-                    hflag = _grow(hflag, size)
-                    hflag[count:] = 0
-                    g = _grow(g, size)
-                    gh = _grow(gh, size)
-                    hl = _grow(hl, size)
-                    hl[count:] = -1
-                    r_off = _grow(r_off, size + 1)
-                    if store:
-                        h_off = _grow(h_off, size + 1)
-                if count + room - a > len(rank):
-                    rank2 = np.full(2 * (count + room - a), -1, np.int64)
-                    rank2[:len(rank)] = rank
-                    rank = rank2
-                if ne + room > len(r_tgt):
-                    size = ne + ne // 2 + room
-                    r_tgt = _grow(r_tgt, size)
-                    r_move = _grow(r_move, size)
-                if used + room > len(ent_node):
-                    ent_node = _grow(ent_node, 2 * (used + room))
-                    ent_next = _grow(ent_next, 2 * (used + room))
-                if 2 * (count + room - a) > len(table):
-                    bits += 1
-                    table = _rehash(keys, a, count, bits)
-                rank[j - a] = expanded
-                expanded += 1
-                key = keys[j]
-                nm = _robot_moves(key >> qbits, n, m, F, pb, eb, gb, anchor_at, anchor_count, home_starts,
-                                  samples_mask, rule_start, rule_count, rule_free, rule_units, slide_start,
-                                  slide_count, is_grasp, grab_units, drop_units, at, free, S, T, moves, units,
-                                  codes)
-                _targets(moves, nm, False, key & ((1 << qbits) - 1), n, m, F, pb, eb, qbits, class_members,
-                         class_offsets, place_rank, rank_place, desc, atom_at, free_at, free_all, trans,
-                         accepting, table, bits, units)
-                start_e = ne
-                for e in range(nm):
-                    w = moves[e]
-                    g2 = d + units[e]
-                    if g2 > U:
-                        cut += 1
-                        continue
-                    t = -1
-                    if w >= 0:
-                        t = _find(table, bits, w)
-                        reply = hl[t] if t >= 0 else -1
-                        if reply < 0:  # the human turn's bound: its worst reply's, or the pass's
-                            reply = _reply_bound(w, h, n, m, F, pb, eb, gb, qbits, lb_on, lb_place, lb_cand,
-                                                 lb_carry, lb_held, lb_transit, lb_anywhere, lb_grab, lb_drop,
-                                                 lb_strike, obj_class, obj_pos, class_members, class_offsets,
-                                                 place_rank, rank_place, desc, scratch, scratch_letters,
-                                                 atom_at, free_at, free_all)
-                            if t >= 0:
-                                hl[t] = reply
-                        if g2 + reply > U:
-                            cut += 1
-                            continue
-                        if t < 0:
-                            _insert(table, bits, w, count)
-                            t = count
-                            keys[count] = w
-                            g[count] = INF
-                            gh[count] = INF
-                            hl[count] = reply
-                            count += 1
-                        hflag[t] = 1
-                        if g2 < gh[t]:
-                            gh[t] = g2
-                        if g2 < g[t]:
-                            g[t] = g2
-                            ent_node[used] = t
-                            ent_next[used] = head[g2 % C]
-                            head[g2 % C] = used
-                            used += 1
-                            pending += 1
-                    r_tgt[ne] = t
-                    r_move[ne] = (units[e] << code_bits) | codes[e]
-                    ne += 1
-                r_off[j + 1] = ne - start_e  # this node's count, made offsets below
-            d += 1
-        hi[h] = count
-        # number the layer's nodes in the order they were expanded
-        size = count - a
-        order = np.empty(size, np.int64)
-        for p in range(size):
-            order[rank[p]] = p
-        cnt = r_off[a + 1:count + 1].copy()
-        keys[a:count] = keys[a:count][order]
-        hl[a:count] = hl[a:count][order]
-        hflag[a:count] = hflag[a:count][order]
-        g[a:count] = g[a:count][order]
-        gh[a:count] = gh[a:count][order]
-        e0 = r_off[a]
-        for r in range(size):
-            r_off[a + r + 1] = r_off[a + r] + cnt[order[r]]
-        for e in range(e0, ne):
-            if r_tgt[e] >= 0:
-                r_tgt[e] = a + rank[r_tgt[e] - a]
-        if store and h < k:  # the human moves of the layer above lead into this one
-            for e in range(h_off[lo[h + 1]], nh):
-                if h_tgt[e] >= 0:
-                    h_tgt[e] = a + rank[h_tgt[e] - a]
-        if h == 0:
-            if store:
-                for i in range(a, count):
-                    h_off[i + 1] = nh
-            break
-        # the human's moves from layer h: the seeds of layer h - 1
-        lo[h - 1] = count
-        bits = np.int64(17)
-        table = _table(bits)
-        for i in range(a, hi[h]):
-            if store:
-                h_off[i + 1] = h_off[i]
-            if not hflag[i]:
-                continue
-            if count + room > len(keys):
-                size = 2 * (count + room)
-                keys = _grow(keys, size)
-                hflag = _grow(hflag, size)
-                hflag[count:] = 0
-                g = _grow(g, size)
-                gh = _grow(gh, size)
-                hl = _grow(hl, size)
-                hl[count:] = -1
-                r_off = _grow(r_off, size + 1)
-                if store:
-                    h_off = _grow(h_off, size + 1)
-            if 2 * (count + room - lo[h - 1]) > len(table):
-                bits += 1
-                table = _rehash(keys, lo[h - 1], count, bits)
-            if store and nh + room > len(h_tgt):
-                if nh + room > human_cap:
-                    store = False
-                    h_off = np.zeros(1, np.int64)
-                    h_tgt = np.empty(0, np.int32)
-                else:
-                    h_tgt = _grow(h_tgt, min(human_cap, nh + nh // 2 + room))
-            key = keys[i]
-            nm = _human_moves(key >> qbits, n, m, F, pb, eb, gb, moves, obj_class, obj_pos, class_members,
-                              class_offsets, place_rank, rank_place, desc, letters, atom_at, free_at, free_all)
-            _targets(moves, nm, True, key & ((1 << qbits) - 1), n, m, F, pb, eb, qbits, class_members,
-                     class_offsets, place_rank, rank_place, desc, atom_at, free_at, free_all, trans, accepting,
-                     table, bits, letters)
-            for e in range(nm):
-                w = moves[e]
-                t = -1
-                if w >= 0:
-                    t = _find(table, bits, w)
-                    if t < 0:
-                        cut += 1
-                        if gh[i] + _lower(w >> qbits, h - 1, True, n, m, F, pb, eb, gb, lb_on, lb_place,
-                                          lb_cand, lb_carry, lb_held, lb_transit, lb_anywhere, lb_grab,
-                                          lb_drop, lb_strike) > U:
-                            t = -3
-                        else:
-                            cut -= 1
-                            _insert(table, bits, w, count)
-                            t = count
-                            keys[count] = w
-                            g[count] = gh[i]
-                            gh[count] = INF
-                            hl[count] = -1
-                            hflag[count] = 0
-                            count += 1
-                    elif gh[i] < g[t]:
-                        g[t] = gh[i]
-                if store:
-                    h_tgt[nh + e] = t
-            nh += nm
-            if store:
-                h_off[i + 1] = nh
-    N = count
-    if store:
-        h_off, h_tgt = h_off[:N + 1], h_tgt[:nh]
-    return keys[:N], hflag[:N], lo, hi, r_off[:N + 1], r_tgt[:ne], r_move[:ne], nh, h_off, h_tgt, g[:N], cut
-
-
-@njit(cache=True)
-def _reply_bound(w, h, n, m, F, pb, eb, gb, qbits, lb_on, lb_place, lb_cand, lb_carry, lb_held, lb_transit,
-                 lb_anywhere, lb_grab, lb_drop, lb_strike, obj_class, obj_pos, class_members, class_offsets,
-                 place_rank, rank_place, desc, after, letters, atom_at, free_at, free_all):
-    """A lower bound on the value of the human's turn at node key w with h
-    moves left: the most, over the pass and the human's moves, of the bound
-    where each leads (the human picks its worst reply); 0 with the bound off."""
-    if not lb_on:
-        return 0
-    x = w >> qbits
-    best = _lower(x, h, True, n, m, F, pb, eb, gb, lb_on, lb_place, lb_cand, lb_carry, lb_held, lb_transit,
-                  lb_anywhere, lb_grab, lb_drop, lb_strike)
-    if h == 0 or best >= INF:
-        return best
-    nm = _human_moves(x, n, m, F, pb, eb, gb, after, obj_class, obj_pos, class_members, class_offsets,
-                      place_rank, rank_place, desc, letters, atom_at, free_at, free_all)
-    for e in range(nm):
-        c = _lower(after[e], h - 1, True, n, m, F, pb, eb, gb, lb_on, lb_place, lb_cand, lb_carry, lb_held,
-                   lb_transit, lb_anywhere, lb_grab, lb_drop, lb_strike)
-        if c > best:
-            best = c
-            if best >= INF:
-                return best
-    return best
