@@ -322,4 +322,4 @@ def test_a_formula_that_starts_with_a_dash_gets_a_hint(capsys, argv):
 def test_time_limit_answers_with_the_exact_value_when_it_is_proven_in_time(capsys, tmp_path):
     out = solve(capsys, "auto", write_scene(tmp_path), "--k", "1", "--time-limit", "60")
     assert value_line(out) == "34"
-    assert re.search(r"^solver\s+auto: forward, as a time limit", out, re.M)
+    assert re.search(r"^solver\s+auto: compiled, as a time limit of 60 s, well above", out, re.M)
