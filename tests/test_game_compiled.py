@@ -295,3 +295,24 @@ def test_human_moves_come_out_canonical(seed):
             assert letters[e] == _letter(fast[e], n, t.pb, t.atom_at, t.free_at, t.free_all)
             checked += 1
     assert checked > 0 or classes == 0
+
+
+def test_exploring_reports_its_progress_layer_by_layer():
+    """The exploring loop calls back after every batch with the layer and the
+    nodes found so far (what the terminal's bar shows): every layer that has
+    nodes, from k down, counts that never fall and never pass the nodes
+    explored, and a call for every batch (of 4 nodes here)."""
+    from symsynth.solvers.packed.explore import explore
+
+    scene = random_scene(3007, positive=True, contacts=False)
+    formula = task_formula(scene, None)
+    t = Tables(scene, formula, 1.0, None, 3)
+    v0 = t.pack(initial_state(scene))
+    calls = []
+    explored = explore(t.key(v0, t.step(t.dfa_index[t.dfa.initial], v0)), *t.kernel_args(batch=4),
+                       progress=lambda h, nodes: calls.append((h, nodes)))
+    keys, lo, hi = explored[0], explored[2], explored[3]
+    assert [h for h, _ in calls] == sorted((h for h, _ in calls), reverse=True)
+    assert {h for h, _ in calls} == {h for h in range(4) if hi[h] > lo[h]}
+    assert all(a[1] <= b[1] for a, b in zip(calls, calls[1:]))
+    assert calls[-1][1] <= len(keys) and len(calls) >= len(keys) // 4  # a call per batch of 4 nodes
