@@ -30,7 +30,7 @@ Progress = Callable[[int, int], None]
 def explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_starts, samples_mask,
             rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
             grab_units, drop_units, atom_at, free_at, free_all, trans, accepting,
-            class_members, class_offsets, place_rank, rank_place, code_bits, human_cap, batch,
+            class_members, class_offsets, place_rank, rank_place, code_bits, human_cap, batch, *,
             progress: Progress | None = None) -> tuple:
     """Every node the start (the human's turn at key `start`, h = k) reaches,
     layer by layer from h = k down to 0 (module doc).  Returns the keys,
