@@ -65,7 +65,6 @@ __all__ = ["TooLarge", "Tables", "compile_kernels", "kernels_cached", "solve_com
            "_explore", "_human_moves", "_letter"]
 
 
-
 def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
                    k: int | None = None, budget: float | None = None,
                    resolution: float = 1.0, symmetric: bool = True) -> Solution:
