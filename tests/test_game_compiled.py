@@ -144,8 +144,9 @@ assert prepare("explicit") == 0.0 and prepare("symbolic") == 0.0  # no set-up: n
 assert sum(signatures().values()) == 0
 seconds = prepare(sys.argv[1])
 ready = signatures()
+from bench.gamefamily import pattern_scene
 for scene in (random_scene(5, positive=False, contacts=True), alike_scene(2, contacts=False),
-              load_scene("scenes/push-abstract.yaml")):
+              load_scene("scenes/push-abstract.yaml"), pattern_scene(5, 7)):  # the last grows its tables
     SOLVERS["compiled"](scene)
 print(seconds > 0, {name: count for name, count in signatures().items() if count != ready[name]})
 """
@@ -155,8 +156,9 @@ print(seconds > 0, {name: count for name, count in signatures().items() if count
 def test_prepare_compiles_every_kernel_a_solve_uses(solver):
     """`prepare` (what comparison runs call before their clock) leaves
     nothing for a solve to compile: in a fresh process, solving games with
-    and without slides, human moves and interchangeable objects afterwards
-    adds no specialization to any kernel.  (Without it, the first solve
+    and without slides, human moves and interchangeable objects, and one
+    large enough to grow its tables, afterwards adds no specialization to
+    any kernel.  (Without it, the first solve
     compiles `_explore` and `_solve`.)"""
     done = subprocess.run([sys.executable, "-c", PREPARED, solver], capture_output=True, text=True,
                           cwd=ROOT, timeout=600)

@@ -57,7 +57,7 @@ from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.packed import kernels
 from symsynth.solvers.packed.graph import CompiledStrategy, Graph
-from symsynth.solvers.packed.explore import explore as _explore
+from symsynth.solvers.packed.explore import compile_growth, explore as _explore
 from symsynth.solvers.packed.kernels import INF, _human_moves, _letter, _solve
 from symsynth.solvers.packed.tables import BATCH, HUMAN_MOVES_KEPT, Tables, TooLarge, check_width
 
@@ -166,6 +166,7 @@ def compile_kernels() -> float | None:
     _compiled = True  # the solve below must not come back here
     try:
         won = solve_compiled(scene).cost_bound is not None  # a game the robot wins: every kernel ran
+        compile_growth()  # and those only a larger game calls
     except OSError as error:  # numba writes the compiled kernels to its cache as it goes
         _compiled = False
         raise InputError(f"cannot compile the compiled solver's kernels: numba could not write its cache "

@@ -137,3 +137,15 @@ def explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_
     if st[4]:
         h_off, h_tgt = h_off[:N + 1], h_tgt[:nh]
     return keys[:N], hflag[:N], lo, hi, r_off[:N + 1], r_tgt[:ne], r_move[:ne], nh, h_off, h_tgt
+
+
+def compile_growth() -> None:
+    """Compile the kernels only a large game calls from here (the layer's
+    table rebuilt larger, the arrays grown), with the types `explore` calls
+    them with, so that `compiled.compile_kernels` leaves nothing to compile."""
+    i64 = np.int64
+    keys = np.zeros(4, np.int64)
+    _rehash(keys, i64(0), i64(1), i64(2))
+    _grow(np.zeros(2, np.int32), i64(4))
+    _room_nodes(keys, np.zeros(4, np.uint8), np.zeros(5, np.int64), np.zeros(5, np.int64), i64(2), i64(4), i64(1))
+
