@@ -68,3 +68,18 @@ def test_the_cache_state_is_read_from_numba_cache():
     warm = subprocess.run([sys.executable, "-c", "from symsynth.solvers.compiled import kernels_cached; "
                            "print(kernels_cached())"], capture_output=True, text=True, cwd=ROOT, timeout=300)
     assert warm.stdout.strip() == "True", warm.stderr
+
+
+def test_a_time_limit_goes_to_an_exact_solver_when_the_game_fits_it():
+    """With a time limit, the exact solver when it is expected to take at
+    most half of it (the compile included when the kernels are cold), the
+    anytime forward search otherwise."""
+    small = load_scene(ROOT / "scenes" / "arch-abstract.yaml")
+    formula = task_formula(small, None)
+    assert choose(small, formula, time_limit=10, compiled_ready=True)[0] == "compiled"
+    assert choose(small, formula, time_limit=30, compiled_ready=False)[0] == "explicit"
+    assert choose(small, formula, time_limit=0.5, compiled_ready=False)[0] == "forward"
+    large = pattern_scene(6, 8)
+    name, reason = choose(large, task_formula(large, None), time_limit=10, compiled_ready=True)
+    assert name == "forward" and "anytime" in reason
+    assert choose(large, task_formula(large, None), time_limit=3600, compiled_ready=True)[0] == "compiled"

@@ -144,8 +144,9 @@ assert prepare("explicit") == 0.0 and prepare("symbolic") == 0.0  # no set-up: n
 assert sum(signatures().values()) == 0
 seconds = prepare(sys.argv[1])
 ready = signatures()
+from bench.gamefamily import pattern_scene
 for scene in (random_scene(5, positive=False, contacts=True), alike_scene(2, contacts=False),
-              load_scene("scenes/push-abstract.yaml")):
+              load_scene("scenes/push-abstract.yaml"), pattern_scene(5, 7)):  # the last grows its tables
     SOLVERS["compiled"](scene)
 print(seconds > 0, {name: count for name, count in signatures().items() if count != ready[name]})
 """
@@ -155,8 +156,9 @@ print(seconds > 0, {name: count for name, count in signatures().items() if count
 def test_prepare_compiles_every_kernel_a_solve_uses(solver):
     """`prepare` (what comparison runs call before their clock) leaves
     nothing for a solve to compile: in a fresh process, solving games with
-    and without slides, human moves and interchangeable objects afterwards
-    adds no specialization to any kernel.  (Without it, the first solve
+    and without slides, human moves and interchangeable objects, and one
+    large enough to grow its tables, afterwards adds no specialization to
+    any kernel.  (Without it, the first solve
     compiles `_explore` and `_solve`.)"""
     done = subprocess.run([sys.executable, "-c", PREPARED, solver], capture_output=True, text=True,
                           cwd=ROOT, timeout=600)
@@ -295,3 +297,24 @@ def test_human_moves_come_out_canonical(seed):
             assert letters[e] == _letter(fast[e], n, t.pb, t.atom_at, t.free_at, t.free_all)
             checked += 1
     assert checked > 0 or classes == 0
+
+
+def test_exploring_reports_its_progress_layer_by_layer():
+    """The exploring loop calls back after every batch with the layer and the
+    nodes found so far (what the terminal's bar shows): every layer that has
+    nodes, from k down, counts that never fall and never pass the nodes
+    explored, and a call for every batch (of 4 nodes here)."""
+    from symsynth.solvers.packed.explore import explore
+
+    scene = random_scene(3007, positive=True, contacts=False)
+    formula = task_formula(scene, None)
+    t = Tables(scene, formula, 1.0, None, 3)
+    v0 = t.pack(initial_state(scene))
+    calls = []
+    explored = explore(t.key(v0, t.step(t.dfa_index[t.dfa.initial], v0)), *t.kernel_args(batch=4),
+                       progress=lambda h, nodes: calls.append((h, nodes)))
+    keys, lo, hi = explored[0], explored[2], explored[3]
+    assert [h for h, _ in calls] == sorted((h for h, _ in calls), reverse=True)
+    assert {h for h, _ in calls} == {h for h in range(4) if hi[h] > lo[h]}
+    assert all(a[1] <= b[1] for a, b in zip(calls, calls[1:]))
+    assert calls[-1][1] <= len(keys) and len(calls) >= len(keys) // 4  # a call per batch of 4 nodes

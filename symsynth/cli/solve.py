@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from decimal import Decimal
 from pathlib import Path
 
@@ -42,7 +43,8 @@ human's worst replies, with each action's cost and the running total.
 Without a winning strategy, the counter play shows how the human defeats
 the robot.  --json prints realizable, cost_bound (null when infinite),
 budget, k, states, seconds, units, resolution, principal_play,
-counter_play, scene, task and solver.  -o FILE writes the strategy for the
+counter_play, scene, task, solver and peak_mb (the process's peak
+resident memory, MB).  -o FILE writes the strategy for the
 simulator (format symsynth.strategy/1: every position it can reach).
 
 --objective expected | best-effort (with --human-model random:P for
@@ -100,7 +102,8 @@ def run(args: argparse.Namespace) -> int:
     written = None if args.output is None else write_strategy(args.output, scene, task, solution,
                                                               formula=problem.formula)
     if args.json:
-        out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver}
+        out = solution.to_json() | {"scene": scene.name, "task": task.strip(), "solver": args.solver,
+                                    "peak_mb": peak_mb()}
         if scene.costmap is not None and scene.costmap.absent:
             out["absent"] = sorted(scene.costmap.absent)
         if obtained is not None:
@@ -118,6 +121,16 @@ def run(args: argparse.Namespace) -> int:
 
 
 # -- the human-readable report -------------------------------------------------
+
+def peak_mb() -> float | None:
+    """This process's peak resident set in MB (None where the system does not say)."""
+    try:
+        import resource
+    except ImportError:  # not on Windows
+        return None
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return round(peak / (1 << 20 if sys.platform == "darwin" else 1 << 10), 1)  # bytes on macOS, KiB elsewhere
+
 
 def costmap_json(got: Obtained) -> dict:
     out = {"method": got.method, "planner": got.planner, "seed": got.seed, "cached": got.cached,

@@ -4,8 +4,10 @@ time limit, the game's size and the task's shape, with the reason printed.
 The rule follows side-by-side measurements on this project's game families
 (docs/solving.md, bench/results/game.md and game-sort.md), not a guess:
 
-1. a time limit: the forward search, the only solver that answers anytime
-   (a proven interval and a strategy for its upper end);
+1. a time limit: the exact solver of rule 2 when it is expected to take at
+   most half the limit (from `position_bound`, compile included), else the
+   forward search, the solver that answers anytime (a proven interval and
+   a strategy for its upper end);
 2. a game the compiled solver can hold (at most 16 task atoms, a position
    in 62 bits): the compiled solver, the fastest wherever it fits (side by
    side on a quiet machine, pattern family 5 x 7: 0.43 s against 27.6 s for
@@ -46,6 +48,10 @@ COLD_COMPILE_SECONDS = 20.0
 #: measured 1.0e-5 quiet, 2.4e-5 loaded on the pattern family 4 x 6 (bound 286,512), 0.5e-5
 #: loaded on scenes/arch-abstract.yaml (164,880)
 EXPLICIT_SECONDS_PER_POSITION = 3e-5
+#: The compiled solver's, 5-15x what was measured alone on the machine (pattern family 5 x 7:
+#: 1.4e-7, 6 x 8: 2.0e-7, 7 x 10: 4.3e-7, its memory beyond the caches), so that a time limit
+#: is kept on a loaded machine too
+COMPILED_SECONDS_PER_POSITION = 2e-6
 
 
 def choose(scene: Scene, formula: ast.Formula, time_limit: float | None = None,
@@ -55,23 +61,15 @@ def choose(scene: Scene, formula: ast.Formula, time_limit: float | None = None,
     `refused` (each said the game is out of its reach, `OutOfReach`);
     `compiled_ready` says whether the compiled solver's kernels are
     compiled (None: ask numba's cache, `compiled.kernels_cached`)."""
-    if time_limit is not None and "forward" not in refused:
-        return "forward", "a time limit: the forward search is the solver that answers anytime"
-    if "compiled" not in refused:
-        if compiled_ready is None:
-            from symsynth.solvers.compiled import kernels_cached  # imports numba: only when asked
-            compiled_ready = kernels_cached()
-        if compiled_ready:
-            return "compiled", COMPILED
-        positions = position_bound(scene, formula, scene.k if k is None else k)
-        seconds = explicit_seconds(positions)
-        if seconds < COLD_COMPILE_SECONDS and "explicit" not in refused:
-            return "explicit", (f"the compiled solver's kernels are not compiled yet (about {COLD_COMPILE_SECONDS:.0f} s, "
-                                f"once per install) and the game is small: at most {positions:,} positions, "
-                                f"about {seconds:.1g} s for the explicit solver")
-        return "compiled", (f"{COMPILED}; its kernels are compiled first (about {COLD_COMPILE_SECONDS:.0f} s, "
-                            f"once per install), less than the explicit solver would take on up to "
-                            f"{positions:,} positions (about {seconds:.0f} s)")
+    exact = _exact(scene, formula, scene.k if k is None else k, refused, compiled_ready)
+    if time_limit is not None:
+        if exact is not None and exact[2] <= time_limit / 2:
+            return exact[0], (f"a time limit of {time_limit:g} s, well above what the exact solve is expected "
+                              f"to take: {exact[1]}")
+        if "forward" not in refused:
+            return "forward", "a time limit: the forward search is the solver that answers anytime"
+    if exact is not None:
+        return exact[0], exact[1]
     if "forward" not in refused and LowerBound(GameGraph(scene, formula, 1.0), formula).enabled:
         return "forward", ("the task is F(conjunction of atoms), which the forward search's lower "
                            "bound guides, and the game is too large for the compiled solver")
@@ -80,6 +78,31 @@ def choose(scene: Scene, formula: ast.Formula, time_limit: float | None = None,
                             "too large for the compiled solver; the symbolic solver's BDDs handle sets "
                             "of positions at once")
     return "explicit", "every other solver refused the game"
+
+
+def _exact(scene: Scene, formula: ast.Formula, k: int, refused: Collection[str],
+           compiled_ready: bool | None) -> tuple[str, str, float] | None:
+    """The compiled solver, or the explicit one when the compiled kernels
+    would be compiled first for longer than the explicit solver takes:
+    (name, reason, expected seconds, compile included); None when the
+    compiled solver refused the game."""
+    if "compiled" in refused:
+        return None
+    if compiled_ready is None:
+        from symsynth.solvers.compiled import kernels_cached  # imports numba: only when asked
+        compiled_ready = kernels_cached()
+    positions = position_bound(scene, formula, k)
+    fast = positions * COMPILED_SECONDS_PER_POSITION
+    if compiled_ready:
+        return "compiled", COMPILED, fast
+    slow = explicit_seconds(positions)
+    if slow < COLD_COMPILE_SECONDS + fast and "explicit" not in refused:
+        return "explicit", (f"the compiled solver's kernels are not compiled yet (about {COLD_COMPILE_SECONDS:.0f} s, "
+                            f"once per install) and the game is small: at most {positions:,} positions, "
+                            f"about {slow:.1g} s for the explicit solver"), slow
+    return "compiled", (f"{COMPILED}; its kernels are compiled first (about {COLD_COMPILE_SECONDS:.0f} s, "
+                        f"once per install), less than the explicit solver would take on up to "
+                        f"{positions:,} positions (about {slow:.0f} s)"), COLD_COMPILE_SECONDS + fast
 
 
 def position_bound(scene: Scene, formula: ast.Formula, k: int) -> int:

@@ -76,6 +76,11 @@ class LowerBound:
     """An admissible lower bound on the value of a position (module doc)."""
 
     def __init__(self, game: GameGraph, formula: ast.Formula):
+        """The bound's tables for `formula` on `game` (module doc): off
+        (`enabled` False, the bound 0) unless the task is F(conjunction of
+        propositional parts) with some `at(X, l)`; then the first transits,
+        the carries and, with slides, the mixed paths; with only `at` atoms
+        and no slides, the strike per human move."""
         self.scene = scene = game.scene
         self.enabled = False
         self.strike: float = 0
@@ -86,66 +91,74 @@ class LowerBound:
         self.carry: dict[tuple[int, str | tuple[str, str], str], float] = {}  # (i, x or (x, g), l)
         self.to_else: dict[tuple[str, str], float] = {}  # (y, g)
         self.mixed: dict[tuple[int, str, str], float] = {}  # (i, x, l)
-        if not isinstance(formula, ast.Eventually):
+        found = _groups(game, formula)
+        if found is None:
             return
-        parts = split_conjuncts(formula.arg)
-        if not all(_propositional(part) for part in parts):
-            return  # e.g. F(a & F b): after a, a need not hold again
-        groups: dict[str, set[str]] = {}
-        pattern = True  # every conjunct is at(X, l) with l a location of interest
-        for part in parts:
-            p = game.props.get(part.key) if isinstance(part, ast.Atom) else None
-            if p is not None and p.kind == "at" and p.tag is not None and p.location in scene.locations:
-                groups.setdefault(p.location, set()).add(p.tag)
-            else:
-                pattern = False
-        if not groups:
-            return
+        groups, pattern = found
         self.enabled = True
-        names = self.names = scene.object_names
+        self.names = scene.object_names
         self.groups = sorted(groups.items())
         # objects that may end up at l: they carry every tag asked at l
         self.candidates = {l: tuple(i for i, o in enumerate(scene.objects) if tags <= o.tags)
                            for l, tags in self.groups}
         costmap = costmap_of(scene)
         r = game.resolution
+        self.grab = quantize(scene.grab_cost, r)
+        self.drop = quantize(scene.drop_cost, r)
+        motion = self._motion_costs(costmap, r)
+        self._transits(motion)
+        self._carries(motion)
+        self.slides = bool(scene.contacts)
+        if self.slides:
+            self._mixed(costmap, r)
+            return
+        if pattern:
+            self._to_else(motion)
+        self.strike = self._strike() if pattern else 0
+
+    def _motion_costs(self, costmap, r: float):
+        """motion(mode, S, T): the motion's cost in units with every place
+        free, the least it has in any state (quantizing is monotone, so it
+        commutes with the min and max of `motion_cost`)."""
+        scene = self.scene
         # every place free: no rule's condition fails (they name places of L ∪ E)
         everywhere = frozenset((*scene.locations, *scene.else_samples))
 
         def motion(mode, S, T):
-            """The motion's cost in units with every place free, the least it
-            has in any state (quantizing is monotone, so it commutes with the
-            min and max of `motion_cost`)."""
             cost = motion_cost(costmap, mode, S, T, everywhere)
             return INF if cost == INF else quantize(cost, r)
 
-        anchors_at = functools.partial(anchors, scene)
+        return motion
 
+    def _transits(self, motion) -> None:
+        """The first transit to an object standing at x (any grasp, or any
+        contact when the scene has them), from any start set the robot can
+        have with an empty hand; and from anywhere (hand empty, ee = Else)."""
+        scene = self.scene
+        anchors_at = functools.partial(anchors, scene)
         places = tuple(scene.locations) + (ELSE,)
-        grasps = scene.grasps
-        self.grab = quantize(scene.grab_cost, r)
-        self.drop = quantize(scene.drop_cost, r)
-        # first transit to an object standing at x (any grasp, or any contact
-        # when the scene has them), from any start set the robot can have
-        # with an empty hand
-        aims = scene.preimages if scene.contacts else grasps
+        aims = scene.preimages if scene.contacts else scene.grasps
         for x in places:
             best = INF
             for g in aims:
                 T = anchors_at(x, g)
                 starts = [scene.present_anchors] + [anchors_at(y, h) for y in places for h in scene.preimages
-                                            if not (y == x and y != ELSE and h == g)]
+                                                    if not (y == x and y != ELSE and h == g)]
                 best = min(best, min(motion(EMPTY, S, T) for S in starts))
             self.transit[x] = best
-        # the first transit when the robot may be anywhere (hand empty, ee = Else)
-        self.from_anywhere = {x: min(motion(EMPTY, scene.present_anchors, anchors_at(x, g)) for g in grasps)
+        self.from_anywhere = {x: min(motion(EMPTY, scene.present_anchors, anchors_at(x, g)) for g in scene.grasps)
                               for x in places}
-        # carrying o from place x to location l: the cheapest chain of
-        # transfers, with free changes of grasp at locations (a drop and a
-        # grab, not counted) and at x (the first grab picks the grasp)
-        regrasp: dict[tuple[str, str], list[tuple[tuple[str, str], float]]] = {(l, g): [((l, h), 0) for h in grasps if h != g]
-                   for l in scene.locations for g in grasps}
-        for i, o in enumerate(names):
+
+    def _carries(self, motion) -> None:
+        """Carrying o from place x to location l: the cheapest chain of
+        transfers, with free changes of grasp at locations (a drop and a
+        grab, not counted) and at x (the first grab picks the grasp)."""
+        scene, grasps = self.scene, self.scene.grasps
+        anchors_at = functools.partial(anchors, scene)
+        places = tuple(scene.locations) + (ELSE,)
+        regrasp: dict[tuple[str, str], list[tuple[tuple[str, str], float]]] = {
+            (l, g): [((l, h), 0) for h in grasps if h != g] for l in scene.locations for g in grasps}
+        for i, o in enumerate(self.names):
             edges = {node: list(out) for node, out in regrasp.items()}
             for g in grasps:
                 for y in places:
@@ -160,36 +173,34 @@ class LowerBound:
                         self.carry[i, (x, g), l] = dist.get((l, g), INF) if l != x else 0
                 for l in scene.locations:
                     self.carry[i, x, l] = min(self.carry[i, (x, g), l] for g in grasps)
-        self.slides = bool(scene.contacts)
-        if self.slides:
-            self._mixed(costmap, r)
-            return
-        # from an empty hand aimed at (y, g), y a location: the least cost of
-        # reaching an object at Else, over transits and detours that carry the
-        # aimed object elsewhere (grab, transfers, drop) first: Dijkstra over
-        # (place, grasp)
-        if pattern:
-            hop: dict[tuple[tuple[str, str], tuple[str, str]], float] = {}
-            for y in places:
-                for g in grasps:
-                    S = anchors_at(y, g)
-                    for x in places:
-                        for h in grasps:
-                            if (x, h) != (y, g) or x == ELSE:
-                                hop[(y, g), (x, h)] = motion(EMPTY, S, anchors_at(x, h))
-                    if y != ELSE:
-                        for w in scene.locations:
-                            if w != y:
-                                c = self.grab + self.drop + min(self.carry[i, (y, g), w]
-                                                                for i in range(len(names)))
-                                hop[(y, g), (w, g)] = min(hop.get(((y, g), (w, g)), INF), c)
-            into: dict = {}  # the hops backwards: one search from every (Else, grasp)
-            for (a, b), c in hop.items():
-                if c < INF:
-                    into.setdefault(b, []).append((a, c))
-            to_else = _distances([node for node in into if node[0] == ELSE], into)
-            self.to_else = {(y, g): to_else.get((y, g), INF) for y in scene.locations for g in grasps}
-        self.strike = self._strike() if pattern else 0
+
+    def _to_else(self, motion) -> None:
+        """From an empty hand aimed at (y, g), y a location: the least cost of
+        reaching an object at Else, over transits and detours that carry the
+        aimed object elsewhere (grab, transfers, drop) first: Dijkstra over
+        (place, grasp), backwards from every (Else, grasp)."""
+        scene, grasps = self.scene, self.scene.grasps
+        anchors_at = functools.partial(anchors, scene)
+        places = tuple(scene.locations) + (ELSE,)
+        hop: dict[tuple[tuple[str, str], tuple[str, str]], float] = {}
+        for y in places:
+            for g in grasps:
+                S = anchors_at(y, g)
+                for x in places:
+                    for h in grasps:
+                        if (x, h) != (y, g) or x == ELSE:
+                            hop[(y, g), (x, h)] = motion(EMPTY, S, anchors_at(x, h))
+                if y != ELSE:
+                    for w in scene.locations:
+                        if w != y:
+                            c = self.grab + self.drop + min(self.carry[i, (y, g), w] for i in range(len(self.names)))
+                            hop[(y, g), (w, g)] = min(hop.get(((y, g), (w, g)), INF), c)
+        into: dict = {}  # the hops backwards
+        for (a, b), c in hop.items():
+            if c < INF:
+                into.setdefault(b, []).append((a, c))
+        to_else = _distances([node for node in into if node[0] == ELSE], into)
+        self.to_else = {(y, g): to_else.get((y, g), INF) for y in scene.locations for g in grasps}
 
     def _mixed(self, costmap, r: float) -> None:
         """`mixed[i, x, l]` (module doc): Dijkstra from every place over
@@ -310,6 +321,26 @@ class LowerBound:
                                    for y in self.scene.locations)
         aimed = isinstance(ee, tuple) and ee[0] == self.names[i]
         return self.mixed[i, at[i], l] + (0 if aimed else self.transit[at[i]])
+
+
+def _groups(game: GameGraph, formula: ast.Formula) -> tuple[dict[str, set[str]], bool] | None:
+    """For F(p) with p a conjunction of propositional parts: the tags each
+    location's `at` atoms ask for, and whether p is only such atoms (the
+    pattern case); None for any other task or with no such atom."""
+    if not isinstance(formula, ast.Eventually):
+        return None
+    parts = split_conjuncts(formula.arg)
+    if not all(_propositional(part) for part in parts):
+        return None  # e.g. F(a & F b): after a, a need not hold again
+    groups: dict[str, set[str]] = {}
+    pattern = True  # every conjunct is at(X, l) with l a location of interest
+    for part in parts:
+        p = game.props.get(part.key) if isinstance(part, ast.Atom) else None
+        if p is not None and p.kind == "at" and p.tag is not None and p.location in game.scene.locations:
+            groups.setdefault(p.location, set()).add(p.tag)
+        else:
+            pattern = False
+    return (groups, pattern) if groups else None
 
 
 def _held_over(v: State) -> tuple[str, str]:

@@ -3,63 +3,40 @@ with its core in machine code (numba), on positions packed into integers.
 
 Same game, same value as `solvers.explicit` (Dijkstra for min-cost
 reachability games over the positions the start reaches); what changes is
-how a position and its moves are represented:
+how a position and its moves are represented (`solvers.packed`):
 
-- a position is one 64-bit integer: each object's place (a location, Else or
-  the hand) in a few bits, the end-effector (Else, a location, or an
-  object's grasp or contact), the grip, the DFA state, the human's moves
-  left and whose turn it is;
-- the costmap becomes integer tables: per (mode, from anchor, to anchor) the
-  rules' `free` sets as bit masks over L ∪ E with their costs in units, the
-  same for slides; "the places that count as free" for a move is a mask
-  computed from the packed state, and a rule is satisfied when its mask is
-  inside it;
-- the task's DFA becomes a table `(q, letter) -> q'` over the letters of its
-  atoms (a letter is a bit mask of the atoms that hold), built from the
-  symbolic DFA before the search;
-- interchangeable objects (`game.symmetry`) are canonicalized in the kernel
-  with the same order as `Symmetry.canonical` (places and frames ranked by
-  name), so the Python side maps a canonical answer back to real objects
-  exactly as it does for the explicit solver.
+- `packed.tables`: a position is one 64-bit integer (each object's place,
+  the end-effector, the grip; the DFA state beside it in a node's key); the
+  costmap, the task's DFA and the classes of interchangeable objects are
+  integer arrays;
+- `packed.kernels`: numba functions (compiled on first use and cached on
+  disk) generate the moves (docs/game-semantics.md §4-§5 as
+  `game/abstraction.py` writes them) and solve the layers;
+- `packed.explore`: the loop over layers of h (the human's moves left) and
+  batches of nodes; a node is a robot-turn position, flagged when the human
+  turn at the same position is reached (its pass leads to the node); layer k
+  first, closed under robot moves, then the human's moves from it seed
+  layer k - 1; a bar of the nodes found on a terminal after a second;
+- solving goes back up (`kernels._solve`): the human's moves from layer h
+  lead into layer h - 1, solved already, so each human turn's best reply K
+  is a number before layer h is solved; Dijkstra runs on the robot moves
+  alone.  A robot move is kept in 8 bytes (its target, and its cost in
+  units shifted above its action's code); a human move as a 32-bit target
+  while there are at most `HUMAN_MOVES_KEPT` of them, else they are
+  generated again when solving;
+- `packed.graph`: the solved nodes read back as a strategy and plays; the
+  Python side maps a canonical answer back to real objects exactly as it
+  does for the explicit solver.
 
-Nodes, moves and values live in numpy arrays, explored and solved by
-`numba.njit` functions (compiled on first use and cached on disk) in layers of
-h, the human's moves left:
-
-- a node is a robot-turn position (packed state, DFA state; its layer says
-  h), flagged when the human turn at the same position is reached too (its
-  pass leads to the node, so it needs no node of its own);
-- layer k is explored first (breadth-first through the robot moves, an
-  open-addressing hash table per layer), then the human's moves from its
-  human turns seed layer k - 1, and so on down to 0;
-- solving goes back up: the human's moves from layer h lead into layer
-  h - 1, solved already, so each human turn's best reply K is a number before
-  layer h is solved; there the value of a human turn is max(K, the robot
-  turn's value) and Dijkstra's algorithm runs on the robot moves alone.
-- a robot move is kept in 8 bytes: its target node, and its cost in units
-  shifted above its action's code (refused, naming the limit, when a cost
-  does not fit); human moves as 32-bit targets only, and only while there
-  are at most `HUMAN_MOVES_KEPT` of them: past that they are dropped and
-  `_solve` generates them again, looking their values up in a hash table
-  of the layer below rebuilt from its keys (one table alive at a time).
-- moves are generated, canonicalized and looked up in the table on numba's
-  threads, `BATCH` nodes at a time (the table only read meanwhile); one
-  thread then adds the targets not found, in order, so the nodes are
-  numbered, valued and chosen as with one thread.  The human moves' values
-  when generated again are taken on the threads too; the rest (inserting,
-  rebuilding tables, Dijkstra) is serial.
-
-The moves are generated in the kernel from docs/game-semantics.md §4-§5 as
-`game/abstraction.py` writes them; the tests hold the two to the same value
-on every generated scene, and the strategy is followed through every human
-behaviour in the real game.  The hot loops run in functions whose arrays are
-never reassigned (growth happens between calls): numba then emits no
-reference counting inside them.
+The tests hold the kernels to the explicit solver's value on every
+generated scene, and the strategy is followed through every human behaviour
+in the real game.
 
 Scenes the packing cannot hold (more than 62 bits per position, more than
-16 task atoms, a move's cost beyond its 32-bit packing, more than 2^15 moves
-per position, 2^31 nodes or robot moves) raise `TooLarge` (an `OutOfReach`, an `InputError`)
-naming the limit; `--solver explicit` solves them.
+16 task atoms, more than 62 locations and Else samples, a move's cost
+beyond its 32-bit packing, more than 2^15 moves per position, 2^31 nodes or
+robot moves) raise `TooLarge` (an `OutOfReach`, an `InputError`) naming the
+limit; `--solver explicit` solves them, and `auto` goes on to it.
 """
 
 from __future__ import annotations
@@ -70,6 +47,7 @@ import time
 from collections.abc import Mapping
 
 import numpy as np
+from tqdm import tqdm
 
 from symsynth.errors import InputError
 from symsynth.game.abstraction import in_costmap_units, initial_state
@@ -79,12 +57,12 @@ from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.packed import kernels
 from symsynth.solvers.packed.graph import CompiledStrategy, Graph
-from symsynth.solvers.packed.kernels import INF, _explore, _human_moves, _letter, _solve
+from symsynth.solvers.packed.explore import compile_growth, explore as _explore
+from symsynth.solvers.packed.kernels import INF, _human_moves, _letter, _solve
 from symsynth.solvers.packed.tables import BATCH, HUMAN_MOVES_KEPT, Tables, TooLarge, check_width
 
 __all__ = ["TooLarge", "Tables", "compile_kernels", "kernels_cached", "solve_compiled",
            "_explore", "_human_moves", "_letter"]
-
 
 
 def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
@@ -107,7 +85,14 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
 
     clock = time.perf_counter()
     start = tables.key(tables.canon(tables.pack(v0)), q0)
-    explored = _explore(start, *tables.kernel_args(HUMAN_MOVES_KEPT, BATCH))
+    # a bar of the nodes found, layer by layer, on a terminal once exploring takes over a second
+    with tqdm(desc="compiled solver: exploring", unit=" nodes", unit_scale=True, delay=1.0, leave=False,
+              disable=None) as bar:
+        def progress(h: int, nodes: int) -> None:
+            bar.update(nodes - bar.n)
+            bar.set_postfix_str(f"layer h = {h} of {k}", refresh=False)
+
+        explored = _explore(start, *tables.kernel_args(HUMAN_MOVES_KEPT, BATCH), progress=progress)
     seconds["explore"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
@@ -181,6 +166,7 @@ def compile_kernels() -> float | None:
     _compiled = True  # the solve below must not come back here
     try:
         won = solve_compiled(scene).cost_bound is not None  # a game the robot wins: every kernel ran
+        compile_growth()  # and those only a larger game calls
     except OSError as error:  # numba writes the compiled kernels to its cache as it goes
         _compiled = False
         raise InputError(f"cannot compile the compiled solver's kernels: numba could not write its cache "

@@ -3,7 +3,9 @@
 - `tables`: the scene, costmap, task and symmetry as integer arrays, and a
   position packed into one 64-bit integer;
 - `kernels`: the machine-code (numba) functions that generate the moves,
-  explore the positions layer by layer and solve them;
+  explore batches of positions and solve them layer by layer;
+- `explore`: the loop over layers and batches that drives the exploring
+  kernels, and reports progress;
 - `graph`: the explored and solved nodes read back, for strategies and plays.
 
 The kernels are one module because numba's disk cache is invalidated by the

@@ -4,17 +4,18 @@
 - move generation: `_robot_moves`, `_human_moves` (docs/game-semantics.md
   §4-§5, in `game/abstraction.py`'s order), the task's letter `_letter` and
   the canonical form of interchangeable objects `_canon`;
-- exploration by layers of h, the human's moves left (`_explore`): a node is
-  a robot-turn position, flagged when the human turn at the same position
-  is reached; layer k is closed under robot moves through an
-  open-addressing hash table, then the human's moves from it seed layer
-  k - 1.  The moves of `BATCH` nodes are generated on numba's threads and
-  their new targets added in order by one thread, so the numbering does
-  not depend on the thread count;
+- exploration by layers of h, the human's moves left (driven batch by
+  batch from `packed.explore`): a node is a robot-turn position, flagged
+  when the human turn at the same position is reached; layer k is closed
+  under robot moves through an open-addressing hash table, then the
+  human's moves from it seed layer k - 1.  The moves of a batch of nodes
+  are generated on numba's threads (`_robot_batch`, `_human_batch`) and
+  their new targets added in order by one thread (`_robot_layer`,
+  `_human_layer`), so the numbering does not depend on the thread count;
 - solving back up (`_solve`): the human's moves lead into a layer solved
   already, so each human turn's best reply K is a number before its own
   layer is solved; Dijkstra (a bucket queue) runs on the robot moves alone
-  (`_solve_layer`).  Human moves not kept by `_explore` are generated again
+  (`_solve_layer`).  Human moves not kept while exploring are generated again
   and their values looked up in a hash table of the layer below.
 
 The hot loops run in functions whose arrays are never reassigned (growth
@@ -635,124 +636,6 @@ def _human_layer(st, lo, b0, b1, room, keys, h_off, h_tgt, table, bits, out, cnt
 
 
 @njit(cache=True)
-def _explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_starts, samples_mask,
-             rule_start, rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp,
-             grab_units, drop_units, atom_at, free_at, free_all, trans, accepting,
-             class_members, class_offsets, place_rank, rank_place, code_bits, human_cap, batch):
-    """Every node the start (the human's turn at key `start`, h = k) reaches,
-    layer by layer from h = k down to 0.
-
-    A node is a key (packed state << qbits | DFA state) in a layer h: the
-    robot's turn there, and (hflag) the human's turn, whose pass leads to it.
-    Layer h is closed under robot moves (breadth-first from the nodes the
-    layer above reached by human moves, and the start); then the human turns
-    of layer h reach, by their moves, the seeds of layer h - 1.  Returns the
-    keys, hflag, the layers' index ranges lo[h]..hi[h], the robot moves in CSR
-    form (r_off; r_tgt: target node, -1 for a win; r_move: units << code_bits |
-    action code), the number of human moves and, when there are at most
-    `human_cap` of them (about 80% of all moves), the human moves in CSR form
-    (h_off; h_tgt: target node in layer h - 1, -1 for a win); else h_off and
-    h_tgt are empty and `_solve` generates the moves again.  The moves of
-    `batch` nodes at a time are generated on numba's threads, and their
-    targets looked up in the layer's table (`_robot_batch`, `_human_batch`),
-    then the new targets added in order (`_robot_layer`, `_human_layer`): the
-    nodes are numbered as one thread numbers them."""
-    keys = np.empty(1 << 16, np.int64)
-    hflag = np.zeros(1 << 16, np.uint8)
-    r_off = np.zeros((1 << 16) + 1, np.int64)
-    h_off = np.zeros((1 << 16) + 1, np.int64)
-    h_tgt = np.empty(min(1 << 18, human_cap), np.int32)
-    r_tgt = np.empty(1 << 18, np.int32)
-    r_move = np.empty(1 << 18, np.int32)
-    lo = np.zeros(k + 1, np.int64)
-    hi = np.zeros(k + 1, np.int64)
-    bits = np.int64(17)  # not the literal 17: numba would compile every callee for it apart
-    table = _table(bits)  # open addressing: (key, index), -1 empty
-    keys[0] = start
-    hflag[0] = 1
-    _insert(table, bits, start, np.int64(0))
-    count = 1
-    obj_class = np.full(n, -1, np.int64)  # each object's class and place in it
-    obj_pos = np.zeros(n, np.int64)
-    for c in range(len(class_offsets) - 1):
-        for r in range(class_offsets[c], class_offsets[c + 1]):
-            obj_class[class_members[r]] = c
-            obj_pos[class_members[r]] = r - class_offsets[c]
-    room = 4 * (n * (F + m + 2) + m + 2)  # the most moves a node can have
-    out = np.empty(batch * room, np.int64)  # a batch's moves (_robot_batch, _human_batch)
-    mvb = np.empty(batch * room, np.int64)
-    cnt = np.empty(batch, np.int64)
-    b0 = 0
-    st = np.zeros(6, np.int64)  # i, count, ne, nh, store, sink: the inner loops' state
-    st[1] = count
-    st[4] = 1
-    for h in range(k, -1, -1):
-        # layer h: closed under robot moves from its seeds
-        st[0] = lo[h]
-        b1 = lo[h]
-        while True:
-            if st[0] == b1:  # the next batch of the layer's nodes, their moves generated on numba's threads
-                if b1 == st[1]:
-                    break
-                b0, b1 = b1, min(st[1], b1 + batch)
-                _robot_batch(b0, b1, keys, out, mvb, cnt, room, table, bits, n, m, F, pb, eb, gb, qbits,
-                             anchor_at, anchor_count, home_starts, samples_mask, rule_start, rule_count,
-                             rule_free, rule_units, slide_start, slide_count, is_grasp, grab_units, drop_units,
-                             atom_at, free_at, free_all, trans, accepting, class_members, class_offsets,
-                             place_rank, rank_place, code_bits)
-            _robot_layer(st, lo[h], b0, b1, room, keys, hflag, r_off, r_tgt, r_move, table, bits, out, mvb, cnt)
-            if st[0] == b1:
-                continue
-            keys, hflag, r_off, h_off = _room_nodes(keys, hflag, r_off, h_off, st[1], room, st[4])
-            if st[2] + room > len(r_tgt):  # 1.5x: the move arrays are most of the memory
-                size = st[2] + st[2] // 2 + room
-                r_tgt = _grow(r_tgt, size)
-                r_move = _grow(r_move, size)
-            if 2 * (st[1] + room - lo[h]) > len(table):
-                bits += 1
-                table = _rehash(keys, lo[h], st[1], bits)
-        hi[h] = st[1]
-        if h == 0:
-            if st[4]:
-                for i in range(lo[h], hi[h]):
-                    h_off[i + 1] = st[3]
-            break
-        # the human's moves from layer h: the seeds of layer h - 1
-        lo[h - 1] = st[1]
-        bits = np.int64(17)
-        table = _table(bits)
-        st[0] = lo[h]
-        b1 = lo[h]
-        while True:
-            if st[0] == b1:  # the next batch of nodes, their moves generated on numba's threads
-                if b1 == hi[h]:
-                    break
-                b0, b1 = b1, min(hi[h], b1 + batch)
-                _human_batch(b0, b1, keys, hflag, out, cnt, room, table, bits, n, m, F, pb, eb, gb, qbits,
-                             atom_at, free_at, free_all, trans, accepting, obj_class, obj_pos, class_members,
-                             class_offsets, place_rank, rank_place)
-            _human_layer(st, lo[h - 1], b0, b1, room, keys, h_off, h_tgt, table, bits, out, cnt)
-            if st[0] == b1:
-                continue
-            keys, hflag, r_off, h_off = _room_nodes(keys, hflag, r_off, h_off, st[1], room, st[4])
-            if st[4] and st[3] + room > len(h_tgt):
-                if st[3] + room > human_cap:  # too many to keep: generated again when solving
-                    st[4] = 0
-                    h_off = np.zeros(1, np.int64)
-                    h_tgt = np.empty(0, np.int32)
-                else:
-                    h_tgt = _grow(h_tgt, min(human_cap, st[3] + st[3] // 2 + room))
-            if 2 * (st[1] + room - lo[h - 1]) > len(table):
-                bits += 1
-                table = _rehash(keys, lo[h - 1], st[1], bits)
-    N, ne, nh = st[1], st[2], st[3]
-    # views, not copies: a copy of the move arrays would hold them twice at the peak
-    if st[4]:
-        h_off, h_tgt = h_off[:N + 1], h_tgt[:nh]
-    return keys[:N], hflag[:N], lo, hi, r_off[:N + 1], r_tgt[:ne], r_move[:ne], nh, h_off, h_tgt
-
-
-@njit(cache=True)
 def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n, m, F, pb, eb, gb, qbits,
            atom_at, free_at, free_all, trans, accepting, class_members, class_offsets, place_rank, rank_place):
     """The value of every node's robot turn (rval) and the robot's chosen move
@@ -762,7 +645,7 @@ def _solve(keys, hflag, lo, hi, r_off, r_tgt, r_move, h_off, h_tgt, code_bits, n
 
     The human's moves from layer h lead into layer h - 1, solved already, so
     each human turn's best move is a number K known before layer h is solved:
-    from the stored moves (h_off, h_tgt) when `_explore` kept them, else the
+    from the stored moves (h_off, h_tgt) when exploring kept them, else the
     moves are generated again and looked up in a hash table of layer h - 1
     built from its keys with their values (one table alive at a time, freed
     before the layer is solved).  Then `_solve_layer`."""

@@ -277,7 +277,7 @@ class Tables:
         return x << self.qbits | q
 
     def kernel_args(self, human_cap: int = HUMAN_MOVES_KEPT, batch: int = BATCH) -> tuple:
-        """What `_explore` reads after the start's key."""
+        """What `packed.explore.explore` reads after the start's key."""
         return (self.n, self.m, self.F, self.pb, self.eb, self.gb, self.qbits, self.k,
                 self.anchor_at, self.anchor_count, self.home_starts, self.samples_mask,
                 self.rule_start, self.rule_count, self.rule_free, self.rule_units,
