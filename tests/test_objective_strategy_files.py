@@ -19,7 +19,7 @@ from symsynth.logic import parse_ltlf
 from symsynth.scene import load_scene
 from symsynth.solvers.objectives import solve_objective
 from symsynth.solvers.objectives.files import objective_table
-from tests.support.gamegen import random_scene
+from symsynth.testing.gamegen import random_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 

@@ -157,7 +157,7 @@ def run(args: argparse.Namespace) -> int:
     if args.objective != "worst":  # semantics §9: the objective's strategy, in the game
         scene = load_scene(args.scene)
         problem = with_task(scene if args.k is None else dataclasses.replace(scene, k=args.k), None)
-        request = CostmapRequest(args.method, args.planner, args.costmap_seed, not args.no_cache, not args.json)
+        request = options.costmap_request(args, progress=not args.json)
         return objective_runs.run_objective_simulation(args, with_costmap(problem, request))
     if args.record is not None:
         check_writable(args.record, "recording")

@@ -26,7 +26,7 @@ import numpy as np
 
 from symsynth.errors import InputError
 from symsynth.game.human_model import HumanModel
-from symsynth.game.solution import OutOfReach, check_parameters, task_formula
+from symsynth.game.solution import OutOfReach, check_parameters, json_number, task_formula
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.objectives.arena import INF, Arena, budget_units, from_compiled, from_explicit
@@ -103,7 +103,7 @@ class ObjectiveSolution:
             "states": self.states, "seconds": dict(self.seconds), "resolution": self.resolution,
             "solver": self.solver}
         if self.objective == "expected":
-            out |= {"human_model": self.human_model, "budget": self.budget, "expected_cost": self.expected_cost,
+            out |= {"human_model": self.human_model, "budget": json_number(self.budget), "expected_cost": self.expected_cost,
                     "realizable": self.realizable, "attained": self.attained,
                     "waiting": self.waiting, "waiting_bound": self.waiting_bound, "epsilon": self.epsilon}
         else:
