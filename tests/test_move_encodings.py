@@ -2,7 +2,7 @@
 (`game/abstraction.py`, which the explicit and forward solvers read), the
 per-object BDD relations (`solvers/bdd/arena.py`), the per-class ones on
 orbits of interchangeable objects (`solvers/bdd/classes.py`) and the
-compiled solver's kernels (`solvers/compiled.py`).  Here they are compared
+compiled solver's kernels (`solvers/packed/kernels.py`).  Here they are compared
 move by move: random well-formed positions of random small scenes
 (`testing.gamegen`, with contacts, so slides too), and at each, the
 successors of every encoding with their costs in units, by action family,
@@ -29,6 +29,7 @@ from symsynth.game.abstraction import State, legal_human_moves, legal_robot_move
 from symsynth.game.symmetry import interchangeable
 from symsynth.logic import parse_ltlf
 from symsynth.solvers import compiled
+from symsynth.solvers.packed import kernels
 from symsynth.solvers.bdd.arena import Arena
 from symsynth.solvers.bdd.classes import ClassArena
 from symsynth.testing.gamegen import alike_scene, random_scene
@@ -148,19 +149,19 @@ def test_the_compiled_kernels_make_the_reference_moves(seed):
     problems = []
     for v in positions(scene, seed):
         x = np.int64(t.pack(v))
-        count = compiled._robot_moves(x, n, t.m, t.F, t.pb, t.eb, t.gb, t.anchor_at, t.anchor_count,
-                                      t.home_starts, t.samples_mask, t.rule_start, t.rule_count, t.rule_free,
-                                      t.rule_units, t.slide_start, t.slide_count, t.is_grasp,
-                                      np.int64(t.grab_units), np.int64(t.drop_units), at, free, S, T, after,
-                                      units, codes)
+        count = kernels._robot_moves(x, n, t.m, t.F, t.pb, t.eb, t.gb, t.anchor_at, t.anchor_count,
+                                     t.home_starts, t.samples_mask, t.rule_start, t.rule_count, t.rule_free,
+                                     t.rule_units, t.slide_start, t.slide_count, t.is_grasp,
+                                     np.int64(t.grab_units), np.int64(t.drop_units), at, free, S, T, after,
+                                     units, codes)
         found = {}
         for e in range(count):
             key = (t.action(codes[e]).split("(")[0], t.unpack(int(after[e])))
             found[key] = min(found.get(key, 1 << 62), int(units[e]))
-        count = compiled._human_moves(x, n, t.m, t.F, t.pb, t.eb, t.gb, after, no_class, no_pos,
-                                      t.class_members, t.class_offsets, t.place_rank, t.rank_place,
-                                      np.empty(n, np.int64), np.empty(room, np.int64), t.atom_at, t.free_at,
-                                      t.free_all)
+        count = kernels._human_moves(x, n, t.m, t.F, t.pb, t.eb, t.gb, after, no_class, no_pos,
+                                     t.class_members, t.class_offsets, t.place_rank, t.rank_place,
+                                     np.empty(n, np.int64), np.empty(room, np.int64), t.atom_at, t.free_at,
+                                     t.free_all)
         for e in range(count):
             found[(HUMAN, t.unpack(int(after[e])))] = 0
         problems += differences(scene, v, reference(scene, v), found, "compiled kernel")
