@@ -113,14 +113,35 @@ def add_executor(parser: argparse.ArgumentParser, jobs_help: str, default_jobs: 
     parser.add_argument("--address", metavar="ADDR",
                         help="with --executor ray: the cluster to join ('auto' or HOST:PORT); "
                              "none starts a local Ray instance")
-    parser.add_argument("--jobs", type=_jobs, default=default_jobs, metavar="N", help=jobs_help)
+    parser.add_argument("--jobs", type=at_least_one, default=default_jobs, metavar="N", help=jobs_help)
 
 
-def _jobs(text: str) -> int:
+def at_least_one(text: str) -> int:
+    """A count of at least one (runs, trials, jobs)."""
     value = count(text)
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be >= 1, found {value}")
     return value
+
+
+def fraction(what: str):
+    """The argument type of a number in [0, 1], named `what` in its message."""
+    def parse(text: str) -> float:
+        value = number(text)
+        if not 0 <= value <= 1:
+            raise argparse.ArgumentTypeError(f"{what} in [0, 1], found {text}")
+        return value
+    return parse
+
+
+def randomization(text: str):
+    """A physical world's randomization, `friction=R,mass=R,pose=M`."""
+    from symsynth.execution.physics import Randomization  # pybullet: only for the commands that ask
+
+    try:
+        return Randomization.parse(text)
+    except InputError as error:
+        raise argparse.ArgumentTypeError(str(error).removeprefix("--randomize: ")) from None
 
 
 def executor(args: argparse.Namespace):

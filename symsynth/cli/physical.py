@@ -12,7 +12,6 @@ from typing import Any
 
 from symsynth.cli import options
 from symsynth.cli.progress import bar
-from symsynth.cli.simulate import _randomization
 from symsynth.errors import InputError
 from symsynth.execution.observe import place_at
 from symsynth.execution.rule_trials import Rate, Subject, rates, state_placement, subjects
@@ -34,33 +33,24 @@ def add_options(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--physics", action="store_true",
                        help="with verify: try every transfer and slide rule's evidence in the physical world "
                             "(--trials times, randomized) and print each rule's success rate")
-    group.add_argument("--trials", type=_trials, metavar="N",
+    group.add_argument("--trials", type=options.at_least_one, metavar="N",
                        help="physical trials per rule, seeds S..S+N-1 (default 10)")
     group.add_argument("--trial-seed", type=options.count, metavar="S", default=0,
                        help="the first physical trial's seed (default 0); --costmap-seed is the roadmaps'")
-    group.add_argument("--randomize", type=_randomization, metavar="friction=R,mass=R,pose=M",
+    group.add_argument("--randomize", type=options.randomization, metavar="friction=R,mass=R,pose=M",
                        help=f"the trials' worlds drawn by their seeds (default {DEFAULT_RANDOMIZE}; "
                             "friction=0 for none)")
     group.add_argument("--play", action="store_true",
                        help="with verify --physics: only the rules the principal play uses, each tried from "
                             "the play's state (the other objects where the play has them)")
-    group.add_argument("--min-success", type=_fraction, metavar="P",
+    group.add_argument("--min-success", type=options.fraction("a success rate"), metavar="P",
                        help="leave out of the costmap the transfer and slide rules that succeed less often "
                             "than P in --trials physical trials")
 
 
-def _trials(text: str) -> int:
-    value = options.count(text)
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be >= 1, found {value}")
-    return value
-
-
-def _fraction(text: str) -> float:
-    value = options.number(text)
-    if not 0 <= value <= 1:
-        raise argparse.ArgumentTypeError(f"a success rate in [0, 1], found {text}")
-    return value
+def _randomization(args: argparse.Namespace):
+    """--randomize, or the default the help names."""
+    return options.randomization(DEFAULT_RANDOMIZE) if args.randomize is None else args.randomize
 
 
 def check(args: argparse.Namespace, verify: bool) -> None:
@@ -144,7 +134,7 @@ def tried(scene: Scene, planner: Planner, chosen: Chosen,
           args: argparse.Namespace) -> list[Rate]:
     """Every chosen subject tried `args.trials` times (progress bar)."""
     trials = args.trials or 10
-    randomization = args.randomize if args.randomize is not None else _randomization(DEFAULT_RANDOMIZE)
+    randomization = _randomization(args)
     found: list[Rate] = []
     with bar(total=len(chosen) * trials, desc="physical trials", unit="trial") as progress:
         for subject, placement in chosen:
@@ -156,7 +146,7 @@ def tried(scene: Scene, planner: Planner, chosen: Chosen,
 
 def report(found: list[Rate], args: argparse.Namespace, source: str, minimum: float | None = None) -> None:
     """The table of success rates (or JSON), the worst named."""
-    randomization = args.randomize if args.randomize is not None else _randomization(DEFAULT_RANDOMIZE)
+    randomization = _randomization(args)
     if args.json:
         print(json.dumps({"costmap": source, "trials": args.trials or 10, "seed": args.trial_seed,
                           "randomize": str(randomization), "play": bool(args.play),
@@ -230,7 +220,7 @@ def filtered(scene: Scene, planner: Planner, args: argparse.Namespace) -> tuple[
 
 def summary(found: list[Rate], args: argparse.Namespace, before: Costmap, after: Costmap) -> dict[str, Any]:
     """What `--min-success` did, for the JSON summary."""
-    randomization = args.randomize if args.randomize is not None else _randomization(DEFAULT_RANDOMIZE)
+    randomization = _randomization(args)
     return {"min_success": args.min_success, "trials": args.trials or 10, "seed": args.trial_seed,
             "randomize": str(randomization), "tried": len(found),
             "removed": sum(1 for _ in before.all_rules()) - sum(1 for _ in after.all_rules()),

@@ -93,8 +93,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="the simulated human (default: none)")
     parser.add_argument("--seed", type=options.count, default=0, metavar="S",
                         help="seed of the first run (human, run-time planning); run i uses S+i (default: 0)")
-    parser.add_argument("--runs", type=_runs, default=1, metavar="N", help="number of runs (default: 1)")
-    parser.add_argument("--move-probability", type=_probability, default=0.3, metavar="P",
+    parser.add_argument("--runs", type=options.at_least_one, default=1, metavar="N", help="number of runs (default: 1)")
+    parser.add_argument("--move-probability", type=options.fraction("a probability"), default=0.3, metavar="P",
                         help="random human: chance of a move on each of its turns (default: 0.3)")
     parser.add_argument("--k", type=options.count, metavar="K",
                         help="human moves per run instead of the scene's human.k "
@@ -115,7 +115,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="kinematic: configurations set, a held object welded to the hand, objects set "
                              "down exactly (fast replay); physics: PyBullet dynamics, the fingers close on "
                              "the object, pushes move it by contact, objects settle (default: kinematic)")
-    parser.add_argument("--randomize", type=_randomization, metavar="friction=R,mass=R,pose=M",
+    parser.add_argument("--randomize", type=options.randomization, metavar="friction=R,mass=R,pose=M",
                         help="physics: each run's world drawn by its seed: friction and masses scaled by "
                              "up to +-R (relative), initial poses shifted by up to M metres "
                              "(e.g. friction=0.2,mass=0.2,pose=0.005)")
@@ -127,27 +127,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(run=run)
 
 
-def _randomization(text: str):
-    from symsynth.execution.physics import Randomization
-
-    try:
-        return Randomization.parse(text)
-    except InputError as error:
-        raise argparse.ArgumentTypeError(str(error).removeprefix("--randomize: ")) from None
-
-
-def _runs(text: str) -> int:
-    value = options.count(text)
-    if value < 1:
-        raise argparse.ArgumentTypeError("must be >= 1")
-    return value
-
-
-def _probability(text: str) -> float:
-    value = options.number(text)
-    if not 0 <= value <= 1:
-        raise argparse.ArgumentTypeError(f"must be within 0..1, found {text}")
-    return value
 
 
 def run(args: argparse.Namespace) -> int:
