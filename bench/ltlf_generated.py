@@ -32,24 +32,20 @@ import re
 Family = list[tuple[str, str]]
 
 
+def _right_chain(n: int, operator) -> str:
+    """p1 OP1 (p2 OP2 (... (pn))), OPi = operator(i)."""
+    text = f"p{n}"
+    for i in range(n - 1, 0, -1):
+        text = f"p{i} {operator(i)} ({text})"
+    return text
+
+
 def rright(sizes=range(2, 17, 2)) -> Family:
-    out = []
-    for n in sizes:
-        text = f"p{n}"
-        for i in range(n - 1, 0, -1):
-            text = f"p{i} R ({text})"
-        out.append((f"rright{n:02d}", text))
-    return out
+    return [(f"rright{n:02d}", _right_chain(n, lambda i: "R")) for n in sizes]
 
 
 def urright(sizes=range(2, 17, 2)) -> Family:
-    out = []
-    for n in sizes:
-        text = f"p{n}"
-        for i in range(n - 1, 0, -1):
-            text = f"p{i} {'U' if i % 2 else 'R'} ({text})"
-        out.append((f"urright{n:02d}", text))
-    return out
+    return [(f"urright{n:02d}", _right_chain(n, lambda i: "U" if i % 2 else "R")) for n in sizes]
 
 
 def uconj(sizes=range(1, 9)) -> Family:
