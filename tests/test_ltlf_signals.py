@@ -28,10 +28,18 @@ def chain(n: int) -> str:
     return text
 
 
+def start(argv: list[str], cwd, sigint) -> subprocess.Popen:
+    """The command in a process of its own, started with SIGINT's action
+    `sigint` (a terminal's foreground job has the default one, a shell's
+    background job SIGINT ignored)."""
+    return subprocess.Popen([sys.executable, "-m", "symsynth.cli", *argv], cwd=cwd,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, sigint))
+
+
 def ended_after(argv: list[str], signum: int, cwd) -> tuple[int, float, str]:
     """(return code, seconds from the signal to the exit, stderr)."""
-    process = subprocess.Popen([sys.executable, "-m", "symsynth.cli", *argv], cwd=cwd,
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    process = start(argv, cwd, signal.SIG_DFL)
     time.sleep(5.0)
     assert process.poll() is None, "the command ended before the signal: no long work to interrupt"
     clock = time.monotonic()
@@ -64,3 +72,24 @@ def test_synth_ends_at_once_on_sigterm(tmp_path):
     assert code == -signal.SIGTERM
     assert seconds < 2.0
     assert sorted(os.listdir(tmp_path)) == ["chain.ltlf", "chain.part"]
+
+
+def test_an_ignored_sigint_stays_ignored(tmp_path):
+    """A background job started with SIGINT ignored goes on after a SIGINT
+    (stopping.killable must not give it back its default action); SIGTERM
+    still ends it."""
+    (tmp_path / "chain.ltlf").write_text(chain(CHAIN))
+    process = start(["dfa", "-f", "chain.ltlf"], tmp_path, signal.SIG_IGN)
+    try:
+        time.sleep(2.0)
+        assert process.poll() is None, "the command ended before the signal: no long work to interrupt"
+        process.send_signal(signal.SIGINT)
+        time.sleep(1.0)
+        assert process.poll() is None, "an ignored SIGINT ended the command"
+        process.send_signal(signal.SIGTERM)
+        process.communicate(timeout=60)
+        assert process.returncode == -signal.SIGTERM
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.communicate()

@@ -48,7 +48,11 @@ def wait_for(condition, seconds: float) -> bool:
 def test_a_signal_ends_the_command_and_its_workers(tmp_path, signum, code):
     env = dict(os.environ, SYMSYNTH_CACHE=str(tmp_path / "cache"))
     command = [sys.executable, "-m", "symsynth.cli", "costmap", str(SCENES / "arch.yaml"), "--method", "sg"]
-    process = subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # A shell runs a background job with SIGINT ignored, and Python keeps an
+    # ignored SIGINT ignored: the command gets the default action, as a
+    # terminal's would.
+    process = subprocess.Popen(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         assert wait_for(lambda: len(children(process.pid)) >= 2, 120), "no worker pool started"
         workers = children(process.pid)

@@ -29,12 +29,15 @@ SIGNALS = (signal.SIGTERM, signal.SIGINT)
 @contextmanager
 def killable() -> Iterator[None]:
     """Inside the block SIGTERM and SIGINT end the process at once (their
-    default action); the handlers before it are restored after.  Only in
-    the main thread (the others cannot set handlers)."""
+    default action); the handlers before it are restored after.  A signal
+    the process was started with ignored stays ignored (a shell starts a
+    background job with SIGINT ignored, so that Ctrl-C at the terminal does
+    not end it).  Only in the main thread (the others cannot set handlers)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    old = {signum: signal.signal(signum, signal.SIG_DFL) for signum in SIGNALS}
+    old = {signum: signal.signal(signum, signal.SIG_DFL) for signum in SIGNALS
+           if signal.getsignal(signum) is not signal.SIG_IGN}
     try:
         yield
     finally:
