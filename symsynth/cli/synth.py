@@ -95,16 +95,16 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"-o {args.output} --strategy bdd: the BDDs are written as JSON; expected FILE.json")
     tlsf = args.spec.suffix == ".tlsf"
     _check_options(args, tlsf)
-    partition = None if tlsf else read_partition(args.part)
+    given = None if tlsf else read_partition(args.part)
     text = formulas.read_formula_file(args.spec, args.max_bytes)
     with killable():  # (SIGTERM ends it at once: nothing is written before the strategy)
-        if tlsf:
+        if given is None:
             spec = read_tlsf(args.spec, text, dict(args.param))
             formula, partition = spec.formula, spec.partition
             if args.agent_first is None:
                 args.agent_first = spec.agent_first
         else:
-            formula = formulas.parse(text, str(args.spec), args.next or "weak")
+            formula, partition = formulas.parse(text, str(args.spec), args.next or "weak"), given
             _check_named(formula, partition, text, args)
         if args.agent_first is None:
             args.agent_first = True
