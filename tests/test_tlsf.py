@@ -152,3 +152,16 @@ def test_synth_reads_a_tlsf_file(capsys):
     assert capsys.readouterr().out.split() == ["UNREALIZABLE", "REALIZABLE"]
     assert main(["synth", str(DATA / "chomp.tlsf"), "--part", "x.part"]) == 2
     assert "leave --part out" in capsys.readouterr().err
+
+
+def test_a_spoilt_parser_cache_is_rebuilt(tmp_path, monkeypatch):
+    """The parser's tables are cached in symsynth's cache directory; a file
+    there that is not lark's (or of another grammar) is built again."""
+    from symsynth.synthesis import tlsf
+    monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path))
+    tlsf._parser.cache_clear()
+    (tmp_path / Path(tlsf._cache_file()).name).write_bytes(b"not a pickle\n")
+    try:
+        assert spec("GUARANTEE { F y; }").formula == ast.Eventually(ast.Atom("y"))
+    finally:
+        tlsf._parser.cache_clear()

@@ -109,7 +109,7 @@ def run(args: argparse.Namespace) -> int:
         if args.agent_first is None:
             args.agent_first = True
         clock = time.perf_counter()
-        dfa = formulas.compile_formula(formula, str(args.spec), args.max_states)
+        dfa = formulas.compile_formula(formula, str(args.spec), args.max_states, args.construction)
         compiled = time.perf_counter() - clock
         with progress_bar(desc="game", unit=" rounds", delay=1.0) as bar:
             game = solve_realizability(dfa, partition, agent_first=args.agent_first,
