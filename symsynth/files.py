@@ -94,3 +94,13 @@ def check_regular(path: str | Path, what: str, error: type[InputError] = InputEr
                     "(save it to one first)")
     if limit is not None and info.st_size > limit:
         raise error(f"{what} {path} is {info.st_size:,} bytes: larger than the {limit:,} symsynth reads")
+
+
+def cache_dir() -> Path:
+    """Where symsynth keeps what it computed for later runs (costmaps, the
+    TLSF parser's tables): `$SYMSYNTH_CACHE`, else `$XDG_CACHE_HOME/symsynth`,
+    else `~/.cache/symsynth`."""
+    if os.environ.get("SYMSYNTH_CACHE"):
+        return Path(os.environ["SYMSYNTH_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "symsynth"

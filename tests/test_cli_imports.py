@@ -60,6 +60,16 @@ def test_synth_imports_only_the_compiler_and_the_game_on_the_dfa(tmp_path):
     assert forbidden(modules) == []
 
 
+def test_synth_on_tlsf_imports_no_more():
+    """The TLSF reader (lark and the evaluation of GLOBAL) adds no solver."""
+    from pathlib import Path
+    chomp = Path(__file__).parent / "data" / "tlsf-fin" / "chomp.tlsf"
+    code, modules = loaded("synth", str(chomp), "--param", "N=1")
+    assert code == 10
+    assert "symsynth.synthesis.tlsf" in modules
+    assert forbidden(modules) == []
+
+
 def test_the_check_sees_a_forbidden_import():
     """The same probe on `solve --help`, which imports the solvers: the
     check is able to fail."""

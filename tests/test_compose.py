@@ -62,6 +62,14 @@ def test_same_automaton_as_the_non_compositional_construction(formula):
     assert distinguishing_trace(new, old, keys(formula)) is None, to_string(formula)
 
 
+@settings(max_examples=60, deadline=None)
+@given(formulas(max_depth=4))
+def test_progression_of_the_whole_formula_gives_the_minimal_dfa(formula):
+    whole = compile_ltlf(formula, construction="progression")
+    assert whole.num_states == minimal_num_states(formula), to_string(formula)
+    assert distinguishing_trace(whole, reference_dfa(formula), keys(formula)) is None, to_string(formula)
+
+
 def assume_guarantee(n: int, m: int) -> str:
     """(A1 & ... & An) -> (G1 & ... & Gm) in the shape of the Syft family:
     fairness assumptions G F e_i, guarantees G(r_j -> X g_j) and mutual

@@ -35,7 +35,7 @@ import gc
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 from symsynth.automata.bdd import BACKEND, BDD, Function, new_manager
 from symsynth.automata.invariant import Invariants, invariant_shape
@@ -53,6 +53,9 @@ from symsynth.errors import InputError
 from symsynth.logic import ast
 from symsynth.logic.parser import NextSemantics, parse_ltlf
 
+#: How `compile_ltlf` builds the DFA (its docstring).
+Construction = Literal["compositional", "progression"]
+
 #: Limits past which a formula is refused with a message (each part's state
 #: bits and each atom is a BDD variable; the product's state count is
 #: counted in a double, which ends at 2^1024).
@@ -63,7 +66,7 @@ MAX_STATE_BITS = 1000
 def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = "strong",
                  source: str = "<formula>", bdd: BDD | None = None,
                  prefix: str = "#q", compositional: bool = True,
-                 limits: dict[str, Any] | None = None) -> SymbolicDFA:
+                 limits: dict[str, Any] | None = None, construction: Construction = "compositional") -> SymbolicDFA:
     """The minimal complete DFA of an LTLf formula over non-empty traces.
 
     `formula` is text (parsed with `next_semantics`, errors naming `source`)
@@ -75,9 +78,20 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
     `compositional=False` is the earlier construction (top-level conjuncts
     by progression, one symbolic product), kept as a reference; `limits`
     overrides `Composer`'s size limits (tests use it to force each path).
+
+    `construction="progression"` builds the whole formula by progression
+    instead, from its start: only the states reachable there are made.  It
+    wins where the parts of the formula are large alone and small together
+    (SYNTCOMP's chomp: `PRESET && (G REQUIRE -> G ASSERT && ...)`, whose
+    ASSERT alone tracks every subset of the board, 2^(N*M), and the whole
+    the boards that legal moves reach) and loses where a part's
+    progression is exponential (the counters' `counter_i <-> X carry_i`).
     """
+    if construction not in ("compositional", "progression"):
+        raise ValueError(f"construction must be 'compositional' or 'progression', not {construction!r}")
     with _without_cyclic_gc():
-        return _compile(formula, next_semantics, source, bdd, prefix, compositional, limits)
+        return _compile(formula, next_semantics, source, bdd, prefix,
+                        "whole" if construction == "progression" else compositional, limits)
 
 
 @contextmanager
@@ -97,7 +111,7 @@ def _without_cyclic_gc() -> Iterator[None]:
 
 
 def _compile(formula: str | ast.Formula, next_semantics: NextSemantics, source: str, bdd: BDD | None,
-             prefix: str, compositional: bool, limits: dict[str, Any] | None) -> SymbolicDFA:
+             prefix: str, compositional: bool | Literal["whole"], limits: dict[str, Any] | None) -> SymbolicDFA:
     if isinstance(formula, str):
         formula = parse_ltlf(formula, source=source, next_semantics=next_semantics)
     atom_keys = [a.key for a in ast.atoms(formula)]
@@ -105,7 +119,10 @@ def _compile(formula: str | ast.Formula, next_semantics: NextSemantics, source: 
         raise InputError(f"{source}: the formula has {len(atom_keys)} atoms; symsynth compiles formulas "
                          f"of at most {MAX_ATOMS}")
     progression = Progression(atom_keys)
-    if compositional:
+    acceptance: tuple | None
+    if compositional == "whole":
+        components, acceptance = [minimize(progression.dfa(nnf(formula)))], None
+    elif compositional:
         composer = Composer(progression, **(limits or {}))
         result = composer.finish(composer.compose(formula))
         if isinstance(result, GuardedDFA):

@@ -95,7 +95,8 @@ def run(args: argparse.Namespace) -> int:
         text, source = formulas.read_formula_file(args.file[0], args.max_bytes), str(args.file[0])
     with killable():
         start = time.perf_counter()
-        dfa = formulas.compile_formula(formulas.parse(text, source, args.next), source, args.max_states)
+        dfa = formulas.compile_formula(formulas.parse(text, source, args.next), source, args.max_states,
+                                       args.construction)
         seconds = time.perf_counter() - start
         explicit = _explicit(dfa, args.max_transitions or None) if args.json or args.dot else None
     if explicit is not None:
@@ -128,7 +129,8 @@ def _batch(args: argparse.Namespace) -> int:
                 if text is None:  # (the file could not be read: its message is the error)
                     text = formulas.read_formula_file(Path(source), args.max_bytes)
                 start = time.perf_counter()
-                dfa = formulas.compile_formula(formulas.parse(text, source, args.next), source, args.max_states)
+                dfa = formulas.compile_formula(formulas.parse(text, source, args.next), source,
+                                               args.max_states, args.construction)
                 seconds = time.perf_counter() - start
                 result.update(atoms=list(dfa.atoms), states=dfa.num_states, bdd_nodes=dfa.num_nodes,
                               seconds=round(seconds, 6))

@@ -8,6 +8,7 @@ import argparse
 from pathlib import Path
 
 from symsynth.automata import SymbolicDFA, compile_ltlf
+from symsynth.automata.compose import Construction
 from symsynth.automata.growth import StateLimitReached, watched
 from symsynth.cli.options import count
 from symsynth.cli.progress import bar
@@ -25,7 +26,12 @@ MAX_STATES = 1_000_000
 
 
 def add_limits(parser: argparse.ArgumentParser) -> None:
-    """--max-bytes and --max-states."""
+    """--max-bytes, --max-states and --construction."""
+    parser.add_argument("--construction", choices=("compositional", "progression"), default="compositional",
+                        help="how the DFA is built: compositional (default: a minimal DFA per part, combined) "
+                             "or progression of the whole formula from its start, which builds only the states "
+                             "reachable there (faster when the parts are large alone and small together, as in "
+                             "SYNTCOMP's chomp; slower on counters)")
     parser.add_argument("--max-states", type=count, default=MAX_STATES, metavar="N",
                         help="refuse a formula once an automaton built for it passes N states "
                              f"(default {MAX_STATES:,}; 0: no limit)")
@@ -51,12 +57,13 @@ def parse(text: str, source: str, next_semantics: NextSemantics) -> ast.Formula:
                           progress=lambda done: shown.update(done - shown.n))
 
 
-def compile_formula(formula: ast.Formula, source: str, max_states: int) -> SymbolicDFA:
+def compile_formula(formula: ast.Formula, source: str, max_states: int,
+                    construction: Construction = "compositional") -> SymbolicDFA:
     """`compile_ltlf`, refused past `max_states` explicit states (0: no
     limit), with a count of the states built on a terminal."""
     with bar(desc=f"building the DFA of {source}", unit=" states", unit_scale=True, delay=1.0) as shown, \
             watched(max_states or None, lambda built: shown.update(built - shown.n)):
         try:
-            return compile_ltlf(formula, source=source)
+            return compile_ltlf(formula, source=source, construction=construction)
         except StateLimitReached as error:
             raise InputError(f"{source}: {error}; --max-states N raises the limit, 0 lifts it") from None

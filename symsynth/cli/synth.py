@@ -17,6 +17,7 @@ from symsynth.files import write_atomic
 from symsynth.logic import ast
 from symsynth.synthesis import read_partition, solve_realizability
 from symsynth.synthesis import symbolic_strategy as symbolic
+from symsynth.synthesis.tlsf import read_tlsf
 from symsynth.synthesis.machine import MAX_INPUTS, MAX_STATES, TooLarge, strategy_machine, write_json
 
 HELP = "LTLf synthesis: is a formula realizable by an agent against an environment?"
@@ -25,6 +26,11 @@ Decide whether the agent, which sets the .outputs of SPEC.part, can force the
 LTLf formula of SPEC.ltlf against an environment that sets the .inputs,
 whatever the environment does (traces are finite and non-empty; the agent
 wins once the trace read so far satisfies the formula).
+
+A SPEC.tlsf is read as SYNTCOMP's finite-trace TLSF (SEMANTICS Mealy,Finite
+or Moore,Finite; no --part: its INPUTS are the environment's, its OUTPUTS
+the agent's; Mealy: the environment moves first, Moore: the agent), its
+GLOBAL definitions evaluated as syfco does; --param N=3 sets a parameter.
 
 The agent moves first in each step by default (--env-first: the environment).
 Plain X is weak next by default, as in Lydia, SYNTCOMP's TLSF and the LTLf
@@ -58,17 +64,20 @@ def _position(text: str, name: str) -> str:
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("synth", help=HELP, description=DESCRIPTION,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("spec", type=Path, metavar="SPEC.ltlf", help="the LTLf formula ('#' starts a comment)")
-    parser.add_argument("--part", type=Path, required=True, metavar="SPEC.part",
-                        help="the partition: '.inputs: ...' (environment) and '.outputs: ...' (agent)")
+    parser.add_argument("spec", type=Path, metavar="SPEC",
+                        help="the LTLf formula (SPEC.ltlf, '#' starts a comment) or a TLSF specification (SPEC.tlsf)")
+    parser.add_argument("--part", type=Path, metavar="SPEC.part",
+                        help="the partition of SPEC.ltlf: '.inputs: ...' (environment) and '.outputs: ...' (agent)")
+    parser.add_argument("--param", action="append", type=_parameter, default=[], metavar="NAME=N",
+                        help="SPEC.tlsf: give the GLOBAL parameter NAME the value N (repeatable)")
     first = parser.add_mutually_exclusive_group()
-    first.add_argument("--agent-first", dest="agent_first", action="store_true", default=True,
-                       help="the agent moves first in each step (default)")
+    first.add_argument("--agent-first", dest="agent_first", action="store_true", default=None,
+                       help="the agent moves first in each step (default for SPEC.ltlf; TLSF: Moore)")
     first.add_argument("--env-first", dest="agent_first", action="store_false",
-                       help="the environment moves first in each step")
-    parser.add_argument("--next", choices=("strong", "weak"), default="weak",
-                        help="meaning of plain X (default: weak, as in the datasets and `symsynth dfa`; "
-                             "X[!] is always strong)")
+                       help="the environment moves first in each step (TLSF: Mealy)")
+    parser.add_argument("--next", choices=("strong", "weak"), default=None,
+                        help="meaning of plain X in SPEC.ltlf (default: weak, as in the datasets and "
+                             "`symsynth dfa`; X[!] is always strong; TLSF's finite semantics fixes X as weak)")
     parser.add_argument("-o", "--output", type=Path, metavar="FILE",
                         help="write a winning strategy to FILE (.json or .dot)")
     parser.add_argument("--strategy", choices=("auto", "machine", "bdd"), default="auto",
@@ -84,18 +93,23 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"-o {args.output}: expected a file name ending in .json or .dot")
     if args.output is not None and args.output.suffix == ".dot" and args.strategy == "bdd":
         raise InputError(f"-o {args.output} --strategy bdd: the BDDs are written as JSON; expected FILE.json")
-    partition = read_partition(args.part)
+    tlsf = args.spec.suffix == ".tlsf"
+    _check_options(args, tlsf)
+    given = None if tlsf else read_partition(args.part)
     text = formulas.read_formula_file(args.spec, args.max_bytes)
     with killable():  # (SIGTERM ends it at once: nothing is written before the strategy)
-        formula = formulas.parse(text, str(args.spec), args.next)
-        named = set(partition.inputs) | set(partition.outputs)
-        unknown = [a.key for a in ast.atoms(formula) if a.key not in named]
-        if unknown:
-            raise InputError(f"{args.spec}{_position(text, unknown[0])}: {', '.join(unknown)} "
-                             f"{'is' if len(unknown) == 1 else 'are'} in the formula but in neither list of "
-                             f"{args.part}; name each variable as an input or an output")
+        if given is None:
+            spec = read_tlsf(args.spec, text, dict(args.param))
+            formula, partition = spec.formula, spec.partition
+            if args.agent_first is None:
+                args.agent_first = spec.agent_first
+        else:
+            formula, partition = formulas.parse(text, str(args.spec), args.next or "weak"), given
+            _check_named(formula, partition, text, args)
+        if args.agent_first is None:
+            args.agent_first = True
         clock = time.perf_counter()
-        dfa = formulas.compile_formula(formula, str(args.spec), args.max_states)
+        dfa = formulas.compile_formula(formula, str(args.spec), args.max_states, args.construction)
         compiled = time.perf_counter() - clock
         with progress_bar(desc="game", unit=" rounds", delay=1.0) as bar:
             game = solve_realizability(dfa, partition, agent_first=args.agent_first,
@@ -113,6 +127,39 @@ def run(args: argparse.Namespace) -> int:
     elif strategy is not None:
         write_atomic(args.output, strategy, "strategy")
     return REALIZABLE if game.realizable else UNREALIZABLE
+
+
+def _parameter(text: str) -> tuple[str, int]:
+    name, equal, value = text.partition("=")
+    if not equal or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name.strip()) or \
+            not re.fullmatch(r"-?[0-9]+", value.strip()):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected NAME=N, an integer value (e.g. N=3)")
+    return name.strip(), int(value)
+
+
+def _check_options(args: argparse.Namespace, tlsf: bool) -> None:
+    """--part goes with SPEC.ltlf, --param with SPEC.tlsf."""
+    if tlsf and args.part is not None:
+        raise InputError(f"--part {args.part}: {args.spec} is TLSF, whose INPUTS and OUTPUTS are the partition; "
+                         "leave --part out")
+    if tlsf and args.next is not None:
+        raise InputError(f"--next {args.next}: {args.spec} is TLSF, whose finite semantics reads X as weak next "
+                         "and X[!] as strong; leave --next out")
+    if not tlsf and args.part is None:
+        raise InputError(f"{args.spec}: an LTLf formula needs its partition: --part SPEC.part (or give a "
+                         "TLSF file, SPEC.tlsf)")
+    if not tlsf and args.param:
+        raise InputError(f"--param: parameters belong to TLSF specifications (SPEC.tlsf), not {args.spec}")
+
+
+def _check_named(formula: ast.Formula, partition, text: str, args: argparse.Namespace) -> None:
+    """Every variable of the formula is in the partition."""
+    named = set(partition.inputs) | set(partition.outputs)
+    unknown = [a.key for a in ast.atoms(formula) if a.key not in named]
+    if unknown:
+        raise InputError(f"{args.spec}{_position(text, unknown[0])}: {', '.join(unknown)} "
+                         f"{'is' if len(unknown) == 1 else 'are'} in the formula but in neither list of "
+                         f"{args.part}; name each variable as an input or an output")
 
 
 def _strategy_text(game, args: argparse.Namespace) -> str:

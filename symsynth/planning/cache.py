@@ -24,7 +24,7 @@ from pathlib import Path
 
 from symsynth import __version__
 from symsynth.errors import InputError, SymsynthWarning
-from symsynth.files import check_regular, write_atomic
+from symsynth.files import cache_dir, check_regular, write_atomic
 from symsynth.scene.costmap import Costmap, CostmapError, costmap_from_data
 from symsynth.scene.mesh import MAX_BYTES
 from symsynth.scene.load import costmap_problems
@@ -35,13 +35,6 @@ from symsynth.scene.model import Scene, geometry_of
 #: costmap of an older revision is reused.
 FORMAT_REVISION = 5  # 3: the file holds its key (`KEY_FIELD`); 4: contacts, slides, grasp reach;
 # 5: and a checksum of its content (`SUM_FIELD`)
-
-
-def cache_dir() -> Path:
-    if os.environ.get("SYMSYNTH_CACHE"):
-        return Path(os.environ["SYMSYNTH_CACHE"])
-    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(base) / "symsynth"
 
 
 def cache_key(scene: Scene, method: str, planner: str, seed: int) -> str:
