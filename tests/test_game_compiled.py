@@ -22,8 +22,10 @@ from symsynth.game.solution import task_formula
 from symsynth.game.symmetry import Symmetry
 from symsynth.logic import parse_ltlf
 from symsynth.solvers import compiled
-from symsynth.solvers.compiled import Tables, _explore, _human_moves, _letter, solve_compiled
+from symsynth.solvers.compiled import Tables, solve_compiled
 from symsynth.solvers.explicit import solve_explicit
+from symsynth.solvers.packed.explore import explore as _explore
+from symsynth.solvers.packed.kernels import _human_moves, _letter
 from symsynth.testing.gamegen import alike_scene, random_scene
 from support.games import PICK, make_scene, worst_case_of
 

@@ -45,6 +45,7 @@ import sys
 import threading
 import time
 from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 import numpy as np
 from tqdm import tqdm
@@ -57,12 +58,67 @@ from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.packed import kernels
 from symsynth.solvers.packed.graph import CompiledStrategy, Graph
-from symsynth.solvers.packed.explore import compile_growth, explore as _explore
-from symsynth.solvers.packed.kernels import INF, _human_moves, _letter, _solve
+from symsynth.solvers.packed.explore import Progress, compile_growth, explore
+from symsynth.solvers.packed.kernels import INF, _solve
 from symsynth.solvers.packed.tables import BATCH, HUMAN_MOVES_KEPT, Tables, TooLarge, check_width
 
-__all__ = ["TooLarge", "Tables", "compile_kernels", "kernels_cached", "solve_compiled",
-           "_explore", "_human_moves", "_letter"]
+__all__ = ["TooLarge", "Tables", "Packed", "compile_kernels", "explore_packed", "kernels_cached",
+           "solve_compiled"]
+
+
+@dataclass
+class Packed:
+    """The compiled solver's game, explored and solved (`explore_packed`).
+
+    `explored`: `packed.explore.explore`'s arrays (keys, hflag, lo, hi, r_off,
+    r_tgt, r_move, the number of human moves, h_off, h_tgt; h_off and h_tgt
+    empty when the human moves were too many to keep); `rval`: V at each
+    node's robot turn (units, `INF`: infinite); `choice`: the worst-case
+    strategy's move there (relative to r_off, -1: none); `top`: V at the
+    start's human turn (node 0); `start`: the start's key."""
+
+    tables: Tables
+    start: int
+    explored: tuple
+    rval: np.ndarray
+    choice: np.ndarray
+    top: int
+    seconds: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def keeps_human_moves(self) -> bool:
+        """Whether h_off and h_tgt hold every human move."""
+        return len(self.explored[8]) == len(self.explored[0]) + 1
+
+
+def explore_packed(scene: Scene, formula: ast.Formula, k: int, resolution: float, *, symmetric: bool = True,
+                   progress: Progress | None = None) -> Packed | None:
+    """The game the start reaches, explored and solved for V (None when
+    ρ(v0) alone is accepted: nothing to play); `k` checked already.  The
+    seconds of `tables`, `explore` and `solve` in `Packed.seconds`."""
+    clock = time.perf_counter()
+    symmetry = Symmetry.of(scene, formula) if symmetric else None
+    tables = Tables(scene, formula, resolution, symmetry, k)
+    check_width(tables, k)
+    seconds = {"tables": time.perf_counter() - clock}
+    v0 = initial_state(scene)
+    q0 = tables.step(tables.dfa_index[tables.dfa.initial], tables.pack(v0))
+    if tables.accepting[q0]:
+        return None
+    clock = time.perf_counter()
+    start = tables.key(tables.canon(tables.pack(v0)), q0)
+    explored = explore(start, *tables.kernel_args(HUMAN_MOVES_KEPT, BATCH), progress=progress)
+    seconds["explore"] = time.perf_counter() - clock
+    clock = time.perf_counter()
+    keys, r_tgt = explored[0], explored[5]
+    if max(len(keys), len(r_tgt)) >= 1 << 31:
+        raise TooLarge("the compiled solver holds fewer than 2^31 nodes and robot moves; "
+                       f"this game has {len(keys)} nodes and {len(r_tgt)} robot moves")
+    rval, choice, top, missing = _solve(*explored[:7], *explored[8:], *tables.human_args())
+    if missing:
+        raise RuntimeError(f"internal error: {missing} human moves left the explored nodes")
+    seconds["solve"] = time.perf_counter() - clock
+    return Packed(tables, int(start), explored, rval, choice, int(top), seconds)
 
 
 def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
@@ -74,17 +130,7 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
     seconds = {} if took is None else {"compile": took}
     clock = time.perf_counter()
     formula = task_formula(scene, formula)
-    symmetry = Symmetry.of(scene, formula) if symmetric else None
-    tables = Tables(scene, formula, resolution, symmetry, k)
-    check_width(tables, k)
     seconds["tables"] = time.perf_counter() - clock
-    v0 = initial_state(scene)
-    q0 = tables.step(tables.dfa_index[tables.dfa.initial], tables.pack(v0))
-    if tables.accepting[q0]:
-        return won_at_start(scene, k, resolution, budget, seconds | {"explore": 0.0, "solve": 0.0})
-
-    clock = time.perf_counter()
-    start = tables.key(tables.canon(tables.pack(v0)), q0)
     # a bar of the nodes found, layer by layer, on a terminal once exploring takes over a second
     with tqdm(desc="compiled solver: exploring", unit=" nodes", unit_scale=True, delay=1.0, leave=False,
               disable=None) as bar:
@@ -92,20 +138,16 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
             bar.update(nodes - bar.n)
             bar.set_postfix_str(f"layer h = {h} of {k}", refresh=False)
 
-        explored = _explore(start, *tables.kernel_args(HUMAN_MOVES_KEPT, BATCH), progress=progress)
-    seconds["explore"] = time.perf_counter() - clock
-
+        packed = explore_packed(scene, formula, k, resolution, symmetric=symmetric, progress=progress)
+    if packed is None:
+        return won_at_start(scene, k, resolution, budget, seconds | {"explore": 0.0, "solve": 0.0})
+    seconds["tables"] += packed.seconds.pop("tables")
+    seconds |= packed.seconds
     clock = time.perf_counter()
+    tables, explored = packed.tables, packed.explored
     keys, hflag, r_tgt, human_moves = explored[0], explored[1], explored[5], int(explored[7])
-    if max(len(keys), len(r_tgt)) >= 1 << 31:
-        raise TooLarge("the compiled solver holds fewer than 2^31 nodes and robot moves; "
-                       f"this game has {len(keys)} nodes and {len(r_tgt)} robot moves")
-    rval, choice, top, missing = _solve(*explored[:7], *explored[8:], *tables.human_args())
-    if missing:
-        raise RuntimeError(f"internal error: {missing} human moves left the explored nodes")
-    graph = Graph(tables, explored[:7], rval, choice)
-    top = int(top)
-    result = None if top >= INF else top
+    graph = Graph(tables, explored[:7], packed.rval, packed.choice)
+    result = None if packed.top >= INF else packed.top
     realizable = verdict(result, resolution, budget)
     principal: tuple[Step, ...]
     counter: tuple[Step, ...] | None
@@ -116,13 +158,13 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
         principal = graph.principal_play(0)
         counter = principal if realizable is False else None
         strategy = CompiledStrategy(graph)
-    seconds["solve"] = time.perf_counter() - clock
+    seconds["solve"] += time.perf_counter() - clock
     humans = int(np.count_nonzero(hflag))
     stats = {"edges": len(r_tgt) + human_moves + humans, "robot_moves": len(r_tgt), "human_moves": human_moves}
     solution = Solution(None if result is None else in_costmap_units(result, resolution), result, resolution, budget,
                         realizable, k, len(keys) + humans, seconds, strategy, principal, counter,
                         scene.object_names, stats)
-    return solution if symmetry is None else symmetry.realize(solution)
+    return solution if packed.tables.symmetry is None else packed.tables.symmetry.realize(solution)
 
 
 _compiled = False  # compile_kernels has run in this process

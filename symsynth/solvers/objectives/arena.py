@@ -140,35 +140,21 @@ def from_compiled(scene: Scene, formula: ast.Formula, k: int, resolution: float,
                   model: HumanModel | None) -> Arena | None:
     """The compiled solver's explored graph and values as an `Arena`; models
     must be uniform over the moves (`pass_probability`), else `OutOfReach`."""
-    import time
-
-    from symsynth.game.symmetry import Symmetry
-    from symsynth.solvers import compiled as c
+    from symsynth.solvers.compiled import HUMAN_MOVES_KEPT, explore_packed
 
     if model is not None and not hasattr(model, "pass_probability"):
         raise OutOfReach(f"the compiled solver takes human models uniform over the moves "
                          f"(random(P)); {model.name} is solved by --solver explicit")
-    clock = time.perf_counter()
-    symmetry = Symmetry.of(scene, formula)
-    tables = c.Tables(scene, formula, resolution, symmetry, k)
-    c.check_width(tables, k)
-    v0 = initial_state(scene)
-    q0 = tables.step(tables.dfa_index[tables.dfa.initial], tables.pack(v0))
-    if tables.accepting[q0]:
+    packed = explore_packed(scene, formula, k, resolution)
+    if packed is None:
         return None
-    start = tables.key(tables.canon(tables.pack(v0)), q0)
-    explored = c._explore(start, *tables.kernel_args())
-    seconds = {"explore": time.perf_counter() - clock}
-    clock = time.perf_counter()
-    keys, hflag, lo, hi, r_off, r_tgt, r_move = explored[:7]
-    h_off, h_tgt = explored[8], explored[9]
-    if len(h_off) != len(keys) + 1:
+    if not packed.keeps_human_moves:
         raise OutOfReach("the compiled objectives keep every human move; this game has more than "
-                         f"{c.HUMAN_MOVES_KEPT}")
-    rval, chosen, _, missing = c._solve(*explored[:7], *explored[8:], *tables.human_args())
-    if missing:
-        raise RuntimeError(f"internal error: {missing} human moves left the explored nodes")
-    seconds["solve"] = time.perf_counter() - clock
+                         f"{HUMAN_MOVES_KEPT}")
+    tables, rval, chosen = packed.tables, packed.rval, packed.choice
+    seconds = {"explore": packed.seconds["tables"] + packed.seconds["explore"], "solve": packed.seconds["solve"]}
+    keys, hflag, lo, hi, r_off, r_tgt, r_move = packed.explored[:7]
+    h_off, h_tgt = packed.explored[8], packed.explored[9]
     layer = np.empty(len(keys), np.int64)
     for h in range(k + 1):
         layer[lo[h]:hi[h]] = h
