@@ -155,6 +155,32 @@ def test_a_drop_releases_the_object_and_it_settles_within_the_tolerance(block):
         world.close()
 
 
+def test_a_human_puts_an_object_only_where_it_stands(block):
+    """A second block on the first stands; 6 cm above it (in the air) or
+    3 cm beside its centre (its own centre 1 cm past the edge) it would fall
+    or tip, so it does not stand; on the table it stands.  With the second
+    block on the first, the first cannot be taken away.  Asking moves
+    nothing: the blocks are where they were, to the float."""
+    scene, _ = block
+    data = yaml.safe_load(BLOCK)
+    data["objects"]["c"] = {"tags": ["block"], "box": [0.04, 0.04, 0.06], "at": "l2"}
+    world = PhysicsWorld(scene_from_data(data))
+    try:
+        before = {name: base_xyz(world, name) for name in ("b", "c")}
+        x, y, _ = before["b"]
+        assert world.stands("c", Pose((x, y, 0.06)))
+        assert not world.stands("c", Pose((x, y, 0.12)))
+        assert not world.stands("c", Pose((x, y + 0.03, 0.06)))
+        assert world.stands("c", Pose((x, y - 0.15, 0.0)))
+        world.place("c", Pose((x, y, 0.06)))
+        stacked = {name: base_xyz(world, name) for name in ("b", "c")}
+        assert not world.stands("b", Pose((x, y + 0.15, 0.0)))  # c stands on b
+        assert world.stands("c", Pose((x, y + 0.15, 0.0)))
+        assert {name: base_xyz(world, name) for name in ("b", "c")} == stacked
+    finally:
+        world.close()
+
+
 @pytest.fixture(scope="module")
 def push_rule():
     data = yaml.safe_load((DATA / "push-small.yaml").read_text())

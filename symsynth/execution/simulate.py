@@ -341,7 +341,9 @@ class _Episode:
             places = [e for e in self.scene.else_samples if e != here]
         else:
             places = [target]
-        return [x for x in places if not self.world.blocked(obj, self.world.geometry.places[x])]
+        world = self.world
+        return [x for x in places if not world.blocked(obj, world.geometry.places[x])
+                and world.stands(obj, world.geometry.places[x])]
 
     def _after(self, w: State, q, h: int) -> Position | None:
         q2 = self.game.read(q, w)
@@ -374,6 +376,9 @@ class _Episode:
         blocked = self.world.blocked(request.obj, pose)
         if blocked:
             self.run.refused.append(f"{what}: it would penetrate {', '.join(sorted(blocked))}")
+            return None
+        if not self.world.stands(request.obj, pose):
+            self.run.refused.append(f"{what}: it would not stand there (it falls or tips over)")
             return None
         return Option(move.action, move.obj, pose, self._after(move.after, q, h - 1))
 
