@@ -85,7 +85,8 @@ POSITION_GAIN = 0.1  # PyBullet's position control gains (its defaults: 0.1, 1.0
 VELOCITY_GAIN = 1.0
 ARRIVED = 2e-3  # radians: every joint this close to the end of its path
 CONVERGE_STEPS = 240
-GRIP_STEPS = 60  # steps the fingers take to close or open (4 cm at 0.2 m/s is 48)
+GRIP_STEPS = 60  # steps the fingers take at most to close or open (4 cm at 0.2 m/s is 48)
+FINGER_REST = 1e-3  # m/s: a finger slower than this has stopped (on the object, or at its limit)
 STOPPED = 1e-3  # metres: a finger this far from fully closed was stopped by the object
 FIRM_FORCE = 200.0  # newtons: the firming constraint's strength
 CLEARANCE = 0.005  # metres: the closest a human puts an object to the robot
@@ -162,6 +163,16 @@ def unheld(scene: Scene) -> list[str]:
                 found.append(f"{obj} is {100 * width:.0f} cm across the fingers of grasp {grasp}, "
                              f"which open {100 * opening:.0f} cm")
     return found
+
+
+def default_world(scene: Scene) -> tuple[str, list[str]]:
+    """`simulate`'s world when none is asked for: `physics` for a scene
+    with a robot and objects whose every grasp the fingers can close on,
+    else `kinematic`, with the reasons (`unheld`)."""
+    if scene.geometry is None or not scene.objects:
+        return "kinematic", ["the scene has no objects to move"]
+    why = unheld(scene)
+    return ("kinematic" if why else "physics"), why
 
 
 Watch = Callable[["PhysicsWorld"], None]
@@ -368,9 +379,7 @@ class PhysicsWorld(SimWorld):
         """Close the fingers; when both then touch object `name`, firm the
         grasp (module doc) and hold it with `grasp`.  Whether it is held."""
         self._grip = {j: self.client.getJointInfo(self.robot, j)[8] for j in self._open}
-        self._command(self.config)
-        for _ in range(GRIP_STEPS):
-            self.step()
+        self._move_fingers()
         if name is None or grasp is None or not self.fingers_touch(name):
             return False
         self.held, self.grasp = name, grasp
@@ -404,10 +413,22 @@ class PhysicsWorld(SimWorld):
             self._constraint = None
         self.held, self.grasp = None, None
         self._grip = dict(self._open)
-        self._command(self.config)
-        for _ in range(GRIP_STEPS):
-            self.step()
+        self._move_fingers()
         self.settle()
+
+    def _move_fingers(self) -> None:
+        """Drive the fingers to their targets (`_grip`) until they stop:
+        slower than `FINGER_REST` for `REST_STEPS` steps in a row, after
+        `REST_STEPS` steps at least (closed on the object, or at their
+        limit), at most `GRIP_STEPS`."""
+        self._command(self.config)
+        calm = 0
+        for taken in range(1, GRIP_STEPS + 1):
+            self.step()
+            speeds = [abs(state[1]) for state in self.client.getJointStates(self.robot, list(self.fingers))]
+            calm = calm + 1 if max(speeds, default=0.0) < FINGER_REST else 0
+            if taken > REST_STEPS and calm >= REST_STEPS:
+                break
 
     def fingers_touch(self, name: str) -> bool:
         """Whether the fingers hold object `name` between them: every finger

@@ -307,9 +307,18 @@ class _Episode:
 
     def _human_turn(self, v: State, q, h: int) -> tuple[State, Any, int] | None:
         options = self._options(v, q, h) if h > 0 else ()
-        choice = self.human.choose(Turn((v, q, h), self.actions, self.last, options))
-        if isinstance(choice, Request):
-            choice = self._resolve(choice, v, q, h)
+        while True:
+            choice = self.human.choose(Turn((v, q, h), self.actions, self.last, options))
+            if isinstance(choice, Request):
+                choice = self._resolve(choice, v, q, h)
+            elif choice is not None and not self.world.stands(choice.obj, choice.pose):
+                # Asked only of the option chosen (a physical check steps the world):
+                # left out, and the human chooses again (an option not offered: a pass).
+                if choice not in options:
+                    return None
+                options = tuple(o for o in options if o is not choice)
+                continue
+            break
         if choice is None:
             return None
         if isinstance(self.world, PhysicsWorld):
@@ -341,9 +350,7 @@ class _Episode:
             places = [e for e in self.scene.else_samples if e != here]
         else:
             places = [target]
-        world = self.world
-        return [x for x in places if not world.blocked(obj, world.geometry.places[x])
-                and world.stands(obj, world.geometry.places[x])]
+        return [x for x in places if not self.world.blocked(obj, self.world.geometry.places[x])]
 
     def _after(self, w: State, q, h: int) -> Position | None:
         q2 = self.game.read(q, w)
