@@ -7,8 +7,8 @@ Per scene and human (random: `--random` runs, seeds 0..; adversarial:
 `--adversarial` runs), each world measured by `symsynth.bench.worlds.measured`
 (the `symsynth bench` worlds axis's measurements): completed, within the
 observation's tolerance at the end, soundness bugs, state divergences,
-placement error, measured cost next to E_p, wall seconds of a run; and the
-ratio of the physical run's seconds to the kinematic one's (the kinematic
+placement error, measured cost next to E_p, wall and processor seconds of a
+run; and the ratios of the physical run's seconds to the kinematic one's (the kinematic
 runs first, then the physical ones: the load average before and after is
 recorded).  The costmap comes from the cache or is computed first (not
 timed).
@@ -40,6 +40,7 @@ def measure(scene: Path, human: str, runs: int, randomize: str) -> dict:
     row: dict = {"scene": problem.scene.name, "human": human, "runs": runs, "E_p": bound}
     row |= {world: measured(found) for world, found in done.items()}
     row["seconds_ratio"] = ratio(row["physics"], row["kinematic"])
+    row["cpu_seconds_ratio"] = ratio(row["physics"], row["kinematic"], "cpu_seconds_simulation")
     return row
 
 

@@ -40,11 +40,11 @@ COLUMNS = (
     "peak_memory_mb", "versions", "host", "cpus", "load", "started", "seconds_run",
     # the strategy run in a world (axis worlds: a random human, the run's seed)
     "world", "completed", "within_tolerance", "placement_error", "state_divergences", "soundness_bugs", "cost",
-    "seconds_simulation",
+    "seconds_simulation", "cpu_seconds_simulation",
 )
 #: Columns that differ between two runs of the same cell and seed
 #: (timings, memory, the machine's state); the others must not.
-MEASURED = frozenset(c for c in COLUMNS if c.startswith("seconds_")) | {
+MEASURED = frozenset(c for c in COLUMNS if c.startswith(("seconds_", "cpu_seconds_"))) | {
     "synthesis_phases", "peak_memory_mb", "host", "load", "started", "planner_workers"}
 #: Columns of numbers the table and plots average.
 NUMBERS = ("seconds_abstraction", "seconds_synthesis", "E_p", "positions", "bdd_peak_nodes",

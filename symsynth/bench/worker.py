@@ -174,7 +174,7 @@ def in_world(problem: Any, run: dict[str, Any]) -> dict[str, Any]:
                     world=run["world"], randomization=Randomization.parse(RANDOMIZE) if physical else None)
     row = measured(done.runs)
     return {key: row[key] for key in ("completed", "within_tolerance", "placement_error", "state_divergences",
-                                      "soundness_bugs", "cost", "seconds_simulation")}
+                                      "soundness_bugs", "cost", "seconds_simulation", "cpu_seconds_simulation")}
 
 
 def _objective(run: dict[str, Any], problem: Any) -> dict[str, Any]:
