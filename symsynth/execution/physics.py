@@ -32,7 +32,8 @@ move only as PyBullet integrates them:
   Fingers that close on nothing make no constraint: the object stays where
   it is, and the observation says so.  `open_hand` removes the constraint
   and opens the fingers: the object is released where the hand put it and
-  settles under gravity.
+  settles under gravity.  The fingers move until they stop (`FINGER_REST`,
+  at most `GRIP_STEPS`).
 - **Settling.**  After a release, a slide or a human's move, the world is
   stepped until every object moves slower than `REST_SPEED` (m/s) and
   `REST_SPIN` (rad/s) for `REST_STEPS` steps in a row, at most
@@ -48,6 +49,9 @@ move only as PyBullet integrates them:
   friction, and the table's friction, scaled by a factor drawn uniformly
   in [1 - r, 1 + r]; each object's initial pose shifted on the table by up
   to `pose` metres in x and y.
+
+`default_world` is `simulate`'s world when none is asked for: physics
+unless an object is wider across the fingers than they open (`unheld`).
 
 Collision checks (`touching`, `blocked`, a motion's evidence path checked
 before it is followed) still set configurations without stepping, as in the
