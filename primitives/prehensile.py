@@ -16,10 +16,7 @@ does: it comes down the same approach and opens the hand that closed."""
 
 from __future__ import annotations
 
-import math
 from typing import Any, ClassVar
-
-import numpy as np
 
 from symsynth.execution import hand_motions
 from symsynth.planning.slides import straight
@@ -46,7 +43,7 @@ class _Hand:
         the fingers at most the robot's opening (always, when the robot has
         none, or for a mesh)."""
         opening = geometry.robot.opening
-        width = _width(geometry, obj, grasp)
+        width = geometry.across_fingers(obj, grasp)
         return opening is None or width is None or width <= opening + 1e-9
 
 
@@ -55,18 +52,6 @@ class Grab(_Hand):
 
     def execute(self, world: Any, approaches: Any, move: Any) -> Any:
         return hand_motions.grab(world, approaches, move.obj, move.grasp)
-
-
-def _width(geometry: Geometry, obj: str, grasp: str) -> float | None:
-    """The object's extent along the hand's y axis (the fingers' closing
-    direction) at the grasp, in the object's frame."""
-    across = geometry.grasps[grasp].pose.matrix()[:3, 1]
-    shape = geometry.shapes[obj]
-    if shape.kind == "box":
-        return float(np.abs(across) @ np.asarray(shape.size))
-    if shape.kind == "cylinder":
-        return 2 * shape.radius * math.hypot(across[0], across[1]) + shape.height * abs(float(across[2]))
-    return None
 
 
 class Drop(_Hand):

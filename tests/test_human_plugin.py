@@ -23,7 +23,7 @@ def test_the_plugin_plays_with_budgets_and_passes_its_own_tests(tmp_path):
     assert "3 passed" in done.stdout
     out = {}  # push-small: with k = 0 the human has no move, but budgets are computed for it all the same
     for human in ("fickle", "random"):
-        run = subprocess.run([sys.executable, "-m", "symsynth.cli", "simulate", str(PUSH), "--human", human,
+        run = subprocess.run([sys.executable, "-m", "symsynth.cli", "simulate", "--world", "kinematic", str(PUSH), "--human", human,
                               "--json", "--move-probability", "1"], capture_output=True, text=True,
                              env=environment(installed, SYMSYNTH_CACHE=str(tmp_path / "cache")))
         assert run.returncode == 0, run.stderr

@@ -39,7 +39,7 @@ def test_solve_and_simulate_use_the_installed_plugin(installed, tmp_path):
     assert solved.returncode == 0, solved.stderr
     play = [s["action"] for s in json.loads(solved.stdout)["principal_play"]]
     assert play == ["transit(box,behind)", "slide(box,behind,l3)"]  # sideways: the nudge
-    run = symsynth(installed, tmp_path, "simulate", str(SCENE), "--human", "none", "--json")
+    run = symsynth(installed, tmp_path, "simulate", "--world", "kinematic", str(SCENE), "--human", "none", "--json")
     assert run.returncode == 0, run.stderr
     (result,) = json.loads(run.stdout)["runs"]
     assert result["completed"] and result["divergences"] == []

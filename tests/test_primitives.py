@@ -122,7 +122,7 @@ def test_the_push_scene_is_solved_and_simulated_with_the_slide(push_sg, tmp_path
     (rule,) = push_sg.slide_rules("behind", "l1", "l2")
     length = float(np.linalg.norm(np.diff(np.asarray(rule.path), axis=0), axis=1).sum())
     assert rule.cost == pytest.approx(length * 10 + 2)  # per_radian 10, the scene's push cost 2
-    assert main(["simulate", str(DATA / "push-small.yaml"), "--human", "none", "--json"]) == 0
+    assert main(["simulate", "--world", "kinematic", str(DATA / "push-small.yaml"), "--human", "none", "--json"]) == 0
     import json
     runs = json.loads(capsys.readouterr().out)["runs"]
     steps = runs[0]["trace"]

@@ -113,7 +113,7 @@ def test_the_commands_runs_are_simulate_on_the_loaded_problem(line_file, capsys)
     """`symsynth simulate --json` reports the runs `simulate` makes on the
     problem `load_problem` composes from the same file (same seeds; all but
     the wall-clock seconds)."""
-    assert main(["simulate", str(line_file), "--human", "random", "--runs", "2", "--seed", "4", "--json"]) == 0
+    assert main(["simulate", "--world", "kinematic", str(line_file), "--human", "random", "--runs", "2", "--seed", "4", "--json"]) == 0
     shown = json.loads(capsys.readouterr().out)
     problem = load_problem(line_file)
     simulation = simulate(problem, "random", runs=2, seed=4, progress=False)

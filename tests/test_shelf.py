@@ -64,7 +64,7 @@ def test_simulated_to_completion(cache, capsys, human):
     adversarial human the robot pulls twice, and the transit after each slide
     follows an evidence path from the slide's end anchor `out/far`."""
     extra = ["--runs", "4", "--seed", "1"] if human == "random" else []
-    out = run(capsys, "simulate", str(SHELF), "--human", human, "--json", *extra)
+    out = run(capsys, "simulate", "--world", "kinematic", str(SHELF), "--human", human, "--json", *extra)
     for record in out["runs"]:
         assert record["completed"] and record["within_bound"] and record["divergences"] == [], record
     if human == "adversarial":

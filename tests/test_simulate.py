@@ -529,7 +529,7 @@ def line_files(paper_line, tmp_path_factory):
 def test_command_runs_and_reports_json(solver, line_files, capsys, line):
     """Every solver's strategy, looked up where the runs go, completes
     within the E_p of the (symbolic) fixture."""
-    code = main(["simulate", str(line_files), "--human", "random", "--runs", "2", "--json",
+    code = main(["simulate", "--world", "kinematic", str(line_files), "--human", "random", "--runs", "2", "--json",
                  "--solver", solver])
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and out["guarantee"] is True and len(out["runs"]) == 2
@@ -550,7 +550,7 @@ def test_only_the_adversary_has_every_reachable_position_explored(line_files, ca
     monkeypatch.setattr(problem_module, "strategy_table",
                         lambda *args, **kwargs: explored.append(args) or strategy_table(*args, **kwargs))
     for human, positions in (("random", None), ("adversarial", len(line.table.positions))):
-        assert main(["simulate", str(line_files), "--human", human, "--json", "--solver", "symbolic"]) == 0
+        assert main(["simulate", "--world", "kinematic", str(line_files), "--human", human, "--json", "--solver", "symbolic"]) == 0
         out = json.loads(capsys.readouterr().out)
         assert out["strategy"]["positions"] == positions
         assert out["runs"][0]["completed"] and out["runs"][0]["cost"] <= line.solution.cost_bound + 1e-6
@@ -561,7 +561,7 @@ def test_an_unknown_planner_is_refused_before_the_solve(line_files, capsys, monk
     """The scene names its costmap, so no planning happens before the
     solve; the planner is still checked first."""
     monkeypatch.setattr(problem_module, "SOLVERS", {DEFAULT_SOLVER: lambda *a, **k: pytest.fail("solved")})
-    assert main(["simulate", str(line_files), "--planner", "nosuch"]) == 2
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--planner", "nosuch"]) == 2
     assert "nosuch" in capsys.readouterr().err
 
 
@@ -597,9 +597,9 @@ def test_a_recorded_planner_that_is_not_installed_is_named(paper_arch):
 
 def test_budget_below_E_p_means_no_guarantee(line_files, capsys, line):
     budget = str(line.solution.cost_bound - 1)
-    assert main(["simulate", str(line_files), "--budget", budget]) == 1
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--budget", budget]) == 1
     assert "No guarantee: E_p" in capsys.readouterr().out
-    code = main(["simulate", str(line_files), "--budget", "1", "--best-effort"])
+    code = main(["simulate", "--world", "kinematic", str(line_files), "--budget", "1", "--best-effort"])
     out = capsys.readouterr().out
     assert code == 1 and "guarantee  NONE" in out and "budget 1: EXCEEDED" in out and "completed;" in out
 
@@ -610,7 +610,7 @@ def test_the_guarantee_is_the_solvers_verdict(line_files, capsys, line):
     budget = repr(line.solution.cost_bound - 5e-7)
     main(["solve", str(line_files), "--budget", budget, "--json"])
     assert json.loads(capsys.readouterr().out)["realizable"] is False
-    assert main(["simulate", str(line_files), "--budget", budget]) == 1
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--budget", budget]) == 1
     assert f"No guarantee: E_p = {line.solution.cost_bound:g} exceeds the budget {budget}" in capsys.readouterr().out
 
 
@@ -618,9 +618,9 @@ def test_strategy_file_gives_the_same_run(line_files, tmp_path, capsys):
     strategy = tmp_path / "s.json"
     assert main(["solve", str(line_files), "-o", str(strategy)]) == 0
     capsys.readouterr()
-    assert main(["simulate", str(line_files), "--json", "--human", "random", "--seed", "3"]) == 0
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--json", "--human", "random", "--seed", "3"]) == 0
     direct = json.loads(capsys.readouterr().out)["runs"][0]["trace"]
-    assert main(["simulate", str(line_files), "--json", "--human", "random", "--seed", "3",
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--json", "--human", "random", "--seed", "3",
                  "--strategy", str(strategy)]) == 0
     assert json.loads(capsys.readouterr().out)["runs"][0]["trace"] == direct
 
@@ -630,11 +630,11 @@ def test_a_strategy_for_another_scene_is_refused_before_any_planning(line_files,
     strategy = tmp_path / "s.json"
     assert main(["solve", str(SCENES / "toy.yaml"), "-o", str(strategy)]) == 0
     capsys.readouterr()
-    assert main(["simulate", str(line_files), "--strategy", str(strategy)]) == 2
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--strategy", str(strategy)]) == 2
     assert "not a strategy for scene 'line'" in capsys.readouterr().err
     # scenes/line.yaml names no costmap: the strategy is refused before one is computed
     monkeypatch.setattr(problem_module, "obtain_costmap", lambda *a, **k: pytest.fail("planned"))
-    assert main(["simulate", str(SCENES / "line.yaml"), "--strategy", str(strategy)]) == 2
+    assert main(["simulate", "--world", "kinematic", str(SCENES / "line.yaml"), "--strategy", str(strategy)]) == 2
     assert "not a strategy for scene 'line'" in capsys.readouterr().err
 
 
@@ -660,7 +660,7 @@ def test_an_edited_strategy_is_refused_before_any_run(line_files, tmp_path, caps
     strategy.write_text(json.dumps(data))
     from symsynth.execution import simulate as simulation
     monkeypatch.setattr(simulation, "Simulator", lambda *a, **k: pytest.fail("simulated"))
-    assert main(["simulate", str(line_files), "--strategy", str(strategy)]) == 2
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--strategy", str(strategy)]) == 2
     err = capsys.readouterr().err
     assert "not a strategy for scene 'line'" in err and "Traceback" not in err
     assert reason.format(units=units, units_less=units - 1) in err
@@ -677,34 +677,34 @@ def test_a_script_is_checked_against_the_k_of_the_strategy(line_files, tmp_path,
     moves = ["  - {after: 0, move: w1, to: center}\n", "  - {after: 2, move: w2, to: l3}\n"]
     for n in (2, 1):
         (tmp_path / "human.yaml").write_text("moves:\n" + "".join(moves[:n]))
-        code = main(["simulate", str(line_files), "--strategy", str(strategy), "--human",
+        code = main(["simulate", "--world", "kinematic", str(line_files), "--strategy", str(strategy), "--human",
                      str(tmp_path / "human.yaml")])
         err = capsys.readouterr().err
         assert (code, "2 moves, but the human has only k = 1" in err) == ((2, True) if n == 2 else (0, False))
     # nor can --k say otherwise: it was ignored (the run had k = 1 whatever it said)
-    assert main(["simulate", str(line_files), "--strategy", str(strategy), "--k", "3"]) == 2
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--strategy", str(strategy), "--k", "3"]) == 2
     assert "--k 3: the strategy" in capsys.readouterr().err
 
 
 def test_command_records_a_gif_of_the_first_run(line_files, tmp_path, capsys):
     path = tmp_path / "line.gif"
-    assert main(["simulate", str(line_files), "--record", str(path), "--size", "80x60", "--runs", "2"]) == 0
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--record", str(path), "--size", "80x60", "--runs", "2"]) == 0
     out = capsys.readouterr().out
     with Image.open(path) as gif:  # Pillow merges identical consecutive frames
         assert gif.size == (80, 60) and 1 < gif.n_frames
         assert f"wrote {path} (" in out and gif.n_frames <= int(out.split(f"wrote {path} (")[1].split()[0])
-    assert main(["simulate", str(line_files), "--record", str(tmp_path / "no" / "x.gif")]) == 2
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--record", str(tmp_path / "no" / "x.gif")]) == 2
     assert "not a writable directory" in capsys.readouterr().err
 
 
 def test_gui_without_a_display_is_one_message_before_any_planning(line_files, capsys, monkeypatch):
     monkeypatch.delenv("DISPLAY", raising=False)
     monkeypatch.setattr(problem_module, "SOLVERS", {DEFAULT_SOLVER: lambda *a, **k: pytest.fail("solved")})
-    assert main(["simulate", str(line_files), "--gui"]) == 2
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--gui"]) == 2
     assert "needs a display" in capsys.readouterr().err
     # scenes/line.yaml names no costmap: none is computed either
     monkeypatch.setattr(problem_module, "obtain_costmap", lambda *a, **k: pytest.fail("planned"))
-    assert main(["simulate", str(SCENES / "line.yaml"), "--gui"]) == 2
+    assert main(["simulate", "--world", "kinematic", str(SCENES / "line.yaml"), "--gui"]) == 2
     assert "needs a display" in capsys.readouterr().err
 
 
@@ -730,9 +730,9 @@ def test_without_a_winning_strategy_best_effort_still_completes(arch_sg_file, ca
     best-effort robot (the explicit solver's actions with fewer human moves
     left) still builds the arch."""
     path = str(arch_sg_file)
-    assert main(["simulate", path]) == 1
+    assert main(["simulate", "--world", "kinematic", path]) == 1
     assert "no strategy wins against every human" in capsys.readouterr().out
-    assert main(["simulate", path, "--best-effort", "--json"]) == 0
+    assert main(["simulate", "--world", "kinematic", path, "--best-effort", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     run = out["runs"][0]
     assert out["cost_bound"] is None and out["guarantee"] is False
@@ -744,7 +744,7 @@ def test_without_a_winning_strategy_best_effort_still_completes(arch_sg_file, ca
 def test_a_script_plays_from_its_first_entry_in_every_run(line_files, tmp_path, capsys):
     script_file = tmp_path / "human.yaml"
     script_file.write_text("moves:\n  - {after: 0, move: w1, to: center}\n")
-    assert main(["simulate", str(line_files), "--human", str(script_file), "--runs", "2", "--json"]) == 0
+    assert main(["simulate", "--world", "kinematic", str(line_files), "--human", str(script_file), "--runs", "2", "--json"]) == 0
     runs = json.loads(capsys.readouterr().out)["runs"]
     assert [r["trace"][0]["action"] for r in runs] == ["move(w1,center)"] * 2
 
@@ -754,7 +754,7 @@ def test_another_planner_than_the_costmap_records_is_refused_before_the_solve(ar
     """The arch costmap was built by pybullet: simulated with ompl-fcl, the
     robot would jump onto each evidence path from ompl-fcl's anchors."""
     monkeypatch.setattr(problem_module, "SOLVERS", {DEFAULT_SOLVER: lambda *a, **k: pytest.fail("solved")})
-    assert main(["simulate", str(arch_sg_file), "--planner", "ompl-fcl"]) == 2
+    assert main(["simulate", "--world", "kinematic", str(arch_sg_file), "--planner", "ompl-fcl"]) == 2
     out, err = capsys.readouterr()
     assert not out and "Traceback" not in err
     assert ("symsynth simulate: --planner ompl-fcl: the scene's costmap was built by planner 'pybullet' (its key "
@@ -766,7 +766,7 @@ def test_another_planner_than_the_costmap_records_is_refused_before_the_solve(ar
 def test_without_a_winning_strategy_the_adversary_is_refused(arch_sg_file, capsys):
     """The adversary chooses by the budgets of the positions a winning
     strategy reaches; without one it would choose at random."""
-    assert main(["simulate", str(arch_sg_file), "--best-effort", "--human", "adversarial"]) == 2
+    assert main(["simulate", "--world", "kinematic", str(arch_sg_file), "--best-effort", "--human", "adversarial"]) == 2
     assert "--human adversarial: no strategy wins" in capsys.readouterr().err
 
 
@@ -775,7 +775,7 @@ def test_without_a_winning_strategy_the_explicit_solver_runs_once(arch_sg_file, 
     explicit, calls = SOLVERS["explicit"], []
     monkeypatch.setattr(problem_module, "SOLVERS",
                         dict(SOLVERS, explicit=lambda *a, **k: calls.append(a) or explicit(*a, **k)))
-    assert main(["simulate", str(arch_sg_file), "--best-effort", "--solver", "explicit", "--json"]) == 0
+    assert main(["simulate", "--world", "kinematic", str(arch_sg_file), "--best-effort", "--solver", "explicit", "--json"]) == 0
     run = json.loads(capsys.readouterr().out)["runs"][0]
     assert run["completed"] and run["best_effort_actions"] == run["robot_actions"] > 0
     assert len(calls) == 1

@@ -129,7 +129,7 @@ class Run:
     #: the displacement primitives off.
     contacts: bool = True
     #: The world the strategy is then run in once (a random human, the
-    #: run's seed; physics randomized by `WORLD_RANDOMIZE`), None: not run.
+    #: run's seed; physics randomized by `worlds.RANDOMIZE`), None: not run.
     world: str | None = None
     #: semantics §9: `worst` (E_p alone), `expected` or `best-effort`
     objective: str = "worst"

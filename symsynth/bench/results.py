@@ -39,11 +39,12 @@ COLUMNS = (
     # the machine
     "peak_memory_mb", "versions", "host", "cpus", "load", "started", "seconds_run",
     # the strategy run in a world (axis worlds: a random human, the run's seed)
-    "world", "completed", "placement_error", "state_divergences", "soundness_bugs", "seconds_simulation",
+    "world", "completed", "within_tolerance", "placement_error", "state_divergences", "soundness_bugs", "cost",
+    "seconds_simulation", "cpu_seconds_simulation",
 )
 #: Columns that differ between two runs of the same cell and seed
 #: (timings, memory, the machine's state); the others must not.
-MEASURED = frozenset(c for c in COLUMNS if c.startswith("seconds_")) | {
+MEASURED = frozenset(c for c in COLUMNS if c.startswith(("seconds_", "cpu_seconds_"))) | {
     "synthesis_phases", "peak_memory_mb", "host", "load", "started", "planner_workers"}
 #: Columns of numbers the table and plots average.
 NUMBERS = ("seconds_abstraction", "seconds_synthesis", "E_p", "positions", "bdd_peak_nodes",
@@ -165,13 +166,14 @@ def _summary(values: list[float | None], digits: int) -> str:
 
 TABLE = (("runs ok", None), ("abstraction s", "seconds_abstraction"), ("synthesis s", "seconds_synthesis"),
          ("E_p", "E_p"), ("positions", "positions"), ("BDD peak nodes", "bdd_peak_nodes"),
-         ("peak MB", "peak_memory_mb"), ("completed", "completed"), ("placement error m", "placement_error"))
+         ("peak MB", "peak_memory_mb"), ("completed", "completed"), ("placement error m", "placement_error"),
+         ("simulation s", "seconds_simulation"))
 
 
 #: Digits shown of a column's mean (the others: 2 for seconds, else 0).
 DIGITS = {"peak_memory_mb": 1, "completed": 2, "placement_error": 4}
 #: Columns a run may leave empty (a cached costmap, no world): "—" when all do.
-OPTIONAL = ("seconds_abstraction", "completed", "placement_error")
+OPTIONAL = ("seconds_abstraction", "completed", "placement_error", "seconds_simulation")
 
 
 def markdown_table(rows: list[dict[str, str]], cells: Iterable[str]) -> str:

@@ -159,27 +159,22 @@ def scene_of(run: dict[str, Any]) -> Scene:
     return load_scene(run["scene_file"])
 
 
-#: The randomization of a run in the physical world (`Run.world`).
-WORLD_RANDOMIZE = "friction=0.2,mass=0.2,pose=0.005"
-
-
 def in_world(problem: Any, run: dict[str, Any]) -> dict[str, Any]:
     """The solved strategy run once in `run["world"]` against a random
-    human (seed: the run's): whether it completed, the placement error at
-    the end (metres), the `state` divergences (where the world did not do
-    what the abstraction says) and soundness bugs."""
+    human (seed: the run's), measured as `worlds.measured` does: whether
+    it completed (and within the tolerance), the placement error at the
+    end (metres), the `state` divergences (where the world did not do what
+    the abstraction says), soundness bugs, the measured cost, the seconds."""
+    from symsynth.bench.worlds import RANDOMIZE, measured
     from symsynth.execution.physics import Randomization
     from symsynth.problem import simulate
 
-    clock = time.perf_counter()
     physical = run["world"] == "physics"
     done = simulate(problem, "random", solver=run["solver"], seed=run["seed"], progress=False,
-                    world=run["world"], randomization=Randomization.parse(WORLD_RANDOMIZE) if physical else None)
-    (played,) = done.runs
-    return {"completed": int(played.completed), "placement_error": played.placement_error,
-            "state_divergences": sum(d.kind == "state" for d in played.divergences),
-            "soundness_bugs": sum(bool(d.soundness) for d in played.divergences),
-            "seconds_simulation": time.perf_counter() - clock}
+                    world=run["world"], randomization=Randomization.parse(RANDOMIZE) if physical else None)
+    row = measured(done.runs)
+    return {key: row[key] for key in ("completed", "within_tolerance", "placement_error", "state_divergences",
+                                      "soundness_bugs", "cost", "seconds_simulation", "cpu_seconds_simulation")}
 
 
 def _objective(run: dict[str, Any], problem: Any) -> dict[str, Any]:

@@ -40,7 +40,13 @@ and are planned at run time otherwise; grab and drop are primitives (a
 Cartesian approach by inverse kinematics).  Measured cost: radians
 travelled x per_radian, plus the fixed grab and drop costs.
 
---world physics runs the same steps with PyBullet dynamics (gravity, a
+The world is physical by default (--world physics) for a scene with
+objects whose every grasp the fingers can close on (no object wider across
+them than they open; scenes/arch.yaml's lintel is 14 cm across the Panda's
+8 cm, so it runs kinematic by default, and the report says why);
+--world kinematic is the fast replay.
+
+The physical world runs the same steps with PyBullet dynamics (gravity, a
 1/240 s step, masses and friction from the scene's physics: blocks): the
 joints follow the paths by position control, the fingers close on the
 object (a constraint firms the grasp only once both touch it), a dropped
@@ -111,10 +117,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="print every run's trace (the default for a single run)")
     parser.add_argument("--gui", action="store_true", help="show the world in a window (needs a display)")
     parser.add_argument("--json", action="store_true", help="print the runs as JSON")
-    parser.add_argument("--world", choices=WORLDS, default="kinematic",
+    parser.add_argument("--world", choices=WORLDS,
                         help="kinematic: configurations set, a held object welded to the hand, objects set "
                              "down exactly (fast replay); physics: PyBullet dynamics, the fingers close on "
-                             "the object, pushes move it by contact, objects settle (default: kinematic)")
+                             "the object, pushes move it by contact, objects settle (default: physics for a "
+                             "scene with objects the gripper can close on with every grasp, else kinematic, "
+                             "and the report says why)")
     parser.add_argument("--randomize", type=options.randomization, metavar="friction=R,mass=R,pose=M",
                         help="physics: each run's world drawn by its seed: friction and masses scaled by "
                              "up to +-R (relative), initial poses shifted by up to M metres "
@@ -140,12 +148,21 @@ def run(args: argparse.Namespace) -> int:
         return objective_runs.run_objective_simulation(args, with_costmap(problem, request))
     if args.record is not None:
         check_writable(args.record, "recording")
-    if args.randomize is not None and args.world != "physics":
+    if args.randomize is not None and args.world == "kinematic":
         raise InputError("--randomize draws the physical world's friction, masses and poses: add --world physics")
     check_display(args.gui)
     scene = load_scene(args.scene)
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world to simulate")
+    args.kinematic_because = []
+    if args.world is None:
+        from symsynth.execution.physics import default_world
+
+        args.world, args.kinematic_because = default_world(scene)
+        if args.randomize is not None and args.world == "kinematic":
+            raise InputError(f"--randomize draws the physical world's friction, masses and poses, and "
+                             f"{args.scene} runs in the kinematic world by default "
+                             f"({'; '.join(args.kinematic_because)}): add --world physics")
     # Every input is read and checked before the costmap and the solve.
     planner = simulation_planner(scene, args.planner)
     planner_class(planner)
@@ -175,6 +192,7 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps({
             "scene": scene.name, "task": simulation.task, "k": scene.k, "cost_bound": simulation.bound,
             "budget": args.budget, "guarantee": simulation.guarantee, "human": args.human, "world": args.world,
+            "kinematic_because": args.kinematic_because,
             "randomize": None if args.randomize is None else str(args.randomize),
             "strategy": {"file": None if args.strategy is None else str(args.strategy),
                          "positions": simulation.positions, "solver": None if args.strategy else args.solver},
@@ -203,6 +221,9 @@ def _report(scene: Scene, args: argparse.Namespace, positions: int | None, bound
         print(f"guarantee  NONE. {no_guarantee(bound, args.budget)}; running best effort")
     print(f"human      {args.human}" + (f", move probability {args.move_probability:g}"
                                         if args.human == "random" else ""))
+    print(f"world      {args.world}" + (f" (the default here: {'; '.join(args.kinematic_because)}; "
+                                        "--world physics runs it anyway)" if args.kinematic_because else "")
+          + (f", randomized {args.randomize}" if args.randomize is not None else ""))
     for i, r in enumerate(runs, 1):
         print()
         print(f"run {i} (seed {r.seed}): {_verdict(r)}")

@@ -32,7 +32,8 @@ move only as PyBullet integrates them:
   Fingers that close on nothing make no constraint: the object stays where
   it is, and the observation says so.  `open_hand` removes the constraint
   and opens the fingers: the object is released where the hand put it and
-  settles under gravity.
+  settles under gravity.  The fingers move until they stop (`FINGER_REST`,
+  at most `GRIP_STEPS`).
 - **Settling.**  After a release, a slide or a human's move, the world is
   stepped until every object moves slower than `REST_SPEED` (m/s) and
   `REST_SPIN` (rad/s) for `REST_STEPS` steps in a row, at most
@@ -40,11 +41,17 @@ move only as PyBullet integrates them:
   reads).
 - **Human moves** are kinematic (no human body is simulated): the object
   is put at rest on its new pose (not within `CLEARANCE` of the robot) and
-  settles.
+  settles.  A human puts an object only where it stands (`stands`): not in
+  the air (on `top` of an arch without its supports), not where it tips
+  over (a lintel on one support), and does not pull an object out from
+  under another.
 - **Randomization** (`Randomization`, seeded): each object's mass and
   friction, and the table's friction, scaled by a factor drawn uniformly
   in [1 - r, 1 + r]; each object's initial pose shifted on the table by up
   to `pose` metres in x and y.
+
+`default_world` is `simulate`'s world when none is asked for: physics
+unless an object is wider across the fingers than they open (`unheld`).
 
 Collision checks (`touching`, `blocked`, a motion's evidence path checked
 before it is followed) still set configurations without stepping, as in the
@@ -60,6 +67,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from symsynth import bullet
 from symsynth.bullet import pybullet
 from symsynth.errors import InputError
 from symsynth.execution.world import SimWorld
@@ -81,7 +89,8 @@ POSITION_GAIN = 0.1  # PyBullet's position control gains (its defaults: 0.1, 1.0
 VELOCITY_GAIN = 1.0
 ARRIVED = 2e-3  # radians: every joint this close to the end of its path
 CONVERGE_STEPS = 240
-GRIP_STEPS = 60  # steps the fingers take to close or open (4 cm at 0.2 m/s is 48)
+GRIP_STEPS = 60  # steps the fingers take at most to close or open (4 cm at 0.2 m/s is 48)
+FINGER_REST = 1e-3  # m/s: a finger slower than this has stopped (on the object, or at its limit)
 STOPPED = 1e-3  # metres: a finger this far from fully closed was stopped by the object
 FIRM_FORCE = 200.0  # newtons: the firming constraint's strength
 CLEARANCE = 0.005  # metres: the closest a human puts an object to the robot
@@ -89,6 +98,8 @@ REST_SPEED = 5e-3  # m/s
 REST_SPIN = 0.05  # rad/s
 REST_STEPS = 5
 SETTLE_STEPS = 480  # 2 s
+STAND_STEPS = 24  # 0.1 s: an object let go where nothing holds it falls 5 cm in that time
+STAND_SHIFT = 2e-3  # metres, and radians: an object that moved more did not stand
 
 
 @dataclass(frozen=True)
@@ -125,6 +136,49 @@ class Randomization:
         return ",".join(f"{key}={getattr(self, key):g}" for key in self.KEYS)
 
 
+def gripper_opening(scene: Scene) -> float:
+    """How far the robot's fingers (its `fixed` prismatic joints, held
+    open) travel to close, in metres: 8 cm for the Panda's two 4 cm."""
+    assert scene.geometry is not None
+    client = bullet.client()
+    try:
+        loaded = bullet.load_robot(client, scene.geometry.robot)
+        return sum(value - loaded.infos[j][8] for j, value in loaded.held.items()
+                   if loaded.infos[j][2] == pybullet.JOINT_PRISMATIC)
+    finally:
+        client.disconnect()
+
+
+def unheld(scene: Scene) -> list[str]:
+    """Why the physical world cannot carry the scene's strategies: each
+    object and grasp the costmap may hold it with (`robot: {opening}` lets
+    them, or the scene gives none) that is wider across the fingers than
+    they open, e.g. `b is 14 cm across the fingers of grasp top`."""
+    geometry = scene.geometry
+    if geometry is None or not scene.objects or not geometry.grasps:
+        return []
+    opening = gripper_opening(scene)
+    found = []
+    for obj in scene.object_names:
+        for grasp in geometry.grasps:
+            width = geometry.across_fingers(obj, grasp)
+            allowed = geometry.robot.opening is None or (width is not None and width <= geometry.robot.opening)
+            if width is not None and allowed and width > opening + 1e-9:
+                found.append(f"{obj} is {100 * width:.0f} cm across the fingers of grasp {grasp}, "
+                             f"which open {100 * opening:.0f} cm")
+    return found
+
+
+def default_world(scene: Scene) -> tuple[str, list[str]]:
+    """`simulate`'s world when none is asked for: `physics` for a scene
+    with a robot and objects whose every grasp the fingers can close on,
+    else `kinematic`, with the reasons (`unheld`)."""
+    if scene.geometry is None or not scene.objects:
+        return "kinematic", ["the scene has no objects to move"]
+    why = unheld(scene)
+    return ("kinematic" if why else "physics"), why
+
+
 Watch = Callable[["PhysicsWorld"], None]
 
 
@@ -156,6 +210,7 @@ class PhysicsWorld(SimWorld):
         self._grip = dict(self._open)
         self._grip_forces = [self.client.getJointInfo(self.robot, j)[10] or DEFAULT_GRIP for j in self._grip]
         self._constraint: int | None = None
+        self._stands: dict[tuple, bool] = {}
         self.watch: Watch | None = None  # called after every step (a test's or a verifier's eye)
         self.frame: Callable[[], None] | None = None  # a recording's camera, every `frame_every` steps
         self.frame_every = 36  # 0.15 s of the world between frames of a recording
@@ -328,9 +383,7 @@ class PhysicsWorld(SimWorld):
         """Close the fingers; when both then touch object `name`, firm the
         grasp (module doc) and hold it with `grasp`.  Whether it is held."""
         self._grip = {j: self.client.getJointInfo(self.robot, j)[8] for j in self._open}
-        self._command(self.config)
-        for _ in range(GRIP_STEPS):
-            self.step()
+        self._move_fingers()
         if name is None or grasp is None or not self.fingers_touch(name):
             return False
         self.held, self.grasp = name, grasp
@@ -364,10 +417,22 @@ class PhysicsWorld(SimWorld):
             self._constraint = None
         self.held, self.grasp = None, None
         self._grip = dict(self._open)
-        self._command(self.config)
-        for _ in range(GRIP_STEPS):
-            self.step()
+        self._move_fingers()
         self.settle()
+
+    def _move_fingers(self) -> None:
+        """Drive the fingers to their targets (`_grip`) until they stop:
+        slower than `FINGER_REST` for `REST_STEPS` steps in a row, after
+        `REST_STEPS` steps at least (closed on the object, or at their
+        limit), at most `GRIP_STEPS`."""
+        self._command(self.config)
+        calm = 0
+        for taken in range(1, GRIP_STEPS + 1):
+            self.step()
+            speeds = [abs(state[1]) for state in self.client.getJointStates(self.robot, list(self.fingers))]
+            calm = calm + 1 if max(speeds, default=0.0) < FINGER_REST else 0
+            if taken > REST_STEPS and calm >= REST_STEPS:
+                break
 
     def fingers_touch(self, name: str) -> bool:
         """Whether the fingers hold object `name` between them: every finger
@@ -391,6 +456,48 @@ class PhysicsWorld(SimWorld):
         self.client.resetBaseVelocity(self.bodies[name], [0, 0, 0], [0, 0, 0])
         self.settle()
 
+    def stands(self, name: str, pose: Pose) -> bool:
+        """Whether object `name`, taken from where it is and put at rest at
+        `pose`, stays there under gravity, and every other object stays
+        where it is (nothing stood on it).  At once where it lies on a
+        static obstacle (the table, a board) and nothing touches it where it
+        is; else the world is stepped `STAND_STEPS` from the move and put
+        back as it was (PyBullet's saved state): no object may have moved
+        more than `STAND_SHIFT` metres or radians.  Remembered while the
+        objects stand where they are (to 0.1 mm)."""
+        key = (name, pose, tuple(sorted((n, _rounded(p)) for n, p in self.poses.items() if n != self.held)))
+        if key not in self._stands:
+            self._stands[key] = self._stays(name, pose)
+        return self._stands[key]
+
+    def _stays(self, name: str, pose: Pose) -> bool:
+        body = self.bodies[name]
+        before = self.poses[name]
+        others = [b for n, b in self.bodies.items() if n not in (name, self.held)]
+        if not any(self.client.getContactPoints(body, other) for other in others):
+            self._place_body(name, pose)
+            on_obstacle = any(self.client.getClosestPoints(body, o, STAND_SHIFT) for o in self.obstacles)
+            self._place_body(name, before)
+            if on_obstacle:
+                return True
+        saved = self.client.saveState()
+        bodies = [body, *others]
+        start = [self.client.getBasePositionAndOrientation(b) for b in bodies]
+        try:
+            self._place_body(name, pose)
+            self.client.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0])
+            start[0] = self.client.getBasePositionAndOrientation(body)
+            for _ in range(STAND_STEPS):
+                self.client.stepSimulation()
+            end = [self.client.getBasePositionAndOrientation(b) for b in bodies]
+        finally:
+            self.client.restoreState(saved)
+            self.client.removeState(saved)
+            self.poses[name] = before
+        return all(math.dist(a[0], b[0]) <= STAND_SHIFT
+                   and Pose(tuple(a[0]), tuple(a[1])).angle_to(Pose(tuple(b[0]), tuple(b[1]))) <= STAND_SHIFT
+                   for a, b in zip(start, end))
+
     def blocked(self, name: str, pose: Pose) -> set[str]:
         """As in the kinematic world, and `robot` also where the object would
         come within `CLEARANCE` of the robot: a human does not put an object
@@ -402,3 +509,8 @@ class PhysicsWorld(SimWorld):
         hits = super().blocked(name, pose) | ({"robot"} if near else set())
         self.client.resetBaseVelocity(self.bodies[name], [0, 0, 0], [0, 0, 0])
         return hits
+
+
+def _rounded(pose: Pose) -> tuple[float, ...]:
+    """A pose to 0.1 mm and 1e-4 of a quaternion's components."""
+    return tuple(round(v, 4) for v in (*pose.xyz, *pose.quat))

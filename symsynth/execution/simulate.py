@@ -123,6 +123,9 @@ class Run:
     refused: list[str] = field(default_factory=list)  # human moves the world or k did not allow
     best_effort: int = 0  # robot actions taken outside the strategy (best effort)
     seconds: float = 0.0
+    #: The processor seconds of the run (this process's, `time.process_time`):
+    #: on a shared machine, what the run cost whatever else ran beside it.
+    cpu_seconds: float = 0.0
     world: str = "kinematic"  # kinematic or physics
     #: After the last step: the largest distance (metres) of an object from the location the
     #: abstraction puts it at (None: it puts none on a location).
@@ -154,7 +157,7 @@ class Run:
             "within_bound": self.within_bound, "sound": self.sound, "best_effort_actions": self.best_effort,
             "robot_actions": sum(s.who == "robot" for s in self.steps),
             "human_moves": sum(s.who == "human" for s in self.steps),
-            "seconds": self.seconds, "refused_human_moves": list(self.refused),
+            "seconds": self.seconds, "cpu_seconds": self.cpu_seconds, "refused_human_moves": list(self.refused),
             "divergences": [{"step": d.step, "kind": d.kind, "soundness": d.soundness, "distance": d.distance,
                              "message": d.message} for d in self.divergences],
             "trace": [{"who": s.who, "action": s.action, "abstract_cost": s.abstract,
@@ -230,7 +233,7 @@ class Simulator:
 
     def run(self, human: Human, seed: int = 0, *, recorder: Callable[[SimWorld], Recorder] | None = None,
             gui: bool = False, max_actions: int = MAX_ACTIONS) -> Run:
-        clock = time.perf_counter()
+        clock, cpu = time.perf_counter(), time.process_time()
         world = self.make_world(seed, gui)
         try:
             episode = _Episode(self, world, human, seed, recorder(world) if recorder else None, max_actions)
@@ -238,7 +241,7 @@ class Simulator:
             run.world = self.world
         finally:
             world.close()
-        run.seconds = time.perf_counter() - clock
+        run.seconds, run.cpu_seconds = time.perf_counter() - clock, time.process_time() - cpu
         return run
 
 
@@ -307,9 +310,18 @@ class _Episode:
 
     def _human_turn(self, v: State, q, h: int) -> tuple[State, Any, int] | None:
         options = self._options(v, q, h) if h > 0 else ()
-        choice = self.human.choose(Turn((v, q, h), self.actions, self.last, options))
-        if isinstance(choice, Request):
-            choice = self._resolve(choice, v, q, h)
+        while True:
+            choice = self.human.choose(Turn((v, q, h), self.actions, self.last, options))
+            if isinstance(choice, Request):
+                choice = self._resolve(choice, v, q, h)
+            elif choice is not None and not self.world.stands(choice.obj, choice.pose):
+                # Asked only of the option chosen (a physical check steps the world):
+                # left out, and the human chooses again (an option not offered: a pass).
+                if choice not in options:
+                    return None
+                options = tuple(o for o in options if o is not choice)
+                continue
+            break
         if choice is None:
             return None
         if isinstance(self.world, PhysicsWorld):
@@ -374,6 +386,9 @@ class _Episode:
         blocked = self.world.blocked(request.obj, pose)
         if blocked:
             self.run.refused.append(f"{what}: it would penetrate {', '.join(sorted(blocked))}")
+            return None
+        if not self.world.stands(request.obj, pose):
+            self.run.refused.append(f"{what}: it would not stand there (it falls or tips over)")
             return None
         return Option(move.action, move.obj, pose, self._after(move.after, q, h - 1))
 

@@ -137,6 +137,11 @@ class SimWorld:
         self._place_body(name, before)
         return hits
 
+    def stands(self, name: str, pose: Pose) -> bool:
+        """Whether object `name`, let go at `pose`, stays there: in the
+        kinematic world, always (nothing falls)."""
+        return True
+
     def touching(self, ignore: Iterable[str] = (), *, obstacles: bool = True) -> set[str]:
         """What the robot and the held object penetrate at the current
         configuration: object names, obstacle names; `ignore` leaves

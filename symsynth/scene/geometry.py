@@ -211,6 +211,17 @@ class Geometry:
         object (a slide carries the object in its contact's frame)."""
         return self.grasps[name] if name in self.grasps else self.contacts[name]
 
+    def across_fingers(self, obj: str, grasp: str) -> float | None:
+        """Object `obj`'s extent along the hand's y axis (the fingers'
+        closing direction) held with `grasp`; None for a mesh."""
+        across = self.grasps[grasp].pose.matrix()[:3, 1]
+        shape = self.shapes[obj]
+        if shape.kind == "box":
+            return float(np.abs(across) @ np.asarray(shape.size))
+        if shape.kind == "cylinder":
+            return 2 * shape.radius * math.hypot(across[0], across[1]) + shape.height * abs(float(across[2]))
+        return None
+
     @property
     def hand_frames(self) -> dict[str, Grasp]:
         return {**self.grasps, **self.contacts}
