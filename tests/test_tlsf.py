@@ -165,3 +165,33 @@ def test_a_spoilt_parser_cache_is_rebuilt(tmp_path, monkeypatch):
         assert spec("GUARANTEE { F y; }").formula == ast.Eventually(ast.Atom("y"))
     finally:
         tlsf._parser.cache_clear()
+
+
+@pytest.mark.parametrize("tlsf, ltlf", [
+    ("counter_pb_01_pe_.tlsf", "Single-Counter/counter_01"),
+    ("uright_pb_05_pe_.tlsf", "Patterns/Uright/uright05"),
+])
+def test_a_syntcomp_tlsf_file_reads_as_the_dataset_formula_it_was_made_from(tlsf, ltlf):
+    """SYNTCOMP's tlsf-fin files were written from the LTLf synthesis
+    datasets' formulas and partitions: both read the same."""
+    from support.reference import distinguishing_trace
+    from symsynth.synthesis import read_partition
+    read = parse_tlsf((DATA / tlsf).read_text())
+    base = DATA.parent / "finite-synthesis" / ltlf
+    given = compile_ltlf((base.parent / (base.name + ".ltlf")).read_text(), next_semantics="weak")
+    partition = read_partition(base.parent / (base.name + ".part"))
+    mine = compile_ltlf(read.formula)
+    assert (set(read.partition.inputs), set(read.partition.outputs)) == (set(partition.inputs), set(partition.outputs))
+    assert read.agent_first  # Finite,Moore: the datasets' System-first
+    assert mine.num_states == given.num_states
+    assert distinguishing_trace(mine, given, sorted(partition.inputs + partition.outputs)) is None
+
+
+def test_long_chains_are_read_without_recursion():
+    """The datasets' Nim specifications chain thousands of `&&` (each one a
+    level of the parse tree): read without running out of Python's stack."""
+    n = 5000
+    body = " && ".join(f"(a -> X b)" for _ in range(n - 1)) + " && F y"
+    kind, items = flat(guarantee(body))
+    assert kind == "And" and len(items) == n
+    assert set(items) == {expect("a -> X b"), expect("F y")}

@@ -84,7 +84,11 @@ def parse_tlsf(text: str, *, source: str = "<tlsf>", parameters: dict[str, int] 
         tree = _parser().parse(text)
     except lark.UnexpectedInput as error:
         raise _syntax_error(text, source, error) from None
-    return _Reader(source, parameters or {}).read(tree)
+    try:
+        return _Reader(source, parameters or {}).read(tree)
+    except RecursionError:
+        raise TLSFError(f"{source}: the specification nests its expressions too deep for symsynth to read "
+                        "(operators inside operators, thousands deep)") from None
 
 
 def read_tlsf(path: Path, text: str, parameters: dict[str, int] | None = None) -> Spec:

@@ -427,11 +427,22 @@ class Evaluator:
         a, _, b = node.children
         return self.f(a, scope), self.f(b, scope)
 
+    def _chain(self, node, scope, kind: str) -> list[ast.Formula]:
+        """The operands of a run of one associative operator (`a && b && ...`,
+        nested to the left by the grammar), found without recursion: the
+        datasets' Nim specifications chain thousands."""
+        operands = []
+        while isinstance(node, lark.Tree) and node.data == kind:
+            operands.append(node.children[2])
+            node = node.children[0]
+        operands.append(node)
+        return [self.f(x, scope) for x in reversed(operands)]
+
     def e_and(self, node, scope):
-        return conjunction(list(self._binary(node, scope)))
+        return conjunction(self._chain(node, scope, node.data))
 
     def e_or(self, node, scope):
-        return disjunction(list(self._binary(node, scope)))
+        return disjunction(self._chain(node, scope, node.data))
 
     def e_implies(self, node, scope):
         return implication(*self._binary(node, scope))
