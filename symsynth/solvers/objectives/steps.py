@@ -109,6 +109,13 @@ def _grow_f(a, size):
 
 
 @njit(cache=True)
+def _grow_rows(a):
+    out = np.empty((2 * len(a), a.shape[1]), a.dtype)
+    out[:len(a)] = a
+    return out
+
+
+@njit(cache=True)
 def _lookup(last, lev, val, prev, t, b):
     """The value of turn t's chain of records at budget b (inf: none there)."""
     r = last[t]
@@ -200,10 +207,7 @@ def expected_steps(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, sta
     yact = np.zeros(n, np.uint8)  # Y summed once: from then on it follows its moves' changes
     # events (turn, move, value) for a level (ring of W) and a layer: linked lists, a free list
     head = np.full(W * (K + 1), -1, np.int64)
-    ev_node = np.empty(1 << 16, np.int64)
-    ev_edge = np.empty(1 << 16, np.int64)
-    ev_val = np.empty(1 << 16, np.float64)
-    ev_next = np.empty(1 << 16, np.int64)
+    ev = np.empty((1 << 16, 4))  # one row an event: turn, move, value, next (one cache line read per event)
     free = -1
     nev = 0
     # wins at a cost above the turn's first budget are allowed from that cost on
@@ -211,13 +215,10 @@ def expected_steps(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, sta
         for e in range(r_off[i], r_off[i + 1]):
             c = r_units[e]
             if r_tgt[e] < 0 and xlo[i] < c <= xhi[i]:
-                if nev == len(ev_node):
-                    ev_node = _grow_i(ev_node, nev + 1)
-                    ev_edge = _grow_i(ev_edge, nev + 1)
-                    ev_val = _grow_f(ev_val, nev + 1)
-                    ev_next = _grow_i(ev_next, nev + 1)
+                if nev == len(ev):
+                    ev = _grow_rows(ev)
                 slot = (c % W) * (K + 1) + layer[i]
-                ev_node[nev], ev_edge[nev], ev_val[nev], ev_next[nev] = i, e, float(c), head[slot]
+                ev[nev, 0], ev[nev, 1], ev[nev, 2], ev[nev, 3] = i, e, float(c), head[slot]
                 head[slot] = nev
                 nev += 1
     # per layer: the next turn to activate, in xorder / yorder
@@ -288,12 +289,12 @@ def expected_steps(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, sta
             x = head[slot]
             head[slot] = -1
             while x >= 0:
-                i = ev_node[x]
-                v = ev_val[x]
+                i = np.int64(ev[x, 0])
+                v = ev[x, 2]
                 old = xcur[i]
                 if v < old:
                     xcur[i] = v
-                    xch[i] = ev_edge[x]
+                    xch[i] = np.int64(ev[x, 1])
                     if not xin[i]:
                         xin[i] = 1
                         xq[nxq] = i
@@ -301,8 +302,8 @@ def expected_steps(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, sta
                     nyq = _follow_pass(i, v, old, b, hflag, ylo, yhi, yact, stay, h_off, h_tgt, h_prob, xcur,
                                        ycur, yin, yq, nyq, False)
                     npend_n = _follow_up(i, v - old, b, hs, hsrc, hprob, hlo, hhi, ycur, yin, pend_next, npend_n)
-                nx_ = ev_next[x]
-                ev_next[x] = free
+                nx_ = np.int64(ev[x, 3])
+                ev[x, 3] = free
                 free = x
                 x = nx_
             # human turns whose first budget is b: summed once
@@ -366,18 +367,15 @@ def expected_steps(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, sta
                                                      pend_next, npend_n)
                             continue
                         if free < 0:
-                            if nev == len(ev_node):
-                                ev_node = _grow_i(ev_node, nev + 1)
-                                ev_edge = _grow_i(ev_edge, nev + 1)
-                                ev_val = _grow_f(ev_val, nev + 1)
-                                ev_next = _grow_i(ev_next, nev + 1)
+                            if nev == len(ev):
+                                ev = _grow_rows(ev)
                             free = nev
-                            ev_next[nev] = -1
+                            ev[nev, 3] = -1
                             nev += 1
                         x = free
-                        free = ev_next[x]
+                        free = np.int64(ev[x, 3])
                         slot = (L % W) * (K + 1) + h
-                        ev_node[x], ev_edge[x], ev_val[x], ev_next[x] = i, re_[p], c + y, head[slot]
+                        ev[x, 0], ev[x, 1], ev[x, 2], ev[x, 3] = i, re_[p], c + y, head[slot]
                         head[slot] = x
             for a in range(npend_n):  # the next layer's changed human turns
                 yin[pend_next[a]] = 0
