@@ -37,7 +37,7 @@ OBJECTIVES = ("worst", "expected", "best-effort")
 SOLVERS = ("auto", "compiled", "explicit")
 #: default precision of the waiting bound n(ε), in costmap units
 EPSILON = 1e-6
-#: the most (turn, budget) entries the expectation is computed for (8 + 8 + 4 bytes each)
+#: the most (turn, budget) pairs the check for waiting reads (games with zero-cost moves; 5 bytes each)
 MAX_ENTRIES = 150_000_000
 CLASSES = ("winning", "cooperative", "losing")
 
@@ -83,8 +83,7 @@ class ObjectiveSolution:
             raise ValueError("no strategy: the objective is undefined here, or nothing is left to do")
         if self.objective == "best-effort":
             return BestEffortStrategy(self.arena, self.tables[2])
-        X, Y, choice, xo, xlo, yo, ylo = self.tables
-        return ExpectedStrategy(self.arena, choice, xo, xlo, None if self.attained else self.waiting)
+        return ExpectedStrategy(self.arena, self.tables, None if self.attained else self.waiting)
 
     def classes(self) -> np.ndarray:
         """Best effort: the class (0 winning, 1 cooperative, 2 losing) of each
@@ -182,6 +181,8 @@ def _expected(arena: Arena, vh: np.ndarray, top: int, cost_bound: float | None, 
               seconds: dict[str, float], base: dict[str, Any], budget: float | None, resolution: float,
               epsilon: float) -> ObjectiveSolution:
     from symsynth.solvers.objectives import kernels
+    from symsynth.solvers.objectives.steps import Steps, dense_choice, expected_steps
+
     if top >= INF:  # undefined: no strategy wins against every human
         return ObjectiveSolution(cost_bound=None, states=states, seconds=seconds, budget=budget,
                                  realizable=None if budget is None else False, **base)
@@ -192,36 +193,42 @@ def _expected(arena: Arena, vh: np.ndarray, top: int, cost_bound: float | None, 
                                  budget_units=units, realizable=False, **base)
     clock = time.perf_counter()
     dr, dh = kernels.distances(arena.hflag, arena.r_off, arena.r_tgt, arena.r_units, arena.h_off, arena.h_tgt)
-    entries = _entries(arena.rval, dr, units) + _entries(np.where(arena.hflag > 0, vh, INF), dh, units)
-    if entries > MAX_ENTRIES:
-        raise OutOfReach(f"the expectation would be computed at {entries} (position, budget) pairs, more than "
-                         f"{MAX_ENTRIES}; give a budget closer to E_p or a coarser --resolution")
-    levels = np.lexsort((arena.rval, arena.layer)).astype(np.int64)
-    args = (arena.layer, arena.hflag, arena.r_off, arena.r_tgt, arena.r_units, arena.rval, vh, dr, dh,
-            arena.stay, arena.h_off, arena.h_tgt, arena.h_prob, levels)
-    least = int(arena.r_units.min()) if len(arena.r_units) else 1
-    if least > 0:  # no zero-cost move: `least` levels at a time
-        X, Y, choice, xo, xlo, yo, ylo = kernels.expected_chunked(np.int64(units), np.int64(min(least, 64)), *args)
-    else:
-        X, Y, choice, xo, xlo, yo, ylo = kernels.expected(np.int64(units), *args)
-    value = float(Y[yo[0] + units - ylo[0]])
+    vh_human = np.where(arena.hflag > 0, vh, INF)
+    pairs = _entries(arena.rval, dr, units) + _entries(vh_human, dh, units)
+    xorder = np.lexsort((arena.rval, arena.layer)).astype(np.int64)
+    yorder = np.lexsort((vh_human, arena.layer)).astype(np.int64)
+    yorder = yorder[arena.hflag[yorder] > 0]
+    steps = Steps(*expected_steps(np.int64(units), arena.layer, arena.hflag, arena.r_off, arena.r_tgt,
+                                  arena.r_units, arena.rval, vh, dr, dh, arena.stay, arena.h_off, arena.h_tgt,
+                                  arena.h_prob, xorder, yorder))
+    value = steps.y(0, units)
     seconds["expected"] = time.perf_counter() - clock
-    clock = time.perf_counter()
-    waits = kernels.has_cycle(np.int64(units), arena.hflag, arena.r_tgt, arena.r_units, arena.h_off,
-                              arena.h_tgt, choice, xo, xlo)
+    waits = False
     waiting = bound = None
-    if waits:
-        n, reached = kernels.truncated(np.int64(units), 1_000_000, arena.hflag, arena.r_tgt, arena.r_units,
-                                       arena.rval, arena.stay, arena.h_off, arena.h_tgt, arena.h_prob, choice,
-                                       xo, xlo, value + epsilon / resolution)
-        waiting, bound = (None if n < 0 else int(n)), float(reached) * resolution
+    if len(arena.r_units) and int(arena.r_units.min()) == 0:  # only zero-cost moves let a play go in circles
+        clock = time.perf_counter()
+        if pairs > MAX_ENTRIES:
+            raise OutOfReach(f"checking whether the expected-cost strategy waits reads {pairs} (position, budget) "
+                             f"pairs, more than {MAX_ENTRIES}; give a budget closer to E_p or a coarser "
+                             "--resolution")
+        xlo = arena.rval
+        xo = np.zeros(arena.size + 1, np.int64)
+        reached = (xlo < INF) & (dr < INF)
+        xo[1:] = np.cumsum(np.where(reached, np.maximum(0, units - dr - np.where(reached, xlo, 0) + 1), 0))
+        choice = dense_choice(steps.xo, steps.xlev, steps.xch, xo, xlo)
+        waits = kernels.has_cycle(np.int64(units), arena.hflag, arena.r_tgt, arena.r_units, arena.h_off,
+                                  arena.h_tgt, choice, xo, xlo)
+        if waits:
+            n, reach = kernels.truncated(np.int64(units), 1_000_000, arena.hflag, arena.r_tgt, arena.r_units,
+                                         arena.rval, arena.stay, arena.h_off, arena.h_tgt, arena.h_prob, choice,
+                                         xo, xlo, value + epsilon / resolution)
+            waiting, bound = (None if n < 0 else int(n)), float(reach) * resolution
         seconds["waiting"] = time.perf_counter() - clock
-    stats = {"entries": int(entries)}
+    stats = {"pairs": int(pairs), "breakpoints": steps.breakpoints}
     return ObjectiveSolution(cost_bound=cost_bound, states=states, seconds=seconds, budget=shown,
                              budget_units=units, realizable=True, expected_cost=value * resolution, attained=not waits,
                              waiting=waiting, waiting_bound=bound, epsilon=epsilon if waits else None,
-                             stats=stats, arena=arena, **base,
-                             tables=(X, Y, choice, xo, xlo, yo, ylo))
+                             stats=stats, arena=arena, **base, tables=steps)
 
 
 def _entries(low: np.ndarray, dist: np.ndarray, units: int) -> int:

@@ -7,7 +7,7 @@
 - `distances`: the least robot cost from the initial position to each
   turn, forwards; a turn reached with budget b left has b <= B - distance,
   which bounds the budgets the expectation is computed for;
-- `expected`: EX at every (turn, budget left), by levels b = 0..B;
+- (EX itself, at every (turn, budget left): `steps.py`, step functions of the budget);
 - `has_cycle`, `truncated`: whether the expected-cost strategy can go in
   circles (waiting on zero-cost moves), and what it guarantees when it
   stops waiting after n robot turns.
@@ -15,10 +15,8 @@
 
 from __future__ import annotations
 
-import heapq
-
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 INF = np.int64(1 << 60)
 
@@ -145,139 +143,53 @@ def cooperative(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
 @njit(cache=True)
 def distances(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
     """(dr, dh): the least robot cost from node 0's human turn to each robot
-    turn and human turn (INF: not reached)."""
+    turn and human turn (INF: not reached).  Dijkstra with a bucket queue
+    (as `cooperative`); turn ids: robot i is i, human i is n + i."""
     n = len(hflag)
+    W = 1
+    for e in range(len(r_units)):
+        W = max(W, r_units[e] + 1)
+    room = len(r_tgt) + len(h_tgt) + 2 * n + 1  # one entry per improvement at most
+    e_node = np.empty(room, np.int64)
+    e_dist = np.empty(room, np.int64)
+    e_next = np.empty(room, np.int64)
+    head = np.full(W, -1, np.int64)
     dist = np.full(2 * n, INF, np.int64)
     dist[n] = 0
-    heap = [(np.int64(0), np.int64(n))]
-    while len(heap) > 0:
-        d, x = heapq.heappop(heap)
-        if d > dist[x]:
+    used = _push(n, 0, W, head, e_node, e_dist, e_next, 0)
+    pending = 1
+    d = 0
+    while pending > 0:
+        x = head[d % W]
+        if x < 0:
+            d += 1
             continue
-        if x >= n:
-            i = x - n
+        head[d % W] = e_next[x]
+        pending -= 1
+        y = e_node[x]
+        if e_dist[x] != dist[y]:
+            continue  # a stale entry
+        if y >= n:
+            i = y - n
             if d < dist[i]:
                 dist[i] = d
-                heapq.heappush(heap, (d, np.int64(i)))
+                used = _push(i, d, W, head, e_node, e_dist, e_next, used)
+                pending += 1
             for e in range(h_off[i], h_off[i + 1]):
                 t = h_tgt[e]
                 if t >= 0 and d < dist[t]:
                     dist[t] = d
-                    heapq.heappush(heap, (d, t))
+                    used = _push(t, d, W, head, e_node, e_dist, e_next, used)
+                    pending += 1
         else:
-            for e in range(r_off[x], r_off[x + 1]):
+            for e in range(r_off[y], r_off[y + 1]):
                 t = r_tgt[e]
                 c = d + r_units[e]
                 if t >= 0 and c < dist[n + t]:
                     dist[n + t] = c
-                    heapq.heappush(heap, (c, n + t))
+                    used = _push(n + t, c, W, head, e_node, e_dist, e_next, used)
+                    pending += 1
     return dist[:n].copy(), dist[n:].copy()
-
-
-@njit(cache=True)
-def _human_expectation(t, b, stay, h_off, h_tgt, h_prob, X, xo, xlo):
-    """Y(t, b): the model's expectation at t's human turn, budget b left."""
-    y = stay[t] * X[xo[t] + b - xlo[t]]
-    for e in range(h_off[t], h_off[t + 1]):
-        j = h_tgt[e]
-        if j >= 0 and h_prob[e] > 0.0:
-            y += h_prob[e] * X[xo[j] + b - xlo[j]]
-    return y
-
-
-@njit(cache=True)
-def expected(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, stay, h_off, h_tgt, h_prob, levels):
-    """X (robot turns) and Y (human turns) at every budget the initial
-    position can leave them, and the robot's move at each (absolute edge
-    index, -1: none).  Turn i's budgets are xlo[i]..xhi[i] (V <= b <=
-    B - distance), stored from xo[i]; Y likewise from yo[i].  Levels b go
-    up; in a level, layers h go up (a human move leads to h - 1, solved);
-    in a layer, the moves that cost units lead to levels below, and the
-    zero-cost ones are iterated from +inf (Gauss-Seidel) until no value
-    falls (semantics §9: the limit of value iteration from above).
-    `levels`: scratch, the nodes sorted by (layer, xlo)."""
-    n = len(layer)
-    xlo = rval.copy()
-    xhi = B - dr
-    ylo = vh
-    yhi = B - dh
-    xo = np.zeros(n + 1, np.int64)
-    yo = np.zeros(n + 1, np.int64)
-    for i in range(n):
-        xo[i + 1] = xo[i] + max(0, xhi[i] - xlo[i] + 1) if xlo[i] < INF and dr[i] < INF else xo[i]
-        yo[i + 1] = yo[i] + max(0, yhi[i] - ylo[i] + 1) if hflag[i] and ylo[i] < INF and dh[i] < INF else yo[i]
-    X = np.full(xo[n], np.inf)
-    Y = np.full(yo[n], np.inf)
-    choice = np.full(xo[n], -1, np.int32)
-    K = 0
-    for i in range(n):
-        K = max(K, layer[i])
-    # per layer: the nodes with budgets, in order of xlo; the active ones in act
-    cut = np.zeros(K + 2, np.int64)
-    for i in range(n):
-        cut[layer[i] + 1] += 1
-    for h in range(K + 1):
-        cut[h + 1] += cut[h]
-    nxt = cut[:K + 1].copy()   # the next node of each layer to activate
-    act = np.empty(n, np.int64)
-    cnt = np.zeros(K + 1, np.int64)
-    rounds = 0
-    for b in range(B + 1):
-        for h in range(K + 1):
-            base = cut[h]
-            while nxt[h] < cut[h + 1] and xlo[levels[nxt[h]]] <= b:
-                i = levels[nxt[h]]
-                nxt[h] += 1
-                if xo[i + 1] > xo[i]:
-                    act[base + cnt[h]] = i
-                    cnt[h] += 1
-            kept = 0
-            zero = False
-            for a in range(cnt[h]):
-                i = act[base + a]
-                if xhi[i] < b:
-                    continue
-                act[base + kept] = i
-                kept += 1
-                best = np.inf
-                pick = -1
-                for e in range(r_off[i], r_off[i + 1]):
-                    c = r_units[e]
-                    t = r_tgt[e]
-                    if t < 0:
-                        if c <= b and c < best:
-                            best, pick = c, e
-                    elif c + vh[t] <= b:
-                        if c == 0:
-                            zero = True
-                        else:
-                            y = c + Y[yo[t] + b - c - ylo[t]]
-                            if y < best:
-                                best, pick = y, e
-                X[xo[i] + b - xlo[i]] = best
-                choice[xo[i] + b - xlo[i]] = pick
-            cnt[h] = kept
-            while zero:  # the zero-cost moves of this layer and level, from above
-                zero = False
-                rounds += 1
-                for a in range(cnt[h]):
-                    i = act[base + a]
-                    s = xo[i] + b - xlo[i]
-                    for e in range(r_off[i], r_off[i + 1]):
-                        t = r_tgt[e]
-                        if r_units[e] == 0 and t >= 0 and vh[t] <= b:
-                            y = _human_expectation(t, b, stay, h_off, h_tgt, h_prob, X, xo, xlo)
-                            if y < X[s]:
-                                X[s] = y
-                                choice[s] = e
-                                zero = True
-                if rounds > 50_000_000:
-                    raise RuntimeError("expected: the zero-cost moves did not settle")
-            for a in range(cnt[h]):
-                i = act[base + a]
-                if hflag[i] and ylo[i] <= b <= yhi[i]:
-                    Y[yo[i] + b - ylo[i]] = _human_expectation(i, b, stay, h_off, h_tgt, h_prob, X, xo, xlo)
-    return X, Y, choice, xo, xlo, yo, ylo
 
 
 @njit(cache=True)
@@ -379,91 +291,6 @@ def truncated(B, rounds, hflag, r_tgt, r_units, rval, stay, h_off, h_tgt, h_prob
                     new[s] = c + v
         g, new = new, g
     return -1, bound
-
-
-@njit(cache=True, parallel=True)
-def expected_chunked(B, step, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, stay, h_off, h_tgt, h_prob,
-                     levels):
-    """`expected` for games without zero-cost moves, `step` levels at a time
-    (`step` <= the least cost of a move, in units): a move then reads only
-    levels below the chunk, so each node's budgets in the chunk are computed
-    together, reading each target's values as one run, and the nodes of a
-    layer on numba's threads.  Same values, same choices, same layout."""
-    n = len(layer)
-    xlo = rval.copy()
-    xhi = B - dr
-    ylo = vh
-    yhi = B - dh
-    xo = np.zeros(n + 1, np.int64)
-    yo = np.zeros(n + 1, np.int64)
-    for i in range(n):
-        xo[i + 1] = xo[i] + max(0, xhi[i] - xlo[i] + 1) if xlo[i] < INF and dr[i] < INF else xo[i]
-        yo[i + 1] = yo[i] + max(0, yhi[i] - ylo[i] + 1) if hflag[i] and ylo[i] < INF and dh[i] < INF else yo[i]
-    X = np.full(xo[n], np.inf)
-    Y = np.full(yo[n], np.inf)
-    choice = np.full(xo[n], -1, np.int32)
-    K = 0
-    for i in range(n):
-        K = max(K, layer[i])
-    cut = np.zeros(K + 2, np.int64)
-    for i in range(n):
-        cut[layer[i] + 1] += 1
-    for h in range(K + 1):
-        cut[h + 1] += cut[h]
-    nxt = cut[:K + 1].copy()
-    act = np.empty(n, np.int64)
-    cnt = np.zeros(K + 1, np.int64)
-    for b0 in range(0, B + 1, step):
-        b1 = min(b0 + step, B + 1)
-        for h in range(K + 1):
-            base = cut[h]
-            while nxt[h] < cut[h + 1] and xlo[levels[nxt[h]]] < b1:
-                i = levels[nxt[h]]
-                nxt[h] += 1
-                if xo[i + 1] > xo[i]:
-                    act[base + cnt[h]] = i
-                    cnt[h] += 1
-            kept = 0
-            for a in range(cnt[h]):
-                i = act[base + a]
-                if xhi[i] >= b0:
-                    act[base + kept] = i
-                    kept += 1
-            cnt[h] = kept
-            for a in prange(kept):
-                i = act[base + a]
-                lo = max(b0, xlo[i])
-                hi = min(b1 - 1, xhi[i])
-                for e in range(r_off[i], r_off[i + 1]):
-                    c = r_units[e]
-                    t = r_tgt[e]
-                    for b in range(lo, hi + 1):
-                        s = xo[i] + b - xlo[i]
-                        if t < 0:
-                            if c <= b and c < X[s]:
-                                X[s] = c
-                                choice[s] = e
-                        elif c + vh[t] <= b:
-                            y = c + Y[yo[t] + b - c - ylo[t]]
-                            if y < X[s]:
-                                X[s] = y
-                                choice[s] = e
-            for a in prange(kept):
-                i = act[base + a]
-                if not hflag[i]:
-                    continue
-                lo = max(b0, ylo[i])
-                hi = min(b1 - 1, yhi[i])
-                for b in range(lo, hi + 1):
-                    Y[yo[i] + b - ylo[i]] = stay[i] * X[xo[i] + b - xlo[i]]
-                for e in range(h_off[i], h_off[i + 1]):
-                    j = h_tgt[e]
-                    p = h_prob[e]
-                    if j >= 0 and p > 0.0:
-                        for b in range(lo, hi + 1):
-                            Y[yo[i] + b - ylo[i]] += p * X[xo[j] + b - xlo[j]]
-    return X, Y, choice, xo, xlo, yo, ylo
-
 
 
 @njit(cache=True)

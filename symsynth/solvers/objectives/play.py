@@ -24,6 +24,7 @@ from typing import Protocol
 import numpy as np
 
 from symsynth.solvers.objectives.arena import INF, Arena
+from symsynth.solvers.objectives.steps import Steps
 
 Turn = tuple[int, int, int]  # node, budget left (units), robot turns so far
 
@@ -43,9 +44,7 @@ class Strategy(Protocol):
 @dataclass
 class ExpectedStrategy:
     arena: Arena
-    choice: np.ndarray
-    xo: np.ndarray
-    xlo: np.ndarray
+    steps: Steps  # the move at each (turn, budget left)
     waiting: int | None  # None: never switch (the strategy is B-safe as it is)
 
     def count(self, turns: int) -> int:
@@ -55,7 +54,7 @@ class ExpectedStrategy:
         i, b, w = turn
         if self.waiting is not None and w >= self.waiting:
             return int(self.arena.wchoice[i])
-        return int(self.choice[self.xo[i] + b - self.xlo[i]])
+        return self.steps.choice(i, b)
 
 
 @dataclass
