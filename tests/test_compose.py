@@ -62,7 +62,7 @@ def test_same_automaton_as_the_non_compositional_construction(formula):
     assert distinguishing_trace(new, old, keys(formula)) is None, to_string(formula)
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(formulas(max_depth=4))
 def test_progression_of_the_whole_formula_gives_the_minimal_dfa(formula):
     whole = compile_ltlf(formula, construction="progression")
