@@ -366,6 +366,8 @@ def expected_steps(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, sta
                                 npend_n = _follow_up(i, y - old, b, hs, hsrc, hprob, hlo, hhi, ycur, yin,
                                                      pend_next, npend_n)
                             continue
+                        if c + y >= xcur[i]:
+                            continue  # no better than i's value now, which its value on level L is at most
                         if free < 0:
                             if nev == len(ev):
                                 ev = _grow_rows(ev)
