@@ -67,3 +67,9 @@ def test_simulate_best_effort_against_three_humans():
     assert runs["adversarial"]["finished"] == 0
     assert runs["random"]["finish_probability"] == pytest.approx(0.745)
     assert abs(runs["random"]["finished"] - 0.745) < 4 * (0.745 * 0.255 / 4000) ** 0.5
+
+
+def test_simulate_in_world_needs_a_physical_scene():
+    done = symsynth("simulate", SCENES / "wait.yaml", "--objective", "expected", "--in-world")
+    assert done.returncode == 2 and "Traceback" not in done.stderr
+    assert "abstract scene" in done.stderr and "--in-world" in done.stderr

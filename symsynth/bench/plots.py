@@ -8,7 +8,10 @@ whole or not at all):
 - `breakdown.png`: where each cell's time went (anchors, roadmaps, edge
   checks, graph searches, synthesis), means over its runs that ended ok;
 - `scaling.png`: game positions against synthesis time, a line per solver
-  and scene label through the means of its cells (±std bars), log-log.
+  and scene label through the means of its cells (±std bars), log-log;
+- `run-costs.png` (objectives of semantics §9 with a human model): per
+  cell, the distribution of the costs of its strategy's plays against the
+  model (`run_costs`), with E_p and the budget B marked.
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ DPI = 100
 SWEEP_SIZE = (10, 4)
 BREAKDOWN_WIDTH = 10
 SCALING_SIZE = (6, 4.5)
+RUN_COSTS_WIDTH = 8
 
 PHASES = (("anchors", "seconds_anchors"), ("roadmaps", "seconds_roadmaps"),
           ("edge checks", "seconds_edge_checks"), ("graph searches", "seconds_searches"),
@@ -138,3 +142,33 @@ def scaling(rows: Sequence[dict[str, str]], path: Path) -> None:
     axis.set_ylabel("synthesis time (s), mean ± std of a cell's runs")
     axis.grid(alpha=0.3, which="both")
     _save(figure, path)
+
+
+def run_costs(rows: Sequence[dict[str, str]], cells: Sequence[str], path: Path) -> bool:
+    """Box plots of the cells' play costs (all their runs' `run_costs`
+    together), one row per cell in the experiment's order, with E_p (|) and
+    B (x, E_p when no budget was given) of its first run marked; whether
+    any cell had plays to show (else no file)."""
+    found = by_cell(_ok(rows))
+    shown: list[tuple[str, list[float], float | None, float | None]] = []
+    for cell in cells:
+        costs = [c for r in found.get(cell, []) if r.get("run_costs") for c in json.loads(r["run_costs"])]
+        if costs:
+            first = found[cell][0]
+            ep = number(first["E_p"])
+            shown.append((cell, costs, ep, number(first["budget"]) or ep))
+    if not shown:
+        return False
+    figure, axis = plt.subplots(figsize=(RUN_COSTS_WIDTH, 1.5 + 0.5 * len(shown)), layout="constrained")
+    axis.boxplot([costs for _, costs, _, _ in shown], orientation="horizontal", widths=0.5)
+    for y, (_, _, ep, budget) in enumerate(shown, 1):
+        if ep is not None and math.isfinite(ep):
+            axis.plot([ep], [y], "|", color="black", markersize=16, label="E_p" if y == 1 else None)
+        if budget is not None and math.isfinite(budget):
+            axis.plot([budget], [y], "x", color="tab:red", markersize=9, label="B" if y == 1 else None)
+    axis.set_yticks(range(1, len(shown) + 1), [cell for cell, _, _, _ in shown], fontsize="small")
+    axis.invert_yaxis()
+    axis.set_xlabel("cost of a play against the human model (costmap units, in the game)", fontsize="small")
+    figure.legend(fontsize="small", loc="outside upper center", ncols=2, frameon=False)
+    _save(figure, path)
+    return True

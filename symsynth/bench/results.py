@@ -35,7 +35,7 @@ COLUMNS = (
     "costmap_cached", "planner_workers",
     # synthesis
     "seconds_prepare", "seconds_synthesis", "synthesis_phases", "E_p", "units", "realizable", "positions",
-    "bdd_peak_nodes", "dfa_states", "expected_cost", "class", "cooperative_cost",
+    "bdd_peak_nodes", "dfa_states", "expected_cost", "class", "cooperative_cost", "run_costs",
     # the machine
     "peak_memory_mb", "versions", "host", "cpus", "load", "started", "seconds_run",
     # the strategy run in a world (axis worlds: a random human, the run's seed)
@@ -61,7 +61,7 @@ def format_row(row: dict[str, Any]) -> str:
 def _cell(value: Any) -> str:
     if value is None:
         return ""
-    if isinstance(value, dict):
+    if isinstance(value, (dict, list)):
         return json.dumps(value, sort_keys=True)
     if isinstance(value, float):
         return repr(round(value, 6)) if math.isfinite(value) else str(value)

@@ -192,11 +192,34 @@ def _objective(run: dict[str, Any], problem: Any) -> dict[str, Any]:
     clock = time.perf_counter()
     s = solve_objective(problem.scene, problem.formula, objective=run["objective"], model=model, k=run["k"],
                         budget=run["budget"], resolution=run["resolution"], solver=run["solver"])
-    return {"seconds_synthesis": time.perf_counter() - clock, "k": s.k,
+    took = time.perf_counter() - clock
+    return {"seconds_synthesis": took, "k": s.k,
             "E_p": "inf" if s.cost_bound is None else s.cost_bound, "positions": s.states,
             "realizable": s.realizable, "human_model": s.human_model, "expected_cost": s.expected_cost,
             "class": s.position_class, "cooperative_cost": s.cooperative_cost,
+            "run_costs": _run_costs(s, run["seed"]) if model is not None else None,
             "synthesis_phases": {name: round(t, 6) for name, t in s.seconds.items()}}
+
+
+#: plays of an objective's strategy against its model per bench run (`run_costs`)
+PLAYS = 200
+
+
+def _run_costs(s: Any, seed: int) -> list[float] | None:
+    """The costs (costmap units) of `PLAYS` plays of the objective's
+    strategy against the human model, in the game, drawn by the run's seed;
+    a play that does not finish (best effort) is left out.  None when there
+    is no strategy to play."""
+    import random
+
+    from symsynth.solvers.objectives.play import run as play
+
+    if s.arena is None or s.tables is None:
+        return None
+    rng = random.Random(f"bench/run_costs/{seed}")
+    coop = s.tables[0] if s.objective == "best-effort" else None
+    plays = [play(s.strategy(), int(s.budget_units or 0), "model", rng, coop=coop) for _ in range(PLAYS)]
+    return [round(cost * s.resolution, 9) for cost, won in plays if won]
 
 
 def peak_memory_mb() -> float:

@@ -91,6 +91,8 @@ def run(args: argparse.Namespace) -> int:
     plots.breakdown(rows, experiment.cells, folder / "breakdown.png")
     plots.scaling(rows, folder / "scaling.png")
     made += ["breakdown.png", "scaling.png"]
+    if plots.run_costs(rows, experiment.cells, folder / "run-costs.png"):
+        made.append("run-costs.png")
     failed = sum(row["status"] != "ok" for row in rows)
     print(f"bench      {experiment.name}: {done.ran} runs now, {done.skipped} already done, "
           f"{len(rows)} rows; {failed} not ok")

@@ -2,14 +2,18 @@
 strategy (semantics §9) played in the game against humans, run by run,
 next to what the solver computed.
 
-The runs are in the abstraction (the game's own moves and quantized
-costs), not in the PyBullet world: the world's runner follows a strategy
-keyed by positions alone, and these strategies also remember the budget
-left and their turns.  Humans: `random` is the model (`--human-model`, else
-the scene's, else random(--move-probability)); `adversarial` answers with
-the reply of largest worst-case value; `cooperative` (best effort) with the
+By default the runs are in the abstraction (the game's own moves and
+quantized costs).  Humans: `random` is the model (`--human-model`, else the
+scene's, else random(--move-probability)); `adversarial` answers with the
+reply of largest worst-case value; `cooperative` (best effort) with the
 reply on a cheapest cooperative play.  For `expected`, every play against
 every human is also checked (the most any human can make it cost).
+
+With `--in-world` (a physical scene) the strategy is run in the world
+(`--world kinematic|physics`, `execution.simulate`), solved on the explicit
+solver's graph: the expected-cost strategy with its budget counter
+(`execution.objective_policy`), against no human or the model's random
+human; each run's measured cost is reported next to EX, E_p and B.
 """
 
 from __future__ import annotations
@@ -35,6 +39,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="worst (default): the worst-case strategy in the world; expected or best-effort: "
                              "that objective's strategy (semantics §9), run in the abstraction against "
                              "--human (random: the human model; adversarial; cooperative for best-effort)")
+    parser.add_argument("--in-world", action="store_true",
+                        help="--objective: run the strategy in the world (--world) instead of the abstraction, "
+                             "against --human none or random (the model); physical scenes only")
     parser.add_argument("--human-model", metavar="NAME:ARGS",
                         help="--objective: the model of the random human (default: the scene's human.model, "
                              "else random:--move-probability)")
@@ -109,3 +116,64 @@ def _print(s: ObjectiveSolution, out: dict[str, Any]) -> None:
     for human, row in out.items():
         parts = [f"{k} {v:.6g}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items()]
         print(f"{human + ':':<21}{', '.join(parts)}")
+
+
+def run_objective_world(args: argparse.Namespace, problem: Problem) -> int:
+    """`simulate --objective ... --in-world`: the objective's strategy in
+    the world against no human or the model's random human."""
+    from symsynth.execution.human import HUMANS, HumanContext
+    from symsynth.execution.objective_policy import BudgetPolicy
+    from symsynth.execution.simulate import Policy, Simulator
+    from symsynth.game.graph import GameGraph
+    from symsynth.game.human_model import RandomModel, parse_model
+    from symsynth.planning.registry import planner_class
+    from symsynth.problem import simulation_planner
+    from symsynth.solvers.objectives import solve_objective
+    from symsynth.solvers.objectives.files import objective_table
+
+    scene = problem.scene
+    if scene.geometry is None:
+        raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world: leave out --in-world")
+    if args.human not in ("none", "random"):
+        raise InputError(f"--in-world runs against --human none or random (the model), not {args.human!r}")
+    model = human_model(scene, args.human_model) or parse_model(f"random:{args.move_probability!r}")
+    if not isinstance(model, RandomModel):
+        raise InputError(f"--in-world: the world's random human is random(P); the model {model.name} is not")
+    planner = planner_class(simulation_planner(scene, args.planner))(scene)
+    s = solve_objective(scene, problem.formula, objective=args.objective, model=model, budget=args.budget,
+                        solver="explicit")
+    if args.objective == "expected" and s.expected_cost is None:
+        print(f"EX         undefined (no B-safe strategy; E_p {s.cost_bound}): nothing to run")
+        return 1
+    table = objective_table(scene, problem.task, problem.formula, s)
+    policy = (BudgetPolicy(table, GameGraph(scene, problem.formula, s.resolution)) if args.objective == "expected"
+              else Policy(table.positions, {}, None))
+    simulator = Simulator(scene, problem.formula, policy, planner, resolution=s.resolution, world=args.world,
+                          randomization=args.randomize)
+    runs = [simulator.run(HUMANS[args.human](HumanContext(args.seed + i, float(model.probability), policy.budget,
+                                                          scene)), args.seed + i) for i in range(args.runs)]
+    out = _world_summary(s, runs)
+    if args.json:
+        print(json.dumps(s.to_json() | {"scene": scene.name, "world": args.world, "human": args.human,
+                                        "summary": out, "runs": [r.to_json(scene.object_names) for r in runs]},
+                         indent=2))
+    else:
+        _print(s, {f"{args.human} human, {args.world} world": out})
+    return 0 if out["completed"] == len(runs) and not out.get("above_budget") and out["sound"] == len(runs) else 1
+
+
+def _world_summary(s: ObjectiveSolution, runs: list) -> dict[str, Any]:
+    """The runs' completion, measured and abstract costs (mean with its 95%
+    interval), and for `expected` how many went above B (none should)."""
+    from symsynth.execution.simulate import SLACK
+
+    costs = [r.cost for r in runs]
+    out: dict[str, Any] = {"runs": len(runs), "completed": sum(r.completed for r in runs),
+                           "sound": sum(r.sound for r in runs), "mean_cost": sum(costs) / len(costs),
+                           "max_cost": max(costs), "max_abstract_cost": max(r.abstract_cost for r in runs)}
+    if len(costs) > 1:
+        mean = out["mean_cost"]
+        out["ci95"] = Z95 * math.sqrt(sum((c - mean) ** 2 for c in costs) / (len(costs) - 1) / len(costs))
+    if s.objective == "expected" and s.budget is not None:
+        out["above_budget"] = sum(c > s.budget + SLACK for c in costs)
+    return out

@@ -82,7 +82,10 @@ and is reported as one.
 (semantics §9) in the abstraction instead (any scene, abstract ones too):
 against the random human of --human-model (mean cost with its 95%
 confidence interval next to EX), the adversary, and for best effort a
-cooperating human, with the share of runs that finish.
+cooperating human, with the share of runs that finish.  With --in-world it
+runs in the world (--world) against --human none or random: the
+expected-cost strategy keeps its budget counter, and each run's measured
+cost is reported next to EX, E_p and B (never above B).
 
 Exit status: 0 when every run completed within E_p without a soundness
 divergence; 1 otherwise (or when no guarantee holds and --best-effort was
@@ -145,7 +148,10 @@ def run(args: argparse.Namespace) -> int:
         scene = load_scene(args.scene)
         problem = with_task(scene if args.k is None else dataclasses.replace(scene, k=args.k), None)
         request = options.costmap_request(args, progress=not args.json)
-        return objective_runs.run_objective_simulation(args, with_costmap(problem, request))
+        problem = with_costmap(problem, request)
+        if args.in_world:
+            return objective_runs.run_objective_world(args, problem)
+        return objective_runs.run_objective_simulation(args, problem)
     if args.record is not None:
         check_writable(args.record, "recording")
     if args.randomize is not None and args.world == "kinematic":

@@ -195,6 +195,12 @@ class Policy:
     def budget(self, position: Position) -> float | None:
         return self.budgets.get(position)
 
+    def start(self) -> None:
+        """A run begins (a policy with memory forgets the last run's)."""
+
+    def moved(self, position: Position, action: str) -> None:
+        """The robot carried out `action` at `position` (a policy with memory counts it)."""
+
 
 class ActionFailed(SymsynthError):
     pass
@@ -258,6 +264,7 @@ class _Episode:
         self.visits: dict[Position, int] = {}
         self.last: str | None = None
         self.expected: State = observe(self.scene, world)  # the abstraction's state after the last step
+        sim.policy.start()
 
     # -- the loop -------------------------------------------------------------
 
@@ -289,9 +296,11 @@ class _Episode:
             action, best_effort = chosen
             run.best_effort += best_effort
             try:
-                v = self._robot_turn(v, action)
+                after = self._robot_turn(v, action)
             except (ActionFailed, hand_motions.PrimitiveFailed) as error:
                 return self._end(False, f"{action} failed: {error}")
+            self.sim.policy.moved((v, q, h), action)
+            v = after
             q = self.game.read(q, v)
             if self.game.accepts(q):
                 return self._end(True, "completed")

@@ -156,7 +156,9 @@ def certify_objective(scene: Scene, table: ObjectiveStrategyFile) -> int:
     return _certify_best_effort(game, table, start)
 
 
-def _moves(game: GameGraph, position: Position) -> dict[str, tuple[Node | None, int]]:
+def robot_moves_at(game: GameGraph, position: Position) -> dict[str, tuple[Node | None, int]]:
+    """The robot's moves at a robot-turn position: action -> (the human turn
+    after it, None when it wins; its cost in units)."""
     v, q, k = position
     return {a: (after, units) for a, after, units, _ in game.moves(Node(v, q, k, True))}
 
@@ -186,7 +188,7 @@ def _certify_expected(game: GameGraph, table: ObjectiveStrategyFile, start: Node
         if action is None:
             raise InputError(f"it has no action at {format_position(p, objects)} with {left} units left"
                              + (" (worst-case part)" if worst_mode else ""))
-        moves = _moves(game, p)
+        moves = robot_moves_at(game, p)
         if action not in moves:
             raise InputError(f"it plays {action!r} at {format_position(p, objects)}, where the robot can only "
                              f"{', '.join(moves) or 'do nothing'}")
@@ -235,7 +237,7 @@ def _certify_best_effort(game: GameGraph, table: ObjectiveStrategyFile, start: N
         if action is None or claims.get(p, ("",))[0] != "winning":
             raise InputError(f"it reaches {format_position(p, objects)} from a winning position, but lists "
                              "no winning action there")
-        moves = _moves(game, p)
+        moves = robot_moves_at(game, p)
         if action not in moves:
             raise InputError(f"it plays {action!r} at {format_position(p, objects)}, not available there")
         for r in _replies(game, moves[action][0]):
@@ -266,7 +268,7 @@ def _cooperative_walk(game: GameGraph, table: ObjectiveStrategyFile, todo: list[
             wins(p)
             continue
         action = table.positions[p]
-        moves = _moves(game, p)
+        moves = robot_moves_at(game, p)
         if action not in moves:
             raise InputError(f"it plays {action!r} at {format_position(p, objects)}, not available there")
         after, units = moves[action]

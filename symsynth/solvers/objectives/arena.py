@@ -164,9 +164,10 @@ def from_compiled(scene: Scene, formula: ast.Formula, k: int, resolution: float,
                   wchoice, seconds=seconds)
     if model is not None:
         counts = np.diff(h_off)
-        table = {(h, int(m)): float(model.pass_probability(h, int(m)))  # checked above
-                 for h, m in set(zip(layer.tolist(), counts.tolist()))}
-        arena.stay = np.array([table[(h, int(m))] for h, m in zip(layer.tolist(), counts.tolist())])
+        wide = int(counts.max(initial=0)) + 1
+        pairs, which = np.unique(layer * wide + counts, return_inverse=True)  # each (h, moves) asked once
+        stay = [float(model.pass_probability(x // wide, x % wide)) for x in pairs.tolist()]  # checked above
+        arena.stay = np.array(stay)[which]
         share = np.where(counts > 0, (1.0 - arena.stay) / np.maximum(counts, 1), 0.0)
         arena.h_prob = np.repeat(share, counts)
     arena.tables = tables  # type: ignore[attr-defined]  # to name positions and moves

@@ -289,12 +289,12 @@ def expected_steps(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, sta
             x = head[slot]
             head[slot] = -1
             while x >= 0:
-                i = np.int64(ev[x, 0])
+                i = int(ev[x, 0])
                 v = ev[x, 2]
                 old = xcur[i]
                 if v < old:
                     xcur[i] = v
-                    xch[i] = np.int64(ev[x, 1])
+                    xch[i] = int(ev[x, 1])
                     if not xin[i]:
                         xin[i] = 1
                         xq[nxq] = i
@@ -302,7 +302,7 @@ def expected_steps(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, sta
                     nyq = _follow_pass(i, v, old, b, hflag, ylo, yhi, yact, stay, h_off, h_tgt, h_prob, xcur,
                                        ycur, yin, yq, nyq, False)
                     npend_n = _follow_up(i, v - old, b, hs, hsrc, hprob, hlo, hhi, ycur, yin, pend_next, npend_n)
-                nx_ = np.int64(ev[x, 3])
+                nx_ = int(ev[x, 3])
                 ev[x, 3] = free
                 free = x
                 x = nx_
@@ -366,6 +366,8 @@ def expected_steps(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, sta
                                 npend_n = _follow_up(i, y - old, b, hs, hsrc, hprob, hlo, hhi, ycur, yin,
                                                      pend_next, npend_n)
                             continue
+                        if c + y >= xcur[i]:
+                            continue  # no better than i's value now, which its value on level L is at most
                         if free < 0:
                             if nev == len(ev):
                                 ev = _grow_rows(ev)
@@ -373,7 +375,7 @@ def expected_steps(B, layer, hflag, r_off, r_tgt, r_units, rval, vh, dr, dh, sta
                             ev[nev, 3] = -1
                             nev += 1
                         x = free
-                        free = np.int64(ev[x, 3])
+                        free = int(ev[x, 3])
                         slot = (L % W) * (K + 1) + h
                         ev[x, 0], ev[x, 1], ev[x, 2], ev[x, 3] = i, re_[p], c + y, head[slot]
                         head[slot] = x
