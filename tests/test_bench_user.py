@@ -5,8 +5,6 @@ single runs into zig-zags."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from symsynth.bench import runner
 from symsynth.cli import main
 from support.paper import SCENES

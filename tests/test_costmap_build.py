@@ -11,7 +11,7 @@ import math
 import pytest
 
 from support.planar import PlanarPlanner, planar_scene
-from symsynth.errors import InputError, SymsynthWarning
+from symsynth.errors import SymsynthWarning
 from symsynth.solvers import SOLVERS
 from symsynth.game.solution import task_formula
 from symsynth.planning import cache

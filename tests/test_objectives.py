@@ -5,7 +5,6 @@ objective gives the same value."""
 
 from __future__ import annotations
 
-import math
 from fractions import Fraction
 from pathlib import Path
 

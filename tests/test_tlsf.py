@@ -191,7 +191,7 @@ def test_long_chains_are_read_without_recursion():
     """The datasets' Nim specifications chain thousands of `&&` (each one a
     level of the parse tree): read without running out of Python's stack."""
     n = 5000
-    body = " && ".join(f"(a -> X b)" for _ in range(n - 1)) + " && F y"
+    body = " && ".join("(a -> X b)" for _ in range(n - 1)) + " && F y"
     kind, items = flat(guarantee(body))
     assert kind == "And" and len(items) == n
     assert set(items) == {expect("a -> X b"), expect("F y")}

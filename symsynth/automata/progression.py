@@ -26,7 +26,7 @@ from collections.abc import Iterator
 from functools import singledispatchmethod
 
 from symsynth.automata import moves as moves_
-from symsynth.automata.bdd import BDD, Function, branches, cofactor, new_manager, split_letters
+from symsynth.automata.bdd import BDD, Function, cofactor, new_manager, split_letters
 from symsynth.automata.growth import grew
 from symsynth.automata.refine import refine
 from symsynth.logic import ast
