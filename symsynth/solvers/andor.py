@@ -64,6 +64,7 @@ a minute.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import threading
 import time
@@ -243,11 +244,13 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     deadline = None if time_limit is None else clock + time_limit
     try:
         lower, upper, rounds = _search(memo, start, deadline)
-    except (_ZeroCost, _TooManyRounds):
-        return solve_compiled(scene, formula, k=k, budget=budget, resolution=resolution, symmetric=symmetric)
+    except (_ZeroCost, _TooManyRounds) as why:
+        return _layered(solve_compiled(scene, formula, k=k, budget=budget, resolution=resolution,
+                                       symmetric=symmetric), why.__doc__ or "")
     seconds["search"] = time.perf_counter() - clock
     if upper is None and lower is None:  # lost: the layered solver's counter play
-        return solve_compiled(scene, formula, k=k, budget=budget, resolution=resolution, symmetric=symmetric)
+        return _layered(solve_compiled(scene, formula, k=k, budget=budget, resolution=resolution,
+                                       symmetric=symmetric), "The robot loses: the layered solver's counter play.")
     clock = time.perf_counter()
     proof = Proof(memo)
     strategy: Mapping = ProvenStrategy(proof) if upper is not None else {}
@@ -274,6 +277,11 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
                         realizable, k, 2 * memo.count, seconds, strategy, principal, counter,
                         scene.object_names, stats, lower_units=None if exact else lower)
     return solution if symmetry is None else symmetry.realize(solution)
+
+
+def _layered(solution: Solution, why: str) -> Solution:
+    """The layered solver's solution, its stats saying why it answered."""
+    return dataclasses.replace(solution, stats={**solution.stats, "answered_by": "compiled", "why": why})
 
 
 def _search(memo: Memo, start: int, deadline: float | None) -> tuple[int | None, int | None, int]:
