@@ -34,7 +34,7 @@ def test_a_task_is_checked_against_the_scene_with_its_source():
 
 
 def test_an_unknown_solver_names_the_installed_ones():
-    with pytest.raises(InputError, match="unknown solver 'simplex'; installed solvers: auto, compiled, explicit, forward, symbolic"):
+    with pytest.raises(InputError, match="unknown solver 'simplex'; installed solvers: andor, auto, compiled, explicit, forward, symbolic"):
         solve(load_problem(SCENES / "toy.yaml"), "simplex")
 
 

@@ -1,0 +1,86 @@
+"""The compiled AND-OR search (symsynth/solvers/andor.py) against the explicit
+solver written in Python: the same value on generated scenes, a strategy
+that wins within it against every human behaviour, and anytime intervals
+[lower, upper] that hold the exact value, with a strategy for upper."""
+
+from __future__ import annotations
+
+import itertools
+
+import pytest
+
+from symsynth.logic import parse_ltlf
+from symsynth.solvers import andor
+from symsynth.solvers.andor import solve_andor
+from symsynth.solvers.explicit import solve_explicit
+from symsynth.testing.gamegen import alike_scene, random_scene
+from support.games import worst_case_of
+
+
+def _scene(seed):
+    if seed % 4 == 0:
+        return alike_scene(seed, contacts=seed % 8 == 0)
+    return random_scene(5000 + seed, positive=True, contacts=seed % 3 == 0)
+
+
+@pytest.mark.parametrize("chunk", range(2))
+def test_same_value_as_the_explicit_solver(chunk):
+    kinds = {"finite": 0, "infinite": 0}
+    for seed in range(40 * chunk, 40 * (chunk + 1)):
+        scene = _scene(seed)
+        k = seed % 4
+        found = solve_andor(scene, k=k)
+        explicit = solve_explicit(scene, k=k)
+        assert found.units == explicit.units, (seed, k)
+        assert found.exact
+        kinds["infinite" if found.units is None else "finite"] += 1
+        if found.units is not None and seed % 3 == 0:
+            assert worst_case_of(scene, found, parse_ltlf(scene.task)) == found.units, seed
+            assert sum(s.cost for s in found.principal_play) <= found.cost_bound + 1e-9
+    assert kinds["finite"] >= 15 and kinds["infinite"] >= 3, kinds
+
+
+def test_zero_cost_moves_go_to_the_layered_solver():
+    """Scenes whose robot moves may cost 0 units (a question could wait on
+    itself): answered all the same, by the layered solver."""
+    for seed in range(12):
+        scene = random_scene(7000 + seed, positive=False)
+        assert solve_andor(scene, k=seed % 3).units == solve_explicit(scene, k=seed % 3).units, seed
+
+
+class _Clock:
+    """A clock that ticks once per look: deadlines fall after a known number
+    of looks, whatever the machine's speed."""
+
+    def __init__(self):
+        self.now = 0.0
+
+    def __call__(self):
+        self.now += 1.0
+        return self.now
+
+
+def test_time_limit_interval_holds_the_exact_value(monkeypatch):
+    """Questions cut off every `chunk` steps and the clock read there: the
+    answer is exact, or an interval lower <= E_p <= upper whose strategy
+    spends at most upper against every human."""
+    cut = upper = 0
+    for (chunk, limit), seed in itertools.product([(10, 3), (20, 5), (40, 9), (80, 13)],
+                                                  itertools.islice((s for s in range(60) if s % 4), 12)):
+        monkeypatch.setattr(andor, "CHUNK", chunk)
+        scene = _scene(seed)
+        k = 1 + seed % 3
+        exact = solve_explicit(scene, k=k).units
+        monkeypatch.setattr(andor.time, "perf_counter", _Clock())
+        found = solve_andor(scene, k=k, time_limit=limit)
+        monkeypatch.undo()
+        if found.exact:
+            assert found.units == exact, seed
+            continue
+        cut += 1
+        assert exact is None or found.lower_units <= exact, seed
+        if found.units is not None:
+            upper += 1
+            assert exact is not None and exact <= found.units, seed
+            assert worst_case_of(scene, found, parse_ltlf(scene.task)) <= found.units, seed
+    assert cut >= 3 and upper >= 1, (cut, upper)
