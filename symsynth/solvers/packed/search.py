@@ -22,7 +22,6 @@ file).
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 from symsynth.solvers.packed.kernels import INF, _canon, _human_moves, _insert, _letter, _probe, _robot_moves, _table
