@@ -68,6 +68,18 @@ def _push(x, d, W, head, e_node, e_dist, e_next, used):
 
 
 @njit(cache=True)
+def _buckets(r_units, room):
+    """An empty bucket queue for Dijkstra over move costs `r_units`: (W,
+    head, e_node, e_dist, e_next), W buckets (above the costliest move) and
+    room for `room` entries (one per improvement at most)."""
+    W = 1
+    for e in range(len(r_units)):
+        W = max(W, r_units[e] + 1)
+    head = np.full(W, -1, np.int64)
+    return W, head, np.empty(room, np.int64), np.empty(room, np.int64), np.empty(room, np.int64)
+
+
+@njit(cache=True)
 def cooperative(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
     """(rc, hc, choice): C at each robot turn and human turn (INF: losing),
     and the robot move (absolute edge index, -1: none) on a cheapest
@@ -78,14 +90,7 @@ def cooperative(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
     n = len(hflag)
     rs, re_, rsrc = _by_target(r_off, r_tgt, n)  # robot moves into human turn t
     hs, he, hsrc = _by_target(h_off, h_tgt, n)  # human moves into robot turn t
-    W = 1
-    for e in range(len(r_units)):
-        W = max(W, r_units[e] + 1)
-    room = len(r_tgt) + len(h_tgt) + 2 * n + 1  # one entry per improvement at most
-    e_node = np.empty(room, np.int64)
-    e_dist = np.empty(room, np.int64)
-    e_next = np.empty(room, np.int64)
-    head = np.full(W, -1, np.int64)
+    W, head, e_node, e_dist, e_next = _buckets(r_units, len(r_tgt) + len(h_tgt) + 2 * n + 1)
     used = 0
     dist = np.full(2 * n, INF, np.int64)
     choice = np.full(n, -1, np.int64)
@@ -146,14 +151,7 @@ def distances(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
     turn and human turn (INF: not reached).  Dijkstra with a bucket queue
     (as `cooperative`); turn ids: robot i is i, human i is n + i."""
     n = len(hflag)
-    W = 1
-    for e in range(len(r_units)):
-        W = max(W, r_units[e] + 1)
-    room = len(r_tgt) + len(h_tgt) + 2 * n + 1  # one entry per improvement at most
-    e_node = np.empty(room, np.int64)
-    e_dist = np.empty(room, np.int64)
-    e_next = np.empty(room, np.int64)
-    head = np.full(W, -1, np.int64)
+    W, head, e_node, e_dist, e_next = _buckets(r_units, len(r_tgt) + len(h_tgt) + 2 * n + 1)
     dist = np.full(2 * n, INF, np.int64)
     dist[n] = 0
     used = _push(n, 0, W, head, e_node, e_dist, e_next, 0)

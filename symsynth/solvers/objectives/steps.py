@@ -38,6 +38,12 @@ from numba import njit
 
 from symsynth.solvers.objectives.kernels import _by_target
 
+# numba's disk cache checks only this file's source, and these kernels compile
+# in the code of kernels.py's: its SHA-256 (first 16 hex digits) stands here, so
+# that a change there changes this file too and no stale machine code is
+# loaded (tests/test_numba_cache.py fails until it is updated).
+COMPILED_WITH = {"kernels.py": "a28f3eb9843467cc"}
+
 INF = np.int64(1 << 60)
 
 

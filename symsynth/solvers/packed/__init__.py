@@ -14,6 +14,7 @@ The kernels are one module because numba's disk cache is invalidated by the
 source of the module a kernel lives in only: a kernel calling into another
 module would keep its cached machine code after that module changed.
 `search` is the exception (it calls the move kernels): it is compiled
-together with them by `andor.prepare`, and must be touched when `kernels`
-changes.
+together with them by `andor.prepare`, and carries `kernels`' SHA-256 in
+`COMPILED_WITH`, so that a change to `kernels` must change `search` too
+(tests/test_numba_cache.py).
 """

@@ -26,6 +26,12 @@ from numba import njit
 
 from symsynth.solvers.packed.kernels import INF, _canon, _human_moves, _insert, _letter, _probe, _robot_moves, _table
 
+# numba's disk cache checks only this file's source, and these kernels compile
+# in the code of kernels.py's: its SHA-256 (first 16 hex digits) stands here, so
+# that a change there changes this file too and no stale machine code is
+# loaded (tests/test_numba_cache.py fails until it is updated).
+COMPILED_WITH = {"kernels.py": "0e08f080942b2d20"}
+
 # st: the search's counters and flags, one int64 array
 ST_COUNT, ST_NE, ST_NH, ST_CALLS, ST_ABORT, ST_LIMIT, ST_BITS, ST_DEPTH, ST_DEEPEST = range(9)
 ABORT_ROOM, ABORT_CALLS, ABORT_DEPTH, ABORT_ZERO = 1, 2, 3, 4
