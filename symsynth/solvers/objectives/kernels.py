@@ -80,6 +80,17 @@ def _buckets(r_units, room):
 
 
 @njit(cache=True)
+def _pop(d, W, head, e_next):
+    """(entry, its distance): the bucket queue's next entry from distance
+    `d` on (one is waiting: the callers count them)."""
+    while head[d % W] < 0:
+        d += 1
+    x = head[d % W]
+    head[d % W] = e_next[x]
+    return x, d
+
+
+@njit(cache=True)
 def cooperative(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
     """(rc, hc, choice): C at each robot turn and human turn (INF: losing),
     and the robot move (absolute edge index, -1: none) on a cheapest
@@ -111,11 +122,7 @@ def cooperative(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
     pending = used
     d = 0
     while pending > 0:
-        x = head[d % W]
-        if x < 0:
-            d += 1
-            continue
-        head[d % W] = e_next[x]
+        x, d = _pop(d, W, head, e_next)
         pending -= 1
         y = e_node[x]
         if done[y] or e_dist[x] != dist[y]:
@@ -158,11 +165,7 @@ def distances(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
     pending = 1
     d = 0
     while pending > 0:
-        x = head[d % W]
-        if x < 0:
-            d += 1
-            continue
-        head[d % W] = e_next[x]
+        x, d = _pop(d, W, head, e_next)
         pending -= 1
         y = e_node[x]
         if e_dist[x] != dist[y]:
