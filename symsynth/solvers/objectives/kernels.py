@@ -203,7 +203,6 @@ def has_cycle(B, hflag, r_tgt, r_units, h_off, h_tgt, choice, xo, xlo):
     colour = np.zeros(total, np.uint8)  # 0 new, 1 on the stack, 2 done
     stack_s = np.empty(total + 1, np.int64)  # (robot turn state, next successor to try)
     stack_k = np.empty(total + 1, np.int64)
-    stack_i = np.empty(total + 1, np.int64)
     stack_b = np.empty(total + 1, np.int64)
     # the start's human turn: its pass and moves, each a root
     roots = [np.int64(0)]
@@ -212,13 +211,13 @@ def has_cycle(B, hflag, r_tgt, r_units, h_off, h_tgt, choice, xo, xlo):
             roots.append(h_tgt[e])
     for r in roots:
         s = xo[r] + B - xlo[r]
-        if xo[r] + B - xlo[r] >= xo[r + 1] or colour[s]:
+        if s >= xo[r + 1] or colour[s]:
             continue
         top = 0
-        stack_s[0], stack_k[0], stack_i[0], stack_b[0] = s, -1, r, B
+        stack_s[0], stack_k[0], stack_b[0] = s, -1, B
         colour[s] = 1
         while top >= 0:
-            s, kk, i, b = stack_s[top], stack_k[top], stack_i[top], stack_b[top]
+            s, kk, b = stack_s[top], stack_k[top], stack_b[top]
             e = choice[s]
             t = r_tgt[e]
             nb = b - r_units[e]
@@ -247,7 +246,7 @@ def has_cycle(B, hflag, r_tgt, r_units, h_off, h_tgt, choice, xo, xlo):
             if colour[s2] == 0:
                 colour[s2] = 1
                 top += 1
-                stack_s[top], stack_k[top], stack_i[top], stack_b[top] = s2, -1, nxt, nb
+                stack_s[top], stack_k[top], stack_b[top] = s2, -1, nb
     return False
 
 
