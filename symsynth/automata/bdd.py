@@ -59,9 +59,24 @@ def new_manager(*, reordering: bool = False, memory: int = 2**27, cache: int = 2
     `cache` is that table's initial number of slots."""
     # dd's default sizes CUDD for 1 GiB: 17-20 ms to create and free, more
     # than most compilations take.  Start small; CUDD grows on demand.
-    bdd = _backend.BDD(memory_estimate=memory, initial_cache_size=cache) if BACKEND == "cudd" else _backend.BDD()
-    bdd.configure(reordering=reordering)
+    if BACKEND != "cudd":  # pragma: no cover - only without CUDD
+        bdd = _backend.BDD()
+        bdd.configure(reordering=reordering)
+        return bdd
+    # CUDD's estimate does two things: it sets how long the unique table grows
+    # freely before collecting garbage (`loose_up_to`, memory / 160), and it
+    # reserves a stash of memory / 128 for running out of memory, allocated at
+    # once: 45 ms for 4 GiB, paid by every game however small.  The stash is
+    # kept at the size of `_STASHED`; the growth policy is the one asked for.
+    bdd = _backend.BDD(memory_estimate=min(memory, _STASHED), initial_cache_size=cache)
+    bdd.configure(reordering=reordering, loose_up_to=memory // _LOOSE_FRACTION)
     return bdd
+
+
+#: The most a manager's estimate reserves at its creation (CUDD's stash).
+_STASHED = 2**27
+#: CUDD's `looseUpTo` is `maxMemory / sizeof(DdNode) / DD_MAX_LOOSE_FRACTION` = memory / (32 * 5).
+_LOOSE_FRACTION = 160
 
 
 @contextmanager
