@@ -90,7 +90,8 @@ VELOCITY_GAIN = 1.0
 ARRIVED = 2e-3  # radians: every joint this close to the end of its path
 CONVERGE_STEPS = 240
 GRIP_STEPS = 60  # steps the fingers take at most to close or open (4 cm at 0.2 m/s is 48)
-FINGER_REST = 1e-3  # m/s: a finger slower than this has stopped (on the object, or at its limit)
+FINGER_REST = 0.01  # m/s: the opening changing slower than this has stopped (free fingers close at 0.8)
+OPEN_ENOUGH = 3e-3  # metres: a finger this close to its target is there (the last mm are a slow tail)
 STOPPED = 1e-3  # metres: a finger this far from fully closed was stopped by the object
 FIRM_FORCE = 200.0  # newtons: the firming constraint's strength
 CLEARANCE = 0.005  # metres: the closest a human puts an object to the robot
@@ -209,6 +210,10 @@ class PhysicsWorld(SimWorld):
         self._open = {j: value for j, value in self._held_joints().items()}
         self._grip = dict(self._open)
         self._grip_forces = [self.client.getJointInfo(self.robot, j)[10] or DEFAULT_GRIP for j in self._grip]
+        self._still = [0.0] * len(self.joints)
+        self._gains = ([POSITION_GAIN] * len(self.joints), [VELOCITY_GAIN] * len(self.joints))
+        self._grip_gains = ([POSITION_GAIN] * len(self._grip), [VELOCITY_GAIN] * len(self._grip))
+        self._sent_grip: list[float] | None = None
         self._constraint: int | None = None
         self._stands: dict[tuple, bool] = {}
         self.watch: Watch | None = None  # called after every step (a test's or a verifier's eye)
@@ -314,12 +319,12 @@ class PhysicsWorld(SimWorld):
     # -- the robot ------------------------------------------------------------
 
     def follow(self, path: Sequence[Sequence[float]], hand_speed: float | None = None,
-               careful: Callable[[np.ndarray], bool] | None = None) -> None:
+               careful: Callable[[np.ndarray, np.ndarray], bool] | None = None) -> None:
         """Drive the joints along `path` by position control (module doc),
         then hold the last configuration until the robot is on it.  Each
         leg takes the time its fastest joint needs at `SPEED_FRACTION` of
-        its velocity limit, or, where `careful(hand position)` holds at
-        either end (everywhere when `careful` is None), its hand's
+        its velocity limit, or, where `careful(hand's start, hand's end)`
+        holds for the leg (every leg when `careful` is None), its hand's
         straight-line travel at `hand_speed` (m/s) if that is longer."""
         if len(path) == 0:
             return
@@ -328,7 +333,7 @@ class PhysicsWorld(SimWorld):
         for k, (a, b) in enumerate(zip(legs, legs[1:])):
             seconds = float(np.max(np.abs(b - a) / self._speeds))
             if hand is not None and hand_speed is not None and (
-                    careful is None or careful(hand[k]) or careful(hand[k + 1])):
+                    careful is None or careful(hand[k], hand[k + 1])):
                 seconds = max(seconds, float(np.linalg.norm(hand[k + 1] - hand[k])) / hand_speed)
             n = max(1, math.ceil(seconds / TIME_STEP))
             velocity = (b - a) / (n * TIME_STEP)
@@ -367,15 +372,21 @@ class PhysicsWorld(SimWorld):
             self._command(self.config)
 
     def _command(self, target: Sequence[float] | np.ndarray, velocity: np.ndarray | None = None) -> None:
-        zero = [0.0] * len(self.joints)
+        """The joints' position targets (and velocities: 0 without), and the
+        fingers' when `_grip` changed since they were last sent (PyBullet
+        keeps a motor's target until it is sent another)."""
+        self._set(self.joints, np.asarray(target, float).tolist(),
+                  self._still if velocity is None else velocity.tolist(), self._efforts, self._gains)
+        grip = [self._grip[j] for j in self._grip]
+        if grip != self._sent_grip:
+            self._set(list(self._grip), grip, [0.0] * len(grip), self._grip_forces, self._grip_gains)
+            self._sent_grip = grip
+
+    def _set(self, joints: list[int], targets: list[float], velocities: list[float], forces: list[float],
+             gains: tuple[list[float], list[float]]) -> None:
         self.client.setJointMotorControlArray(
-            self.robot, self.joints, pybullet.POSITION_CONTROL, targetPositions=list(map(float, target)),
-            targetVelocities=zero if velocity is None else list(map(float, velocity)), forces=self._efforts,
-            positionGains=[POSITION_GAIN] * len(self.joints), velocityGains=[VELOCITY_GAIN] * len(self.joints))
-        fingers = list(self._grip)
-        self.client.setJointMotorControlArray(
-            self.robot, fingers, pybullet.POSITION_CONTROL, targetPositions=[self._grip[j] for j in fingers],
-            forces=self._grip_forces)
+            self.robot, joints, pybullet.POSITION_CONTROL, targetPositions=targets, targetVelocities=velocities,
+            forces=forces, positionGains=gains[0], velocityGains=gains[1])
 
     # -- the hand -------------------------------------------------------------
 
@@ -421,17 +432,23 @@ class PhysicsWorld(SimWorld):
         self.settle()
 
     def _move_fingers(self) -> None:
-        """Drive the fingers to their targets (`_grip`) until they stop:
-        slower than `FINGER_REST` for `REST_STEPS` steps in a row, after
-        `REST_STEPS` steps at least (closed on the object, or at their
-        limit), at most `GRIP_STEPS`."""
+        """Drive the fingers to their targets (`_grip`) until the hand's
+        opening stops changing: the fingers' speeds summed slower than
+        `FINGER_REST` for `REST_STEPS` steps in a row, after `REST_STEPS`
+        steps at least (closed on the object: the two may still drift
+        together while they press it, the opening does not change; or at
+        their limit), or every finger within `OPEN_ENOUGH` of its target;
+        at most `GRIP_STEPS`."""
         self._command(self.config)
+        fingers = list(self.fingers)
+        targets = [self._grip[j] for j in fingers]
         calm = 0
         for taken in range(1, GRIP_STEPS + 1):
             self.step()
-            speeds = [abs(state[1]) for state in self.client.getJointStates(self.robot, list(self.fingers))]
-            calm = calm + 1 if max(speeds, default=0.0) < FINGER_REST else 0
-            if taken > REST_STEPS and calm >= REST_STEPS:
+            states = self.client.getJointStates(self.robot, fingers)
+            calm = calm + 1 if abs(sum(state[1] for state in states)) < FINGER_REST else 0
+            if taken > REST_STEPS and (calm >= REST_STEPS or all(
+                    abs(state[0] - target) <= OPEN_ENOUGH for state, target in zip(states, targets))):
                 break
 
     def fingers_touch(self, name: str) -> bool:
