@@ -101,6 +101,8 @@ REST_STEPS = 5
 SETTLE_STEPS = 480  # 2 s
 STAND_STEPS = 24  # 0.1 s: an object let go where nothing holds it falls 5 cm in that time
 STAND_SHIFT = 2e-3  # metres, and radians: an object that moved more did not stand
+FRAME_STEPS = 96  # 0.4 s of the world between two frames of a recording (a motion: 0.4 rad or so) ...
+SLIDE_FRAME_STEPS = 48  # ... and 0.2 s along a slide (the object 1 cm further at 5 cm/s)
 
 
 @dataclass(frozen=True)
@@ -218,7 +220,7 @@ class PhysicsWorld(SimWorld):
         self._stands: dict[tuple, bool] = {}
         self.watch: Watch | None = None  # called after every step (a test's or a verifier's eye)
         self.frame: Callable[[], None] | None = None  # a recording's camera, every `frame_every` steps
-        self.frame_every = 36  # 0.15 s of the world between frames of a recording
+        self.frame_every = FRAME_STEPS  # steps of the world between frames of a recording
         self.steps = 0
         self.touches: set[str] = set()  # objects the robot touched while `watching`
         self.watching = False
