@@ -81,6 +81,8 @@ MESH_MASS = 0.1  # kg: the default for a mesh (its volume is not computed)
 FRICTION = 0.5  # objects' and obstacles' default Coulomb coefficient
 FINGER_FRICTION = 1.0  # the gripper's pads
 SPEED_FRACTION = 0.5  # of each joint's URDF velocity limit, along a motion
+CLEAR_FRACTION = 1.0  # ... on a transit's or transfer's legs `CLEAR` from every object
+CLEAR = 0.05  # metres
 DEFAULT_SPEED = 1.0  # rad/s (m/s) for a joint whose URDF gives no velocity limit
 DEFAULT_EFFORT = 100.0  # N m (N) for a joint whose URDF gives no force limit
 DEFAULT_GRIP = 20.0  # N for a gripper joint whose URDF gives none
@@ -321,19 +323,24 @@ class PhysicsWorld(SimWorld):
     # -- the robot ------------------------------------------------------------
 
     def follow(self, path: Sequence[Sequence[float]], hand_speed: float | None = None,
-               careful: Callable[[np.ndarray, np.ndarray], bool] | None = None) -> None:
+               careful: Callable[[np.ndarray, np.ndarray], bool] | None = None, clear: bool = False) -> None:
         """Drive the joints along `path` by position control (module doc),
         then hold the last configuration until the robot is on it.  Each
         leg takes the time its fastest joint needs at `SPEED_FRACTION` of
-        its velocity limit, or, where `careful(hand's start, hand's end)`
-        holds for the leg (every leg when `careful` is None), its hand's
-        straight-line travel at `hand_speed` (m/s) if that is longer."""
+        its velocity limit (with `clear`, at `CLEAR_FRACTION` where the
+        robot and what it holds are `CLEAR` from every object at both ends
+        of the leg, the last leg but one), or, where `careful(hand's start,
+        hand's end)` holds for the leg (every leg when `careful` is None),
+        its hand's straight-line travel at `hand_speed` (m/s) if that is
+        longer."""
         if len(path) == 0:
             return
         hand = self._hand_points(path) if hand_speed is not None else None
+        far = self._clear_of_objects(path) if clear else [False] * len(path)
         legs = np.asarray(path, float)
         for k, (a, b) in enumerate(zip(legs, legs[1:])):
-            seconds = float(np.max(np.abs(b - a) / self._speeds))
+            fast = far[k] and far[k + 1] and k + 2 < len(legs)
+            seconds = float(np.max(np.abs(b - a) / (self._speeds * (CLEAR_FRACTION / SPEED_FRACTION if fast else 1.0))))
             if hand is not None and hand_speed is not None and (
                     careful is None or careful(hand[k], hand[k + 1])):
                 seconds = max(seconds, float(np.linalg.norm(hand[k + 1] - hand[k])) / hand_speed)
@@ -350,6 +357,24 @@ class PhysicsWorld(SimWorld):
             self.step()
         self.config = tuple(float(v) for v in goal)
         self.sync()
+
+    def _clear_of_objects(self, path: Sequence[Sequence[float]]) -> list[bool]:
+        """At each configuration of `path` (set, not stepped; the robot is
+        put back where it was): whether the robot and the object it holds
+        are farther than `CLEAR` from every other object, and the held
+        object from the obstacles."""
+        start = self.config
+        held = self.bodies.get(self.held) if self.held is not None else None
+        others = [body for name, body in self.bodies.items() if name != self.held]
+        found = []
+        for config in path:
+            SimWorld.set_config(self, config)
+            near = any(self.client.getClosestPoints(self.robot, body, CLEAR) for body in others)
+            if held is not None and not near:
+                near = any(self.client.getClosestPoints(held, body, CLEAR) for body in [*others, *self.obstacles])
+            found.append(not near)
+        SimWorld.set_config(self, start)
+        return found
 
     def _hand_points(self, path: Sequence[Sequence[float]]) -> np.ndarray:
         """The end-effector's position at each configuration of `path`

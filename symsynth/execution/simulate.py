@@ -580,7 +580,7 @@ class _Episode:
         one is replayed for the frames."""
         if isinstance(self.world, PhysicsWorld):
             if not executed:
-                self.world.follow(path)
+                self.world.follow(path, clear=True)
             return
         if self.recorder is None:
             if path:
