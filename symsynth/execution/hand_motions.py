@@ -173,7 +173,8 @@ def physical_slide(world: PhysicsWorld, name: str, contact: str, goal: str, path
     motion); the object moves only as the hand pushes it and friction holds
     it back, and settles before it is observed.  Nothing is set, nothing
     constrained.  A leg that goes back against the slide's way (the
-    retreat, the hand leaving the object behind) is not slowed."""
+    retreat, the hand leaving the object behind) is not slowed, and one
+    clear of every object goes as fast as a transit's (`follow`'s `clear`)."""
     frame = world.geometry.hand_frame(contact).pose
     a = np.asarray((world.poses[name] @ frame).xyz)
     b = np.asarray((world.geometry.places[goal] @ frame).xyz)
@@ -187,7 +188,7 @@ def physical_slide(world: PhysicsWorld, name: str, contact: str, goal: str, path
 
     world.close_hand()
     with world.watched() as touched:
-        world.follow(path, hand_speed=SLIDE_SPEED, careful=careful)
+        world.follow(path, hand_speed=SLIDE_SPEED, careful=careful, clear=True)
     world.open_hand()
     return Primitive(tuple(path), frozenset(touched - {name}))
 

@@ -15,8 +15,9 @@ move only as PyBullet integrates them:
 - **The robot** follows a path by position control of its joints with the
   URDF's force limits (87 N m and 12 N m for the Panda): the target moves
   along the path, each leg in the time its fastest joint needs at
-  `SPEED_FRACTION` of its URDF velocity limit (a slide's hand at most
-  `SLIDE_SPEED` near the object), and at the path's end the robot is held on
+  `SPEED_FRACTION` of its URDF velocity limit (a leg that keeps the robot
+  `CLEAR` from every object at `CLEAR_FRACTION`, but the last; a slide's
+  hand at most `SLIDE_SPEED` near the object), and at the path's end the robot is held on
   its last configuration until every joint is within `ARRIVED` radians of
   it (at most `CONVERGE_STEPS`).  A path's cost is the radians of the path
   commanded, as the costmap measures it.
@@ -32,8 +33,9 @@ move only as PyBullet integrates them:
   Fingers that close on nothing make no constraint: the object stays where
   it is, and the observation says so.  `open_hand` removes the constraint
   and opens the fingers: the object is released where the hand put it and
-  settles under gravity.  The fingers move until they stop (`FINGER_REST`,
-  at most `GRIP_STEPS`).
+  settles under gravity.  The fingers move until the hand's opening stops
+  changing (`FINGER_REST`) or they are within `OPEN_ENOUGH` of their
+  target, at most `GRIP_STEPS`.
 - **Settling.**  After a release, a slide or a human's move, the world is
   stepped until every object moves slower than `REST_SPEED` (m/s) and
   `REST_SPIN` (rad/s) for `REST_STEPS` steps in a row, at most
@@ -83,6 +85,7 @@ FINGER_FRICTION = 1.0  # the gripper's pads
 SPEED_FRACTION = 0.5  # of each joint's URDF velocity limit, along a motion
 CLEAR_FRACTION = 1.0  # ... on a transit's or transfer's legs `CLEAR` from every object
 CLEAR = 0.05  # metres
+CLEAR_STRIDE = 0.2  # radians between the configurations of a leg checked to be clear
 DEFAULT_SPEED = 1.0  # rad/s (m/s) for a joint whose URDF gives no velocity limit
 DEFAULT_EFFORT = 100.0  # N m (N) for a joint whose URDF gives no force limit
 DEFAULT_GRIP = 20.0  # N for a gripper joint whose URDF gives none
@@ -328,21 +331,22 @@ class PhysicsWorld(SimWorld):
         then hold the last configuration until the robot is on it.  Each
         leg takes the time its fastest joint needs at `SPEED_FRACTION` of
         its velocity limit (with `clear`, at `CLEAR_FRACTION` where the
-        robot and what it holds are `CLEAR` from every object at both ends
-        of the leg, the last leg but one), or, where `careful(hand's start,
-        hand's end)` holds for the leg (every leg when `careful` is None),
-        its hand's straight-line travel at `hand_speed` (m/s) if that is
-        longer."""
+        robot and what it holds stay `CLEAR` from every object along the
+        leg, `_clear_legs`, the last leg but one), or, where `careful(hand's
+        start, hand's end)` holds for the leg (every leg when `careful` is
+        None), its hand's straight-line travel at `hand_speed` (m/s) if that
+        is longer."""
         if len(path) == 0:
             return
         hand = self._hand_points(path) if hand_speed is not None else None
-        far = self._clear_of_objects(path) if clear else [False] * len(path)
         legs = np.asarray(path, float)
+        slow = [hand is not None and hand_speed is not None and (careful is None or careful(hand[k], hand[k + 1]))
+                for k in range(len(legs) - 1)]
+        far = self._clear_legs(legs, slow) if clear else [False] * len(slow)
         for k, (a, b) in enumerate(zip(legs, legs[1:])):
-            fast = far[k] and far[k + 1] and k + 2 < len(legs)
+            fast = far[k] and k + 2 < len(legs)
             seconds = float(np.max(np.abs(b - a) / (self._speeds * (CLEAR_FRACTION / SPEED_FRACTION if fast else 1.0))))
-            if hand is not None and hand_speed is not None and (
-                    careful is None or careful(hand[k], hand[k + 1])):
+            if slow[k] and hand is not None and hand_speed is not None:
                 seconds = max(seconds, float(np.linalg.norm(hand[k + 1] - hand[k])) / hand_speed)
             n = max(1, math.ceil(seconds / TIME_STEP))
             velocity = (b - a) / (n * TIME_STEP)
@@ -358,21 +362,27 @@ class PhysicsWorld(SimWorld):
         self.config = tuple(float(v) for v in goal)
         self.sync()
 
-    def _clear_of_objects(self, path: Sequence[Sequence[float]]) -> list[bool]:
-        """At each configuration of `path` (set, not stepped; the robot is
-        put back where it was): whether the robot and the object it holds
-        are farther than `CLEAR` from every other object, and the held
-        object from the obstacles."""
+    def _clear_legs(self, legs: np.ndarray, slow: Sequence[bool]) -> list[bool]:
+        """Whether each leg of `legs` (but those `slow`) keeps the robot and
+        the object it holds farther than `CLEAR` from every other object,
+        and the held object from the obstacles, at configurations at most
+        `CLEAR_STRIDE` radians apart along it (set, not stepped; the robot
+        is put back where it was)."""
         start = self.config
         held = self.bodies.get(self.held) if self.held is not None else None
         others = [body for name, body in self.bodies.items() if name != self.held]
-        found = []
-        for config in path:
+
+        def clear(config: np.ndarray) -> bool:
             SimWorld.set_config(self, config)
-            near = any(self.client.getClosestPoints(self.robot, body, CLEAR) for body in others)
-            if held is not None and not near:
-                near = any(self.client.getClosestPoints(held, body, CLEAR) for body in [*others, *self.obstacles])
-            found.append(not near)
+            if any(self.client.getClosestPoints(self.robot, body, CLEAR) for body in others):
+                return False
+            return held is None or not any(self.client.getClosestPoints(held, body, CLEAR)
+                                           for body in [*others, *self.obstacles])
+
+        found = []
+        for k, (a, b) in enumerate(zip(legs, legs[1:])):
+            parts = max(1, math.ceil(float(np.max(np.abs(b - a))) / CLEAR_STRIDE))
+            found.append(not slow[k] and all(clear(a + (b - a) * (i / parts)) for i in range(parts + 1)))
         SimWorld.set_config(self, start)
         return found
 
