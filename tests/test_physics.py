@@ -125,6 +125,41 @@ def test_a_grasp_lifts_the_object_with_the_fingers_and_the_constraint_keeps_it_i
             world.close()
 
 
+def test_an_object_a_few_millimetres_off_its_place_is_approached_with_one_solution(block):
+    """`Approaches.near`: the place's approach (solved once) bent toward
+    the grasp pose on the object where it really stands, 5 mm and 0.03 rad
+    off: one inverse kinematics solution, and the hand (forward kinematics
+    in PyBullet) goes straight from the anchor to the grasp pose on the
+    moved object, each configuration within 1 mm of its point on that
+    segment, the last on the grasp pose."""
+    scene, planner = block
+    g = scene.geometry
+    grasp, place = g.grasps["top"], g.places["l1"]
+    moved = Pose((0.503, -0.004, 0.0), (0.0, 0.0, math.sin(0.015), math.cos(0.015)))
+    solved = []
+
+    class Counting:
+        def inverse_kinematics(self, pose, seed):
+            solved.append(pose)
+            return planner.inverse_kinematics(pose, seed)
+
+    approaches = hand_motions.Approaches(Counting())
+    world = at_anchor(scene, planner, "l1")
+    try:
+        approaches.path(world.config, place @ grasp.pre_image(), place @ grasp.pose, "down")
+        solved.clear()
+        down = approaches.near(world.config, place, moved, grasp, "down")
+        assert len(solved) == 1 and len(down) == hand_motions.APPROACH_STEPS + 1
+        start, end = (place @ grasp.pre_image()).xyz, (moved @ grasp.pose).xyz
+        for i, config in enumerate(down):
+            world.set_config(config)
+            t = i / (len(down) - 1)
+            assert math.dist(world.ee_pose().xyz, [a + (b - a) * t for a, b in zip(start, end)]) < 1e-3
+        assert world.ee_pose().angle_to(moved @ grasp.pose) < 0.01
+    finally:
+        world.close()
+
+
 def test_fingers_that_close_on_nothing_make_no_constraint(block):
     """The hand closes at l1's grasp pose while the block stands at l2: no
     finger touches it, nothing is firmed, the block stays on the table."""

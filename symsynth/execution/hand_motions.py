@@ -29,11 +29,12 @@ import numpy as np
 
 from symsynth.errors import SymsynthError
 from symsynth.execution.motion import steps
+from symsynth.execution.observe import close, place_at
 from symsynth.execution.physics import SLIDE_SPEED, PhysicsWorld
 from symsynth.execution.world import SimWorld
 from symsynth.planning.protocol import Config, Planner
 from symsynth.planning.verify import path_length
-from symsynth.scene.geometry import Pose, point_text, vec3
+from symsynth.scene.geometry import Grasp, Pose, point_text, vec3
 
 APPROACH_STEPS = 6
 WALK = 0.01  # radians between the configurations checked along the approach
@@ -68,13 +69,40 @@ class Approaches:
         return self._paths[key]
 
 
+    def near(self, config: Config, place: Pose, actual: Pose, grasp: Grasp, what: str) -> tuple[Config, ...]:
+        """The approach of `grasp` to an object at `actual`, close to
+        `place` (within the observation's tolerance): the approach to
+        `place` (`path`, solved once) bent toward the one solution at the
+        grasp pose on `actual`, its configurations shifted by that end's
+        difference in proportion to their way down.  One inverse kinematics
+        solution for an object a physical world moved a few millimetres,
+        where `path` would solve `APPROACH_STEPS` of them; the hand's poses
+        on the way lie within a fraction of a millimetre of the straight
+        approach (the shift's square times the arm's curvature)."""
+        nominal = self.path(config, place @ grasp.pre_image(), place @ grasp.pose, what)
+        end = self.planner.inverse_kinematics(actual @ grasp.pose, nominal[-1])
+        if end is None:
+            return self.path(config, actual @ grasp.pre_image(), actual @ grasp.pose, what)
+        shift = np.subtract(end, nominal[-1])
+        last = len(nominal) - 1
+        return (nominal[0], *(tuple(float(v) for v in np.add(q, shift * (i / last)))
+                              for i, q in enumerate(nominal[1:-1], 1)), tuple(end))
+
+
 def grab(world: SimWorld, approaches: Approaches, name: str, grasp: str) -> Primitive:
-    """Close the hand on object `name` with `grasp`, from its pre-image."""
+    """Close the hand on object `name` with `grasp`, from its pre-image.
+    In the physical world an object within the observation's tolerance of
+    a place is approached by `Approaches.near` (the place's approach, bent)."""
     g = world.geometry.grasps[grasp]
     target = world.poses[name]
-    down = approaches.path(world.config, target @ g.pre_image(), target @ g.pose, f"grab({name})")
     if isinstance(world, PhysicsWorld):
+        place = place_at(world.scene, target)
+        if place is not None and close(world.geometry.places[place], target):
+            down = approaches.near(world.config, world.geometry.places[place], target, g, f"grab({name})")
+        else:
+            down = approaches.path(world.config, target @ g.pre_image(), target @ g.pose, f"grab({name})")
         return _physical(world, down, lambda: world.close_hand(name, grasp), {name})
+    down = approaches.path(world.config, target @ g.pre_image(), target @ g.pose, f"grab({name})")
     hits = _walk(world, down, ignore={name})
     world.attach(name, grasp)
     up = down[::-1]
@@ -140,22 +168,27 @@ def slide(world: SimWorld, move: Any, path: Sequence[Config]) -> Primitive:
 def physical_slide(world: PhysicsWorld, name: str, contact: str, goal: str, path: Sequence[Config]) -> Primitive:
     """The slide in the physical world: the fingers closed (the hand a
     paddle), the joints driven along `path`, the hand at most
-    `physics.SLIDE_SPEED` within `CAREFUL` of the straight way of the
-    contact pose from the object to `goal` (elsewhere as fast as any
+    `physics.SLIDE_SPEED` on legs within `CAREFUL` of the straight way of
+    the contact pose from the object to `goal` (elsewhere as fast as any
     motion); the object moves only as the hand pushes it and friction holds
     it back, and settles before it is observed.  Nothing is set, nothing
-    constrained."""
+    constrained.  A leg that goes back against the slide's way (the
+    retreat, the hand leaving the object behind) is not slowed, and one
+    clear of every object goes as fast as a transit's (`follow`'s `clear`)."""
     frame = world.geometry.hand_frame(contact).pose
     a = np.asarray((world.poses[name] @ frame).xyz)
     b = np.asarray((world.geometry.places[goal] @ frame).xyz)
 
-    def careful(point: np.ndarray) -> bool:  # near the segment a-b
+    def near(point: np.ndarray) -> bool:  # near the segment a-b
         t = float(np.clip(np.dot(point - a, b - a) / max(float(np.dot(b - a, b - a)), 1e-12), 0.0, 1.0))
         return float(np.linalg.norm(point - (a + t * (b - a)))) <= CAREFUL
 
+    def careful(start: np.ndarray, end: np.ndarray) -> bool:  # a leg near the way, going the slide's way
+        return (near(start) or near(end)) and float(np.dot(end - start, b - a)) > 0.0
+
     world.close_hand()
     with world.watched() as touched:
-        world.follow(path, hand_speed=SLIDE_SPEED, careful=careful)
+        world.follow(path, hand_speed=SLIDE_SPEED, careful=careful, clear=True)
     world.open_hand()
     return Primitive(tuple(path), frozenset(touched - {name}))
 

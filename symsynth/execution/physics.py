@@ -15,8 +15,9 @@ move only as PyBullet integrates them:
 - **The robot** follows a path by position control of its joints with the
   URDF's force limits (87 N m and 12 N m for the Panda): the target moves
   along the path, each leg in the time its fastest joint needs at
-  `SPEED_FRACTION` of its URDF velocity limit (a slide's hand at most
-  `SLIDE_SPEED` near the object), and at the path's end the robot is held on
+  `SPEED_FRACTION` of its URDF velocity limit (a leg that keeps the robot
+  `CLEAR` from every object at `CLEAR_FRACTION`, but the last; a slide's
+  hand at most `SLIDE_SPEED` near the object), and at the path's end the robot is held on
   its last configuration until every joint is within `ARRIVED` radians of
   it (at most `CONVERGE_STEPS`).  A path's cost is the radians of the path
   commanded, as the costmap measures it.
@@ -32,8 +33,9 @@ move only as PyBullet integrates them:
   Fingers that close on nothing make no constraint: the object stays where
   it is, and the observation says so.  `open_hand` removes the constraint
   and opens the fingers: the object is released where the hand put it and
-  settles under gravity.  The fingers move until they stop (`FINGER_REST`,
-  at most `GRIP_STEPS`).
+  settles under gravity.  The fingers move until the hand's opening stops
+  changing (`FINGER_REST`) or they are within `OPEN_ENOUGH` of their
+  target, at most `GRIP_STEPS`.
 - **Settling.**  After a release, a slide or a human's move, the world is
   stepped until every object moves slower than `REST_SPEED` (m/s) and
   `REST_SPIN` (rad/s) for `REST_STEPS` steps in a row, at most
@@ -81,6 +83,9 @@ MESH_MASS = 0.1  # kg: the default for a mesh (its volume is not computed)
 FRICTION = 0.5  # objects' and obstacles' default Coulomb coefficient
 FINGER_FRICTION = 1.0  # the gripper's pads
 SPEED_FRACTION = 0.5  # of each joint's URDF velocity limit, along a motion
+CLEAR_FRACTION = 1.0  # ... on a transit's or transfer's legs `CLEAR` from every object
+CLEAR = 0.05  # metres
+CLEAR_STRIDE = 0.2  # radians between the configurations of a leg checked to be clear
 DEFAULT_SPEED = 1.0  # rad/s (m/s) for a joint whose URDF gives no velocity limit
 DEFAULT_EFFORT = 100.0  # N m (N) for a joint whose URDF gives no force limit
 DEFAULT_GRIP = 20.0  # N for a gripper joint whose URDF gives none
@@ -90,7 +95,8 @@ VELOCITY_GAIN = 1.0
 ARRIVED = 2e-3  # radians: every joint this close to the end of its path
 CONVERGE_STEPS = 240
 GRIP_STEPS = 60  # steps the fingers take at most to close or open (4 cm at 0.2 m/s is 48)
-FINGER_REST = 1e-3  # m/s: a finger slower than this has stopped (on the object, or at its limit)
+FINGER_REST = 0.01  # m/s: the opening changing slower than this has stopped (free fingers close at 0.8)
+OPEN_ENOUGH = 3e-3  # metres: a finger this close to its target is there (the last mm are a slow tail)
 STOPPED = 1e-3  # metres: a finger this far from fully closed was stopped by the object
 FIRM_FORCE = 200.0  # newtons: the firming constraint's strength
 CLEARANCE = 0.005  # metres: the closest a human puts an object to the robot
@@ -100,6 +106,8 @@ REST_STEPS = 5
 SETTLE_STEPS = 480  # 2 s
 STAND_STEPS = 24  # 0.1 s: an object let go where nothing holds it falls 5 cm in that time
 STAND_SHIFT = 2e-3  # metres, and radians: an object that moved more did not stand
+FRAME_STEPS = 96  # 0.4 s of the world between two frames of a recording (a motion: 0.4 rad or so) ...
+SLIDE_FRAME_STEPS = 48  # ... and 0.2 s along a slide (the object 1 cm further at 5 cm/s)
 
 
 @dataclass(frozen=True)
@@ -209,11 +217,15 @@ class PhysicsWorld(SimWorld):
         self._open = {j: value for j, value in self._held_joints().items()}
         self._grip = dict(self._open)
         self._grip_forces = [self.client.getJointInfo(self.robot, j)[10] or DEFAULT_GRIP for j in self._grip]
+        self._still = [0.0] * len(self.joints)
+        self._gains = ([POSITION_GAIN] * len(self.joints), [VELOCITY_GAIN] * len(self.joints))
+        self._grip_gains = ([POSITION_GAIN] * len(self._grip), [VELOCITY_GAIN] * len(self._grip))
+        self._sent_grip: list[float] | None = None
         self._constraint: int | None = None
         self._stands: dict[tuple, bool] = {}
         self.watch: Watch | None = None  # called after every step (a test's or a verifier's eye)
         self.frame: Callable[[], None] | None = None  # a recording's camera, every `frame_every` steps
-        self.frame_every = 36  # 0.15 s of the world between frames of a recording
+        self.frame_every = FRAME_STEPS  # steps of the world between frames of a recording
         self.steps = 0
         self.touches: set[str] = set()  # objects the robot touched while `watching`
         self.watching = False
@@ -314,21 +326,27 @@ class PhysicsWorld(SimWorld):
     # -- the robot ------------------------------------------------------------
 
     def follow(self, path: Sequence[Sequence[float]], hand_speed: float | None = None,
-               careful: Callable[[np.ndarray], bool] | None = None) -> None:
+               careful: Callable[[np.ndarray, np.ndarray], bool] | None = None, clear: bool = False) -> None:
         """Drive the joints along `path` by position control (module doc),
         then hold the last configuration until the robot is on it.  Each
         leg takes the time its fastest joint needs at `SPEED_FRACTION` of
-        its velocity limit, or, where `careful(hand position)` holds at
-        either end (everywhere when `careful` is None), its hand's
-        straight-line travel at `hand_speed` (m/s) if that is longer."""
+        its velocity limit (with `clear`, at `CLEAR_FRACTION` where the
+        robot and what it holds stay `CLEAR` from every object along the
+        leg, `_clear_legs`, the last leg but one), or, where `careful(hand's
+        start, hand's end)` holds for the leg (every leg when `careful` is
+        None), its hand's straight-line travel at `hand_speed` (m/s) if that
+        is longer."""
         if len(path) == 0:
             return
         hand = self._hand_points(path) if hand_speed is not None else None
         legs = np.asarray(path, float)
+        slow = [hand is not None and hand_speed is not None and (careful is None or careful(hand[k], hand[k + 1]))
+                for k in range(len(legs) - 1)]
+        far = self._clear_legs(legs, slow) if clear else [False] * len(slow)
         for k, (a, b) in enumerate(zip(legs, legs[1:])):
-            seconds = float(np.max(np.abs(b - a) / self._speeds))
-            if hand is not None and hand_speed is not None and (
-                    careful is None or careful(hand[k]) or careful(hand[k + 1])):
+            fast = far[k] and k + 2 < len(legs)
+            seconds = float(np.max(np.abs(b - a) / (self._speeds * (CLEAR_FRACTION / SPEED_FRACTION if fast else 1.0))))
+            if slow[k] and hand is not None and hand_speed is not None:
                 seconds = max(seconds, float(np.linalg.norm(hand[k + 1] - hand[k])) / hand_speed)
             n = max(1, math.ceil(seconds / TIME_STEP))
             velocity = (b - a) / (n * TIME_STEP)
@@ -343,6 +361,30 @@ class PhysicsWorld(SimWorld):
             self.step()
         self.config = tuple(float(v) for v in goal)
         self.sync()
+
+    def _clear_legs(self, legs: np.ndarray, slow: Sequence[bool]) -> list[bool]:
+        """Whether each leg of `legs` (but those `slow`) keeps the robot and
+        the object it holds farther than `CLEAR` from every other object,
+        and the held object from the obstacles, at configurations at most
+        `CLEAR_STRIDE` radians apart along it (set, not stepped; the robot
+        is put back where it was)."""
+        start = self.config
+        held = self.bodies.get(self.held) if self.held is not None else None
+        others = [body for name, body in self.bodies.items() if name != self.held]
+
+        def clear(config: np.ndarray) -> bool:
+            SimWorld.set_config(self, config)
+            if any(self.client.getClosestPoints(self.robot, body, CLEAR) for body in others):
+                return False
+            return held is None or not any(self.client.getClosestPoints(held, body, CLEAR)
+                                           for body in [*others, *self.obstacles])
+
+        found = []
+        for k, (a, b) in enumerate(zip(legs, legs[1:])):
+            parts = max(1, math.ceil(float(np.max(np.abs(b - a))) / CLEAR_STRIDE))
+            found.append(not slow[k] and all(clear(a + (b - a) * (i / parts)) for i in range(parts + 1)))
+        SimWorld.set_config(self, start)
+        return found
 
     def _hand_points(self, path: Sequence[Sequence[float]]) -> np.ndarray:
         """The end-effector's position at each configuration of `path`
@@ -367,15 +409,21 @@ class PhysicsWorld(SimWorld):
             self._command(self.config)
 
     def _command(self, target: Sequence[float] | np.ndarray, velocity: np.ndarray | None = None) -> None:
-        zero = [0.0] * len(self.joints)
+        """The joints' position targets (and velocities: 0 without), and the
+        fingers' when `_grip` changed since they were last sent (PyBullet
+        keeps a motor's target until it is sent another)."""
+        self._set(self.joints, np.asarray(target, float).tolist(),
+                  self._still if velocity is None else velocity.tolist(), self._efforts, self._gains)
+        grip = [self._grip[j] for j in self._grip]
+        if grip != self._sent_grip:
+            self._set(list(self._grip), grip, [0.0] * len(grip), self._grip_forces, self._grip_gains)
+            self._sent_grip = grip
+
+    def _set(self, joints: list[int], targets: list[float], velocities: list[float], forces: list[float],
+             gains: tuple[list[float], list[float]]) -> None:
         self.client.setJointMotorControlArray(
-            self.robot, self.joints, pybullet.POSITION_CONTROL, targetPositions=list(map(float, target)),
-            targetVelocities=zero if velocity is None else list(map(float, velocity)), forces=self._efforts,
-            positionGains=[POSITION_GAIN] * len(self.joints), velocityGains=[VELOCITY_GAIN] * len(self.joints))
-        fingers = list(self._grip)
-        self.client.setJointMotorControlArray(
-            self.robot, fingers, pybullet.POSITION_CONTROL, targetPositions=[self._grip[j] for j in fingers],
-            forces=self._grip_forces)
+            self.robot, joints, pybullet.POSITION_CONTROL, targetPositions=targets, targetVelocities=velocities,
+            forces=forces, positionGains=gains[0], velocityGains=gains[1])
 
     # -- the hand -------------------------------------------------------------
 
@@ -421,17 +469,23 @@ class PhysicsWorld(SimWorld):
         self.settle()
 
     def _move_fingers(self) -> None:
-        """Drive the fingers to their targets (`_grip`) until they stop:
-        slower than `FINGER_REST` for `REST_STEPS` steps in a row, after
-        `REST_STEPS` steps at least (closed on the object, or at their
-        limit), at most `GRIP_STEPS`."""
+        """Drive the fingers to their targets (`_grip`) until the hand's
+        opening stops changing: the fingers' speeds summed slower than
+        `FINGER_REST` for `REST_STEPS` steps in a row, after `REST_STEPS`
+        steps at least (closed on the object: the two may still drift
+        together while they press it, the opening does not change; or at
+        their limit), or every finger within `OPEN_ENOUGH` of its target;
+        at most `GRIP_STEPS`."""
         self._command(self.config)
+        fingers = list(self.fingers)
+        targets = [self._grip[j] for j in fingers]
         calm = 0
         for taken in range(1, GRIP_STEPS + 1):
             self.step()
-            speeds = [abs(state[1]) for state in self.client.getJointStates(self.robot, list(self.fingers))]
-            calm = calm + 1 if max(speeds, default=0.0) < FINGER_REST else 0
-            if taken > REST_STEPS and calm >= REST_STEPS:
+            states = self.client.getJointStates(self.robot, fingers)
+            calm = calm + 1 if abs(sum(state[1] for state in states)) < FINGER_REST else 0
+            if taken > REST_STEPS and (calm >= REST_STEPS or all(
+                    abs(state[0] - target) <= OPEN_ENOUGH for state, target in zip(states, targets))):
                 break
 
     def fingers_touch(self, name: str) -> bool:

@@ -21,6 +21,8 @@ CAMERA_DISTANCE = 1.3  # metres: closer than the scene picture's, the robot at w
 STRIDE = 0.25  # radians between frames along a motion
 FRAME_MS = 90  # milliseconds each frame is shown
 HOLD_MS = 600  # ... the frames after a human move and the last one
+COLOURS = 32  # in the GIF's one palette
+SAMPLES = 4  # frames the palette is made from
 
 
 class Recorder:
@@ -47,8 +49,22 @@ class Recorder:
         if not self.frames:
             return 0
         self.durations[-1] = max(self.durations[-1], 4 * HOLD_MS)
-        palette = [frame.convert("P", palette=Image.Palette.ADAPTIVE, colors=128) for frame in self.frames]
+        palette = self._palette()
+        indexed = [frame.quantize(palette=palette, dither=Image.Dither.NONE) for frame in self.frames]
         with atomic_output(self.path, "recording") as temporary:
-            palette[0].save(temporary, format="GIF", save_all=True, append_images=palette[1:],
+            indexed[0].save(temporary, format="GIF", save_all=True, append_images=indexed[1:],
                             duration=self.durations, loop=0, optimize=False)
         return len(self.frames)
+
+    def _palette(self) -> Image.Image:
+        """One palette of `COLOURS` for every frame, made from `SAMPLES`
+        frames spread over the run, applied without dithering: what did
+        not change between two frames has the same colours in both, and
+        the GIF stores only the changed rectangle (a third of the size of
+        a palette per frame, dithered)."""
+        width, height = self.frames[0].size
+        picked = self.frames[::max(1, len(self.frames) // SAMPLES)][:SAMPLES]
+        sheet = Image.new("RGB", (width, height * len(picked)))
+        for k, frame in enumerate(picked):
+            sheet.paste(frame.convert("RGB"), (0, height * k))
+        return sheet.convert("P", palette=Image.Palette.ADAPTIVE, colors=COLOURS)

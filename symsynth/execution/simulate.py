@@ -51,7 +51,7 @@ from symsynth.execution import motion as motions
 from symsynth.execution import hand_motions
 from symsynth.execution.human import Human, Option, Request, ScriptedHuman, Turn
 from symsynth.execution.observe import close, distance, observe, place_at
-from symsynth.execution.physics import PhysicsWorld, Randomization
+from symsynth.execution.physics import FRAME_STEPS, SLIDE_FRAME_STEPS, PhysicsWorld, Randomization
 from symsynth.execution.record import STRIDE, Recorder
 from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import (Move, State, action_name, anchors, costmap_of, legal_human_moves,
@@ -419,6 +419,7 @@ class _Episode:
         if isinstance(self.world, PhysicsWorld) and self.recorder is not None:  # frames as the world steps
             recorder, text = self.recorder, self._caption(caption, self.run.cost)
             self.world.frame = lambda: recorder.frame(text)
+            self.world.frame_every = SLIDE_FRAME_STEPS if move.kind == "slide" else FRAME_STEPS
         if move.kind == "slide":
             step = self._slide(move, v, index, caption)
         elif move.kind in ("grab", "drop"):  # through the registry, as a third-party primitive would be
@@ -579,7 +580,7 @@ class _Episode:
         one is replayed for the frames."""
         if isinstance(self.world, PhysicsWorld):
             if not executed:
-                self.world.follow(path)
+                self.world.follow(path, clear=True)
             return
         if self.recorder is None:
             if path:

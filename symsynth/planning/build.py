@@ -27,6 +27,7 @@ from symsynth.planning.methods import METHODS, costmap_for_mode
 from symsynth.planning.anchors import anchor_configs, mode_queries
 from symsynth.planning.protocol import Config, Mode, Planner, PlannerError, Roadmap
 from symsynth.planning.registry import planner_class, planner_version
+from symsynth.planning.support import lifted, resting
 from symsynth.primitive_registry import displacement, prehensile_primitives
 from symsynth.scene.costmap import Costmap, CostmapError, Provenance, Rule, SlideKey, costmap_from_data
 from symsynth.scene.load import costmap_problems
@@ -156,6 +157,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     stats.workers = max(workers if executor is None else executor.workers, 1)
     built = _roadmaps(scene, name, planner, jobs, settings, seed, workers, bar, executor)
     clock = time.perf_counter()
+    support = resting(scene)
     for (members, anchors), (roadmap, blocked, seconds) in zip(jobs, built):
         stats.seconds["roadmaps"] += seconds[0]
         stats.seconds["edge checks"] += seconds[1]
@@ -167,6 +169,8 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
             for method in methods:
                 rules = costmap_for_mode(member, roadmap, blocked, queries, method, places,
                                                   scene.geometry.per_radian)
+                if member.object is not None:  # lifting an object from under another (support.py)
+                    rules = lifted(rules, support)
                 result[method].update({key: value for key, value in rules.items() if value})
             stats.motions += len(queries)
     clock = stats.add("searches", clock)
@@ -183,12 +187,14 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
 def slide_rules(scene: Scene, planner: Planner, configs: dict[str, Config]) -> dict[SlideKey, tuple[Rule, ...]]:
     """The slide rules of every contact, from its displacement primitive
     (`planning.primitive_protocol`); the same for every costmap method: a slide is
-    one Cartesian path, not a roadmap search."""
+    one Cartesian path, not a roadmap search.  A slide from `x` also requires
+    the places resting on `x` free (`support.resting`)."""
     found: dict[SlideKey, list[Rule]] = {}
+    support = resting(scene)  # an object slid from under another (support.py)
     for contact, spec in sorted(geometry_of(scene).contacts.items()):
         for rule in displacement(spec.primitive).slides(scene, planner, contact, configs):
             found.setdefault((rule.contact, rule.start, rule.goal), []).append(
-                Rule(rule.free, rule.cost, rule.path))
+                Rule(rule.free | support.get(rule.start, frozenset()), rule.cost, rule.path))
     return {key: tuple(sorted(rules, key=lambda r: (r.cost, sorted(r.free)))) for key, rules in sorted(found.items())}
 
 
@@ -279,6 +285,11 @@ def physical_queries(scene: Scene, mode: Mode, touched: dict[str, frozenset[str]
     infinite and rule out the action for a position the robot cannot be in.
     Such a motion is costed as if the place were free, which is what holds
     whenever the robot really stands at that start.
+
+    One exception follows the queries: a place resting on the start's place
+    (`support.resting`) can hold an object when the hand lifts its support
+    from under it, and every rule of a transfer from there requires it
+    free (`support.lifted`).
 
     `touched` maps the mode's anchors to the places their configurations
     touch (`mode_anchors`); motions to or from other anchors are left out."""

@@ -33,8 +33,9 @@ from symsynth.scene.model import Scene, geometry_of
 
 #: Bumped whenever the way costmaps are computed changes, so that no cached
 #: costmap of an older revision is reused.
-FORMAT_REVISION = 5  # 3: the file holds its key (`KEY_FIELD`); 4: contacts, slides, grasp reach;
-# 5: and a checksum of its content (`SUM_FIELD`)
+FORMAT_REVISION = 6  # 3: the file holds its key (`KEY_FIELD`); 4: contacts, slides, grasp reach;
+# 5: and a checksum of its content (`SUM_FIELD`); 6: transfers and slides from under a resting place
+# require it free (`support.py`)
 
 
 def cache_key(scene: Scene, method: str, planner: str, seed: int) -> str:
