@@ -7,7 +7,10 @@ robot turn) with the explicit or the compiled solver's exploration
 (`arena.py`), then run `kernels.py` on it:
 
 - best effort: the class of the initial position from V (winning) and
-  the cooperative cost C (a Dijkstra where both players choose together);
+  the cooperative cost C: where the start is winning, a forward search
+  from it stopped at the win (the strategy is then the worst-case one);
+  else a Dijkstra backwards from the win, robot and human choosing
+  together, gives C and a cooperative move at every turn;
 - expected: the worst-case values as the safety filter (a move a is
   allowed with budget b when cost(a) + V(after a) <= b), value iteration
   per budget level b = 0..B, from above on the zero-cost moves; the
@@ -75,7 +78,20 @@ class ObjectiveSolution:
     realizable: bool | None = None
     stats: dict[str, Any] = field(default_factory=dict)
     arena: Arena | None = field(default=None, repr=False, compare=False)
-    tables: Any = field(default=None, repr=False, compare=False)
+    #: expected: the `Steps`; best effort: (rc, hc, cooperative move, vh), or None until `tables` is asked
+    #: for (the start winning: its strategy is the worst-case one, and C(p0) was found without them)
+    solved: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def tables(self) -> Any:
+        """What the strategy is made of: for `expected` the `Steps`; for
+        best effort (rc, hc, choice, vh): C at each robot turn and human
+        turn, the move of a cheapest cooperative play at each robot turn,
+        and V at each human turn (computed now if the solve did not need
+        them)."""
+        if self.solved is None and self.objective == "best-effort" and self.arena is not None:
+            object.__setattr__(self, "solved", _best_effort_tables(self.arena))
+        return self.solved
 
     def strategy(self) -> Strategy:
         """The strategy of the objective (`play.py`), on `arena`."""
@@ -166,14 +182,18 @@ def solve_objective(scene: Scene, formula: str | ast.Formula | None = None, *, o
     states = arena.size + int(np.count_nonzero(arena.hflag))
     if objective == "best-effort":
         clock = time.perf_counter()
-        rc, hc, coop = kernels.cooperative(arena.hflag, arena.r_off, arena.r_tgt, arena.r_units, arena.h_off,
-                                        arena.h_tgt)
+        if top < INF:  # winning: the strategy is the worst-case one, C(p0) a search from the start
+            tables = None
+            c0 = int(kernels.cooperative_start(arena.hflag, arena.r_off, arena.r_tgt, arena.r_units, arena.h_off,
+                                               arena.h_tgt))
+        else:  # the strategy needs the cheapest cooperative move at every turn it may reach
+            tables = _best_effort_tables(arena, vh)
+            c0 = int(tables[1][0])
         seconds["cooperative"] = time.perf_counter() - clock
-        c0 = int(hc[0])
         cls = "winning" if top < INF else "cooperative" if c0 < INF else "losing"
         return ObjectiveSolution(cost_bound=cost_bound, states=states, seconds=seconds,
                                  position_class=cls, cooperative_cost=None if c0 >= INF else c0 * resolution,
-                                 arena=arena, tables=(rc, hc, coop, vh), **base)
+                                 arena=arena, solved=tables, **base)
     return _expected(arena, vh, top, cost_bound, states, seconds, base, budget, resolution, epsilon)
 
 
@@ -228,7 +248,17 @@ def _expected(arena: Arena, vh: np.ndarray, top: int, cost_bound: float | None, 
     return ObjectiveSolution(cost_bound=cost_bound, states=states, seconds=seconds, budget=shown,
                              budget_units=units, realizable=True, expected_cost=value * resolution, attained=not waits,
                              waiting=waiting, waiting_bound=bound, epsilon=epsilon if waits else None,
-                             stats=stats, arena=arena, **base, tables=steps)
+                             stats=stats, arena=arena, **base, solved=steps)
+
+
+def _best_effort_tables(arena: Arena, vh: np.ndarray | None = None) -> tuple:
+    """(rc, hc, choice, vh) of `ObjectiveSolution.tables`, by the backward
+    Dijkstra of `kernels.cooperative`."""
+    from symsynth.solvers.objectives import kernels
+
+    rc, hc, coop = kernels.cooperative(arena.hflag, arena.r_off, arena.r_tgt, arena.r_units, arena.h_off,
+                                       arena.h_tgt)
+    return rc, hc, coop, arena.human_value() if vh is None else vh
 
 
 def _entries(low: np.ndarray, dist: np.ndarray, units: int) -> int:

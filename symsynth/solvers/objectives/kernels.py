@@ -7,6 +7,7 @@
 - `distances`: the least robot cost from the initial position to each
   turn, forwards; a turn reached with budget b left has b <= B - distance,
   which bounds the budgets the expectation is computed for;
+  `cooperative_start`: the same search stopped at the win, C at the start;
 - (EX itself, at every (turn, budget left): `steps.py`, step functions of the budget);
 - `has_cycle`, `truncated`: whether the expected-cost strategy can go in
   circles (waiting on zero-cost moves), and what it guarantees when it
@@ -155,11 +156,32 @@ def cooperative(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
 @njit(cache=True)
 def distances(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
     """(dr, dh): the least robot cost from node 0's human turn to each robot
-    turn and human turn (INF: not reached).  Dijkstra with a bucket queue
-    (as `cooperative`); turn ids: robot i is i, human i is n + i."""
+    turn and human turn (INF: not reached).  Turn ids: robot i is i, human
+    i is n + i."""
+    dist, _ = _forward(hflag, r_off, r_tgt, r_units, h_off, h_tgt, False)
     n = len(hflag)
-    W, head, e_node, e_dist, e_next = _buckets(r_units, len(r_tgt) + len(h_tgt) + 2 * n + 1)
-    dist = np.full(2 * n, INF, np.int64)
+    return dist[:n].copy(), dist[n:2 * n].copy()
+
+
+@njit(cache=True)
+def cooperative_start(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
+    """C at node 0's human turn (INF: losing): the same search, stopped
+    when the win is settled, so it reads only the turns cheaper to reach
+    than C (a quarter of them at 5 x 7 of the game family)."""
+    _, win = _forward(hflag, r_off, r_tgt, r_units, h_off, h_tgt, True)
+    return win
+
+
+@njit(cache=True)
+def _forward(hflag, r_off, r_tgt, r_units, h_off, h_tgt, stop):
+    """Dijkstra with a bucket queue (as `cooperative`) from node 0's human
+    turn over every move, human moves free: (the distance of each turn
+    (robot i is i, human i is n + i), the distance of the win); with
+    `stop`, it ends when the win (id 2n) is settled, the others left as far
+    as they got."""
+    n = len(hflag)
+    W, head, e_node, e_dist, e_next = _buckets(r_units, len(r_tgt) + len(h_tgt) + 2 * n + 2)
+    dist = np.full(2 * n + 1, INF, np.int64)
     dist[n] = 0
     used = _push(n, 0, W, head, e_node, e_dist, e_next, 0)
     pending = 1
@@ -170,6 +192,10 @@ def distances(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
         y = e_node[x]
         if e_dist[x] != dist[y]:
             continue  # a stale entry
+        if y == 2 * n:
+            if stop:
+                break
+            continue
         if y >= n:
             i = y - n
             if d < dist[i]:
@@ -178,19 +204,21 @@ def distances(hflag, r_off, r_tgt, r_units, h_off, h_tgt):
                 pending += 1
             for e in range(h_off[i], h_off[i + 1]):
                 t = h_tgt[e]
-                if t >= 0 and d < dist[t]:
+                t = 2 * n if t < 0 else t
+                if d < dist[t]:
                     dist[t] = d
                     used = _push(t, d, W, head, e_node, e_dist, e_next, used)
                     pending += 1
         else:
             for e in range(r_off[y], r_off[y + 1]):
                 t = r_tgt[e]
+                t = 2 * n if t < 0 else n + t
                 c = d + r_units[e]
-                if t >= 0 and c < dist[n + t]:
-                    dist[n + t] = c
-                    used = _push(n + t, c, W, head, e_node, e_dist, e_next, used)
+                if c < dist[t]:
+                    dist[t] = c
+                    used = _push(t, c, W, head, e_node, e_dist, e_next, used)
                     pending += 1
-    return dist[:n].copy(), dist[n:].copy()
+    return dist, dist[2 * n]
 
 
 @njit(cache=True)
