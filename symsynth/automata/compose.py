@@ -48,7 +48,7 @@ from symsynth.automata.symbolic import SymbolicDFA, atoms_read, is_local, produc
 from symsynth.automata.tuning import (EXPLICIT_SINGLE, EXPLICIT_PRODUCT, EXPLICIT_EDGES, EXPLICIT_DEGREE,
                                       MOVES_PAIRS, PREFIX_STATES, DISJOINT_PAIRS, DISJOINT_TRIES, GROWTH,
                                       SPARSE_DEGREE, SPARSE_EDGES, FINAL_PRODUCT, FINAL_EDGES, FACTOR_STATES,
-                                      FACTOR_DEGREE, MERGED_EDGES, MERGED_INVARIANT_EDGES, MERGED_DEGREE)
+                                      FACTOR_DEGREE, MERGED_EDGES, MERGED_INVARIANT_EDGES)
 from symsynth.errors import InputError
 from symsynth.logic import ast
 from symsynth.logic.parser import NextSemantics, parse_ltlf
@@ -202,6 +202,7 @@ class Composer:
         self._bounded_dfas: dict[int, bool] = {}  # (ids of DFAs in _alive)
         self._alive: list[GuardedDFA] = []  # keys of _support stay unique
         self._factors: dict[int, tuple[str, list[GuardedDFA]]] = {}  # explicit result -> (op, operands)
+        self._parts: dict[int, list[ast.Formula]] = {}  # merged invariant leaf -> its parts' formulas
 
     def compose(self, formula: ast.Formula) -> Result:
         propositional, bounded = _plain_nodes(formula)
@@ -299,9 +300,12 @@ class Composer:
 
             def leaf(d):
                 nonlocal split
+                if d.num_states < self.factor_states or d.num_edges < self.factor_degree * d.num_states:
+                    return ("c", d)
                 factors = self._factors.get(id(d))
-                if (factors is None or d.num_states < self.factor_states
-                        or d.num_edges < self.factor_degree * d.num_states):
+                if factors is None and id(d) in self._parts:
+                    factors = self._factors[id(d)] = ("and", self.merge([self.leaf(f) for f in self._parts[id(d)]], "and"))
+                if factors is None:
                     return ("c", d)
                 split = True
                 return (factors[0], [("c", f) for f in factors[1]])
@@ -342,6 +346,8 @@ class Composer:
         operands = list(unique)
         if op == "and":
             operands = self._pushed(self._group_invariants(operands))
+        if len(operands) == 1 and id(operands[0]) in self._merged:
+            return op, operands  # (a node of its own: built as a merged invariant, not progressed whole)
         if len(operands) == 1:
             return self.shape(operands[0]) if id(operands[0]) not in self._propositional else None
         return op, operands
@@ -434,12 +440,14 @@ class Composer:
             normal = nnf(formula)
             shape = invariant_shape(normal)
             if shape is not None:  # one-step invariants: states read off the letter
-                edges = min(self.merged_edges * 50, MERGED_INVARIANT_EDGES) if merged else None
-                dfa = minimize(self.invariants.dfa(*shape, edges, MERGED_DEGREE if merged else None))
+                edges = min(self.merged_edges * 1000, MERGED_INVARIANT_EDGES) if merged else None
+                dfa = minimize(self.invariants.dfa(*shape, edges))
             else:
                 dfa = minimize(self.progression.dfa(normal, self.merged_edges if merged else None))
             self._leaves[formula] = dfa
             self._note(dfa, {a.key for a in ast.atoms(formula)})
+            if merged:
+                self._parts[id(dfa)] = self._merged[id(formula)][1]
         return dfa
 
     def combine(self, op: str, operands: list[Result]) -> Result:

@@ -96,14 +96,13 @@ def moves_product(a: GuardedDFA, b: GuardedDFA, op: str, max_edges: int | None) 
     except moves_.TooManyStates as error:
         raise TooLarge(str(error)) from None
     if made.accepting[0]:  # (an implication, a disjunction with a negation)
-        start = moves_.cube(bdd, moves_.bits(bdd, "z", made.width), 0)
+        start = moves_.cube(bdd, moves_.bits(bdd, "z", made.width), made.codes[0] if made.codes else 0)
         if any(succ & start != bdd.false for succ in made.after):  # entered again: a fresh start
-            return minimize(reject_at_start(GuardedDFA(bdd, 0, made.accepting, moves=made.narrowed(bdd),
-                                                        degrees=made.degrees)))
+            dense = moves_.minimize(bdd, made) or made  # (numbered densely: `made` has no codes)
+            return minimize(reject_at_start(GuardedDFA(bdd, 0, dense.accepting, moves=dense.moves,
+                                                        degrees=dense.degrees)))
         made.accepting[0] = False
-    found = moves_.minimize(bdd, made)
-    if found is None:
-        return GuardedDFA(bdd, 0, made.accepting, moves=made.narrowed(bdd), degrees=made.degrees)
+    found = moves_.minimize(bdd, made) or made  # (None: minimal, and dense)
     return GuardedDFA(bdd, 0, found.accepting, moves=found.moves, degrees=found.degrees)
 
 

@@ -18,9 +18,12 @@ from symsynth.automata import moves as moves_
 #: little next to a symbolic product's minimization, which works on pairs of
 #: states (the counters: 1,025 x 5 states explicit in 0.1 s; symbolic, over
 #: a minute).  The edge limit bounds a failed attempt to about a second, and
-#: after one, no pair at least as large is tried (see `merge`).
+#: after one, no pair at least as large is tried (see `merge`).  The pairs'
+#: bound was 1,000,000 until Nim nim_06_01, whose `G A -> (G B & U)` pairs
+#: 730 x 2,909 states, reaches 3,726 of them (818 states minimal) in 12 s
+#: explicitly, and did not finish in 280 s as a symbolic product.
 EXPLICIT_SINGLE = 100_000
-EXPLICIT_PRODUCT = 1_000_000
+EXPLICIT_PRODUCT = 10_000_000
 EXPLICIT_EDGES = 200_000
 
 #: An explicit product made from guards turns to the operands' moves
@@ -98,12 +101,16 @@ FACTOR_DEGREE = 16
 #: A conjunction of bounded-lookahead invariants is one leaf while its DFA
 #: has at most MERGED_EDGES edges (built by progression) or, when it looks
 #: one step ahead (invariant.py, which costs per state), at most
-#: MERGED_INVARIANT_EDGES edges and MERGED_DEGREE successors per state on
-#: average (plus a small slack); past that, part by part.  The degree bound
-#: tells the counters and Nim (4 and 40 successors per state: one leaf) from
-#: the random Syft guarantees (`G(!X p | q)` and mutual exclusions: a state
-#: remembers the last letter and reaches most others, 256 successors per
-#: state), whose parts a symbolic product keeps small.
+#: MERGED_INVARIANT_EDGES edges; past that, part by part.  (Nim nim_06_01's
+#: system invariant: 1,460 states and 568,683 edges in 1.5 s as one leaf;
+#: part by part, products past the edge limits and a symbolic product that
+#: did not finish in 280 s.)  A dense merged leaf that ends in the final
+#: symbolic product is replaced there by its parts, composed as they would
+#: have been (`Composer._factored`): the random Syft guarantees (`G(!X p |
+#: q)` and mutual exclusions, a state remembering the last letter and
+#: reaching most others, 256 successors per state) cost less that way.
+#: (Until session 19 a bound of 64 successors per state on average kept
+#: such leaves apart from the start, and Nim's with them: 136 per state at
+#: five heaps, 389 at six.)
 MERGED_EDGES = 2000
-MERGED_INVARIANT_EDGES = 100_000
-MERGED_DEGREE = 64
+MERGED_INVARIANT_EDGES = 2_000_000
