@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import argparse
 import functools
+import inspect
 import json
 import os
 import platform
@@ -81,7 +82,8 @@ def log(msg):
 # The child: one solver on one scene
 # ---------------------------------------------------------------------------
 
-def worker(solver: str, n: int, m: int, k: int, seed: int, out: str, colours: int = 0) -> int:
+def worker(solver: str, n: int, m: int, k: int, seed: int, out: str, colours: int = 0,
+           time_limit: float = 0.0) -> int:
     import resource
 
     result: dict = {"solver": solver}
@@ -97,11 +99,14 @@ def worker(solver: str, n: int, m: int, k: int, seed: int, out: str, colours: in
         solve = SOLVERS[name]
         if variant:
             solve = functools.partial(solve, **VARIANTS[variant])
+        if time_limit and "time_limit" in inspect.signature(SOLVERS[name]).parameters:
+            solve = functools.partial(solve, time_limit=time_limit)  # (the others answer exactly)
         result["base_kb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
         clock = time.perf_counter()
         solution = solve(scene)
         result["solve_s"] = time.perf_counter() - clock
         result["cost_bound"] = solution.cost_bound
+        result["lower"] = None if solution.exact else _plain(solution.lower_bound)
         result["states"] = solution.states
         result["seconds"] = {str(a): _plain(b) for a, b in dict(solution.seconds).items()}
         result["stats"] = {str(a): _plain(b) for a, b in solution.stats.items()}
@@ -141,6 +146,7 @@ class Cell:
     peak_mb: float | None = None
     base_mb: float | None = None
     cost_bound: float | None = None
+    lower: float | None = None    # with --time-limit, an answer not proven exact: lower <= E_p <= cost_bound
     states: int | None = None
     seconds: dict = field(default_factory=dict)
     stats: dict = field(default_factory=dict)
@@ -151,13 +157,13 @@ class Cell:
         return self.status == "ok"
 
 
-def run_cell(solver, n, m, k, seed, timeout, mem_limit_mb, colours=0) -> Cell:
+def run_cell(solver, n, m, k, seed, timeout, mem_limit_mb, colours=0, time_limit=0.0) -> Cell:
     cell = Cell(solver, n, m, k)
     with tempfile.TemporaryDirectory(prefix="game_bench_") as tmp:
         out = Path(tmp) / "result.json"
         errfile = Path(tmp) / "stderr.txt"
         cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", solver,
-               str(n), str(m), str(k), str(seed), str(out), str(colours)]
+               str(n), str(m), str(k), str(seed), str(out), str(colours), str(time_limit)]
         with open(errfile, "wb") as err:
             start = time.perf_counter()
             proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
@@ -200,6 +206,7 @@ def run_cell(solver, n, m, k, seed, timeout, mem_limit_mb, colours=0) -> Cell:
     cell.prepare_s = result.get("prepare_s", 0.0)
     cell.base_mb = result["base_kb"] / 1024 if "base_kb" in result else None
     cell.cost_bound = result.get("cost_bound")
+    cell.lower = result.get("lower")
     cell.states = result.get("states")
     cell.seconds = result.get("seconds", {})
     cell.stats = result.get("stats", {})
@@ -278,6 +285,8 @@ def report(sizes, solvers, cells, meta, args):
     head += ["E_p"]
     compared = [s for s in solvers if s != "explicit"] if "explicit" in solvers else []
     head += [f"explicit/{s}" for s in compared]
+    if args.time_limit:
+        head += ["intervals [lower, upper] upper/lower"]
     lines.append("| " + " | ".join(head) + " |")
     lines.append("|" + "|".join("---:" for _ in head) + "|")
     mismatches = []
@@ -287,16 +296,28 @@ def report(sizes, solvers, cells, meta, args):
         for s in solvers:
             c = cells.get((s, n, m))
             row += [fmt_s(c), fmt_mb(c), fmt_num(c.states) if c is not None and c.ok else ""]
-            if c is not None and c.ok:
+            if c is not None and c.ok and c.lower is None:
                 values[s] = c.cost_bound
         distinct = {v for v in values.values()}
-        if len(distinct) > 1:
+        bounds = {s: (c.lower, c.cost_bound) for s in solvers
+                  if (c := cells.get((s, n, m))) is not None and c.ok and c.lower is not None}
+        if len(distinct) == 1 and any(not _holds(lo, up, next(iter(distinct))) for lo, up in bounds.values()):
+            mismatches.append((n, m, {s: c.cost_bound for s in solvers
+                                      if (c := cells.get((s, n, m))) is not None and c.ok}))
+            row.append("**MISMATCH** " + ", ".join(f"{s} [{fmt_value(lo)}, {fmt_value(up)}]"
+                                                    for s, (lo, up) in bounds.items())
+                       + f" against {fmt_value(next(iter(distinct)))}")
+        elif len(distinct) > 1:
             mismatches.append((n, m, values))
             row.append("**MISMATCH** " + ", ".join(f"{s} {fmt_value(v)}" for s, v in values.items()))
         else:
             row.append(fmt_value(next(iter(distinct))) if distinct else "")
         for s in compared:
             row.append(_ratio(cells.get(("explicit", n, m)), cells.get((s, n, m))))
+        if args.time_limit:
+            row.append("; ".join(f"{s} [{fmt_value(lo)}, {fmt_value(up)}]"
+                                 + (f" {up / lo:.3f}" if up is not None and lo else "")
+                                 for s, (lo, up) in bounds.items()))
         lines.append("| " + " | ".join(row) + " |")
     lines.append("")
 
@@ -333,6 +354,13 @@ def report(sizes, solvers, cells, meta, args):
     lines += ["```", "", "This file is rewritten by every run; notes on a run and one-off experiments "
               "go in `game-notes.md` next to it.", ""]
     return "\n".join(lines), verdicts
+
+
+def _holds(lower, upper, exact) -> bool:
+    """Whether the interval [lower, upper] (upper None: no strategy proven) holds the exact value."""
+    if exact is None:
+        return upper is None
+    return lower <= exact and (upper is None or exact <= upper)
 
 
 def _ratio(e: Cell | None, y: Cell | None) -> str:
@@ -402,7 +430,8 @@ def environment(args):
                           "n blocks, m locations, 2 Else samples, grasp top, F(pattern)")
     meta["settings"] = (f"time limit {args.timeout:g} s, memory limit "
                         + (f"{args.mem_limit:g} GB" if args.mem_limit else "none")
-                        + (", --quick" if args.quick else "") + (", --no-skip" if args.no_skip else ""))
+                        + (", --quick" if args.quick else "") + (", --no-skip" if args.no_skip else "")
+                        + (f", --time-limit {args.time_limit:g} s per solve" if args.time_limit else ""))
     return meta
 
 
@@ -423,8 +452,8 @@ def parse_sizes(text):
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
     if argv and argv[0] == "--worker":
-        solver, n, m, k, seed, out, colours = argv[1:8]
-        return worker(solver, int(n), int(m), int(k), int(seed), out, int(colours))
+        solver, n, m, k, seed, out, colours, time_limit = argv[1:9]
+        return worker(solver, int(n), int(m), int(k), int(seed), out, int(colours), float(time_limit))
 
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -442,8 +471,13 @@ def main(argv=None):
     p.add_argument("--no-skip", action="store_true", help="run larger sizes even after a failure")
     p.add_argument("--limit", action="append", default=[], metavar="SOLVER=NxM",
                    help="run SOLVER only up to size NxM (in the order of --sizes); repeatable")
+    p.add_argument("--time-limit", type=float, default=0.0, metavar="S",
+                   help="seconds of search given to every solver (they must take time_limit: forward, "
+                        "andor); an answer not proven in time is the interval [lower, upper]")
     p.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"markdown file (default {DEFAULT_OUT})")
     args = p.parse_args(argv)
+    if not args.time_limit >= 0:
+        p.error(f"--time-limit {args.time_limit:g}: expected seconds >= 0 (0: none)")
     if args.timeout is not None and not args.timeout > 0:
         p.error(f"--timeout {args.timeout:g}: expected a positive number of seconds")
     args.timeout = args.timeout or (30.0 if args.quick else 600.0)
@@ -510,18 +544,22 @@ def main(argv=None):
                     bar.update()
                     continue
                 bar.set_description(f"{s} {n}x{m}")
-                cell = run_cell(s, n, m, args.k, args.seed, args.timeout, args.mem_limit * 1024, args.colours)
+                cell = run_cell(s, n, m, args.k, args.seed, args.timeout, args.mem_limit * 1024, args.colours,
+                                args.time_limit)
                 cells[(s, n, m)] = cell
                 bar.update()
                 if cell.ok:
                     extra = " ".join(f"{a}={fmt_num(b)}" for a, b in cell.stats.items())
+                    value = (fmt_value(cell.cost_bound) if cell.lower is None
+                             else f"in [{fmt_value(cell.lower)}, {fmt_value(cell.cost_bound)}]")
                     log(f"{s:>9} {n}x{m}: {cell.solve_s:8.3f} s  {cell.peak_mb:7.0f} MB  "
-                        f"E_p {fmt_value(cell.cost_bound)}  states {fmt_num(cell.states)}  {extra}")
+                        f"E_p {value}  states {fmt_num(cell.states)}  {extra}")
                 else:
                     log(f"{s:>9} {n}x{m}: {cell.status} after {cell.wall_s:.0f} s, "
                         f"peak {cell.peak_mb:.0f} MB" + (f": {cell.error}" if cell.error else ""))
                     failed[s] = cell.status
-            values = {s: cells[(s, n, m)].cost_bound for s in runnable if cells[(s, n, m)].ok}
+            values = {s: cells[(s, n, m)].cost_bound for s in runnable
+                      if cells[(s, n, m)].ok and cells[(s, n, m)].lower is None}
             if len(set(values.values())) > 1:
                 log(f"!!!!!!!! MISMATCH at {n}x{m}: "
                     + ", ".join(f"{s} E_p = {fmt_value(v)}" for s, v in values.items()) + " !!!!!!!!")

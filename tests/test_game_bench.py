@@ -6,7 +6,9 @@ from __future__ import annotations
 import pytest
 
 
-from bench.game_bench import Cell, _target_speedup, main, parse_sizes
+import argparse
+
+from bench.game_bench import Cell, _target_speedup, main, parse_sizes, report
 
 
 def test_sizes_parse():
@@ -30,6 +32,7 @@ def test_sizes_parse():
     (["--sizes", "3x5", "--timeout", "0"], "--timeout 0: expected a positive number"),
     (["--sizes", "3x5", "--mem-limit", "-2"], "--mem-limit -2: expected GB >= 0"),
     (["--sizes", "3x5", "--solvers", ","], "--sizes and --solvers must each name at least one"),
+    (["--sizes", "3x5", "--time-limit", "-1"], "--time-limit -1: expected seconds >= 0"),
 ])
 def test_bad_arguments_are_usage_errors(argv, message, capsys, tmp_path):
     # --out: should the check ever go, the run it lets through must not
@@ -54,3 +57,18 @@ def test_a_solver_limited_below_the_largest_size_is_no_failure():
     assert _target_speedup(sizes, cells, ["explicit", "forward"], "forward")[0] == "PASS"  # 20x
     cells["forward", 2, 3] = Cell("forward", 2, 3, 3, status="TO")
     assert _target_speedup(sizes, cells, ["explicit", "forward"], "forward")[0] == "FAIL"
+
+
+def test_an_interval_that_misses_the_exact_value_is_a_mismatch():
+    """With --time-limit, an anytime answer [lower, upper] is checked against
+    an exact solver's value in the same row: holding it passes, missing it
+    is a MISMATCH (as two different exact values are)."""
+    args = argparse.Namespace(k=3, time_limit=1.0)
+    cells = {("compiled", 2, 3): Cell("compiled", 2, 3, 3, solve_s=1.0, cost_bound=520),
+             ("andor", 2, 3): Cell("andor", 2, 3, 3, solve_s=1.0, cost_bound=530, lower=510)}
+    text, verdicts = report([(2, 3)], ["compiled", "andor"], cells, {}, args)
+    assert "andor [510, 530] 1.039" in text and not any(v == "MISMATCH" for v, _ in verdicts)
+    for lower, upper in ((521, 530), (500, 519), (500, None)):
+        cells["andor", 2, 3] = Cell("andor", 2, 3, 3, solve_s=1.0, cost_bound=upper, lower=lower)
+        text, verdicts = report([(2, 3)], ["compiled", "andor"], cells, {}, args)
+        assert ("MISMATCH" in [v for v, _ in verdicts]) == (upper is not None), (lower, upper)

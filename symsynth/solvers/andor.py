@@ -84,7 +84,9 @@ from symsynth.solvers.packed.lower import BoundTables
 from symsynth.solvers.packed.tables import Tables, check_width
 
 #: Questions between two looks at the clock (and at the arrays' room): a question cut
-#: off there is asked again from the start, its proven parts kept
+#: off there is asked again from the start, its proven parts kept.  Under a time limit a
+#: quarter of it, so that the limit is kept within about 2 s (2 M questions took 9 s at
+#: 7 x 10 on the loaded machine)
 CHUNK = 2_000_000
 #: Rounds after which a search without a time limit gives the game to the layered solver: lo
 #: rises by a cycle's cost per round where the robot can circle cheaply (the forward solver
@@ -172,7 +174,7 @@ class Memo:
         st = self.st
         while True:
             st[sk.ST_ABORT] = 0
-            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + CHUNK
+            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (CHUNK if deadline is None else CHUNK // 4)
             ok = sk._ask(np.int64(i), np.int64(b), np.int64(robot), self.P, self.G, self.B, self.M(), self.S())
             why = int(st[sk.ST_ABORT])
             if why == 0:
@@ -461,13 +463,16 @@ def _warm_up_scene() -> Scene:
 
 
 def memo_trap_warm_up() -> None:
-    """Compile the trap check (only games with a trap reach it)."""
+    """Compile the trap check (only games with a trap reach it) and the
+    table's rehash (only large games reach it), so that numba's cache holds
+    every kernel of the search (`compiled.kernels_cached` checks them all)."""
     scene = _warm_up_scene()
     formula = task_formula(scene, None)
     tables = Tables(scene, formula, 1.0, None, 1)
     memo = Memo(tables, BoundTables(tables, formula), 1)
     memo.node(memo.key2(tables.pack(initial_state(scene)), 0, 1))
     memo.trap()
+    sk._rehash(memo.rec, np.int64(memo.count), np.int64(memo.bits))
 
 
 solve_andor.prepare = prepare  # type: ignore[attr-defined]  # symsynth.solvers.prepare

@@ -5,9 +5,14 @@ The rule follows side-by-side measurements on this project's game families
 (docs/solving.md, bench/results/game.md and game-sort.md), not a guess:
 
 1. a time limit: the exact solver of rule 2 when it is expected to take at
-   most half the limit (from `position_bound`, compile included), else the
-   forward search, the solver that answers anytime (a proven interval and
-   a strategy for its upper end);
+   most half the limit (from `position_bound`, compile included), else a
+   solver that answers anytime (a proven interval and a strategy for its
+   upper end): the AND-OR search (`andor`, the forward search's algorithm
+   on the compiled solver's tables) where the compiled solver can hold the
+   game and its kernels are compiled, or their cold compile takes at most
+   half the limit (pattern family 6 x 8 x k = 3 with 60 s: `andor` exact,
+   649, in 19.9 s; `forward` [641, no upper end] at the limit;
+   bench/results/game-anytime.md), else the forward search;
 2. a game the compiled solver can hold (at most 16 task atoms, a position
    in 62 bits): the compiled solver, the fastest wherever it fits (side by
    side on a quiet machine, pattern family 5 x 7: 0.43 s against 27.6 s for
@@ -66,6 +71,12 @@ def choose(scene: Scene, formula: ast.Formula, time_limit: float | None = None,
         if exact is not None and exact[2] <= time_limit / 2:
             return exact[0], (f"a time limit of {time_limit:g} s, well above what the exact solve is expected "
                               f"to take: {exact[1]}")
+        ready = exact is not None and _kernels_ready(compiled_ready, andor=True)
+        if exact is not None and "andor" not in refused and (ready or COLD_COMPILE_SECONDS <= time_limit / 2):
+            return "andor", ("a time limit, and the game fits the compiled solver's tables: the AND-OR search "
+                             "on them answers anytime, faster than the forward search (measured on the "
+                             "pattern family)" + ("" if ready else f"; its kernels are compiled first (about "
+                                                  f"{COLD_COMPILE_SECONDS:.0f} s, once per install)"))
         if "forward" not in refused:
             return "forward", "a time limit: the forward search is the solver that answers anytime"
     if exact is not None:
@@ -88,9 +99,7 @@ def _exact(scene: Scene, formula: ast.Formula, k: int, refused: Collection[str],
     compiled solver refused the game."""
     if "compiled" in refused:
         return None
-    if compiled_ready is None:
-        from symsynth.solvers.compiled import kernels_cached  # imports numba: only when asked
-        compiled_ready = kernels_cached()
+    compiled_ready = _kernels_ready(compiled_ready)
     positions = position_bound(scene, formula, k)
     fast = positions * COMPILED_SECONDS_PER_POSITION
     if compiled_ready:
@@ -103,6 +112,15 @@ def _exact(scene: Scene, formula: ast.Formula, k: int, refused: Collection[str],
     return "compiled", (f"{COMPILED}; its kernels are compiled first (about {COLD_COMPILE_SECONDS:.0f} s, "
                         f"once per install), less than the explicit solver would take on up to "
                         f"{positions:,} positions (about {slow:.0f} s)"), COLD_COMPILE_SECONDS + fast
+
+
+def _kernels_ready(compiled_ready: bool | None, andor: bool = False) -> bool:
+    """`compiled_ready`, or numba's cache asked when it is None (with
+    `andor`, for the AND-OR search's kernels too)."""
+    if compiled_ready is None:
+        from symsynth.solvers.compiled import kernels_cached  # imports numba: only when asked
+        return kernels_cached(andor)
+    return compiled_ready
 
 
 def position_bound(scene: Scene, formula: ast.Formula, k: int) -> int:
@@ -140,7 +158,7 @@ def solve_auto(scene: Scene, formula: str | ast.Formula | None = None, *, k: int
     refused: dict[str, str] = {}
     while True:
         name, reason = choose(scene, formula, time_limit, refused, k=k)
-        options = {} if time_limit is None or name != "forward" else {"time_limit": time_limit}
+        options = {} if time_limit is None or name not in ("forward", "andor") else {"time_limit": time_limit}
         try:
             solution = SOLVERS[name](scene, formula, k=k, budget=budget, resolution=resolution, **options)
         except OutOfReach as error:

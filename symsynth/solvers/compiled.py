@@ -224,17 +224,25 @@ def compile_kernels() -> float | None:
     return time.perf_counter() - clock
 
 
-def kernels_cached() -> bool:
+def kernels_cached(andor: bool = False) -> bool:
     """Whether a solve now would compile nothing: this process has compiled
     or loaded the kernels already, or numba's disk cache holds machine code
     for every kernel as it is now (an index entry for this source file, this
     CPU and the kernel's bytecode, as numba itself checks before loading).
-    False when numba's cache cannot be read this way (its layout is numba's
-    own): then the compile is expected."""
-    if _compiled:
+    With `andor`, the AND-OR search's kernels (`packed.search`) too.  False
+    when numba's cache cannot be read this way (its layout is numba's own):
+    then the compile is expected."""
+    from symsynth.solvers import andor as andor_search
+
+    if _compiled and (not andor or andor_search._prepared):
         return True
     try:
-        return all(_cached(kernel) for kernel in kernels.dispatchers())
+        from numba.core.registry import CPUDispatcher
+
+        from symsynth.solvers.packed import search
+
+        extra = [v for v in vars(search).values() if isinstance(v, CPUDispatcher)] if andor else []
+        return all(_cached(kernel) for kernel in kernels.dispatchers() + extra)
     except (AttributeError, TypeError, OSError):  # numba's private cache layout changed
         return False
 

@@ -10,8 +10,7 @@ documents the algorithm and why it is exact).
   compiled solver's kernels (`packed.kernels`, imported, not copied), their
   targets found or created (`_node`, with `_lower`, `solvers.bound`'s bound
   on `packed.lower`'s tables);
-- `_proof`, `_trap`: the robot turns a proof visits; the trap the human can
-  close within what was generated.
+- `_trap`: the trap the human can close within what was generated.
 
 A node is one row of `rec` (64 bytes: what a question reads of it
 together).  These kernels call into `packed.kernels`, whose changes numba's
@@ -409,38 +408,6 @@ def _sorted_in(order, d, cnt, key):
 def _reply(key, first):
     """The reply (0: the pass, e + 1: move e) an ordering key stands for."""
     return first if key < 0 else key & 0xFFFF
-
-
-@njit(cache=True)
-def _proof(start, M, hb, seen, stack):
-    """The robot turns the proof of the start's hi_h visits: from a human turn
-    the pass and every move, from a robot turn its chosen action; marks
-    them in seen (bit 0 robot turn, bit 1 human turn); their count."""
-    table, rec, rm_tgt, rm_move, hm_tgt = M
-    top = 0
-    stack[0] = 2 * start + 1
-    seen[start] |= 2
-    robots = 0
-    while top >= 0:
-        x = stack[top]
-        top -= 1
-        i = x >> 1
-        if x & 1:  # a human turn
-            nm = 0 if rec[i, KEY] & ((1 << hb) - 1) == 0 else _small(rec, i, 16)
-            for e in range(-1, nm):
-                t = i if e < 0 else hm_tgt[rec[i, H_OFF] + e]
-                if t >= 0 and not seen[t] & 1:
-                    seen[t] |= 1
-                    robots += 1
-                    top += 1
-                    stack[top] = 2 * t
-        else:
-            t = rm_tgt[rec[i, R_OFF] + _small(rec, i, 32) - 1]
-            if t >= 0 and not seen[t] & 2:
-                seen[t] |= 2
-                top += 1
-                stack[top] = 2 * t + 1
-    return robots
 
 
 @njit(cache=True)
