@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import dataclasses
 
-import pytest
 import yaml
 
 from symsynth.game.abstraction import State, legal_robot_moves
