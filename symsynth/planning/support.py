@@ -42,7 +42,7 @@ def resting(scene: Scene) -> dict[str, frozenset[str]]:
     `p` that may (module doc)."""
     geometry = geometry_of(scene)
     shapes = geometry.shapes
-    bounds = {(name, place): _bounds(shapes[name], pose)
+    bounds = {(name, place): bounds(shapes[name], pose)
               for name in scene.object_names for place, pose in geometry.places.items()}
     found: dict[str, set[str]] = {}
     for (below, x), (above, p) in itertools.permutations(bounds, 2):
@@ -55,7 +55,7 @@ def resting(scene: Scene) -> dict[str, frozenset[str]]:
     return {x: frozenset(ps) for x, ps in sorted(found.items())}
 
 
-def _bounds(shape: Shape, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
+def bounds(shape: Shape, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
     """The world-frame axis-aligned box of `shape` standing at `pose`."""
     if shape.kind == "box":
         sx, sy, sz = shape.size
