@@ -117,3 +117,29 @@ def test_labels_name_the_objects_and_cover_no_other_label_or_point():
         for other, (a0, b0, a1, b1) in drawn[i + 1:]:
             assert x1 <= a0 or a1 <= x0 or y1 <= b0 or b1 <= y0, (name, other)
         assert not any(x0 <= u <= x1 and y0 <= v <= y1 for u, v in points), name
+
+
+def test_the_camera_sees_every_place_open_to_the_sky_where_one_side_can():
+    """From the front-right the shelf's board hides `out`, where the pulled
+    block goes: the camera looks from the side instead, and a ray from its
+    eye (PyBullet's ray test, in the scene's world) reaches `out` and every
+    other place not beneath the board without meeting an obstacle.  The
+    line, with nothing to hide its places, keeps the front-right view."""
+    from symsynth.execution.render import default_camera
+    from symsynth.execution.world import SimWorld
+    from symsynth.scene import load_scene
+
+    for name, sideways in (("shelf", True), ("line", False)):
+        scene = load_scene(SCENES / f"{name}.yaml")
+        camera = default_camera(scene, 480, 360)
+        world = SimWorld(scene)
+        try:
+            for place, pose in scene.geometry.places.items():
+                if place == "under":
+                    continue
+                mark = (pose.xyz[0], pose.xyz[1], pose.xyz[2] + 0.03)
+                hit = world.client.rayTest(camera.eye, mark)[0]
+                assert hit[0] not in world.obstacles, (name, place)
+        finally:
+            world.close()
+        assert (abs(camera.eye[0] - camera.target[0]) < 0.01) == sideways, name

@@ -31,6 +31,7 @@ from symsynth.bullet import pybullet as p
 from symsynth.errors import SymsynthError
 from symsynth.files import atomic_output
 from symsynth.execution.world import SimWorld
+from symsynth.planning.support import bounds
 from symsynth.scene.model import Scene, geometry_of
 
 
@@ -65,16 +66,52 @@ class Camera:
 
 def default_camera(scene: Scene, width: int, height: int, distance: float = 1.9) -> Camera:
     """Looking at the centre of the places (or 40 cm in front of the robot)
-    from the front-right and above, `distance` metres away."""
+    from above (40 degrees down), `distance` metres away: from the
+    front-right (35 degrees) unless the static obstacles hide more of the
+    places open to the sky from there than from another side (`YAWS`, in
+    that order; on the shelf the board hides `out`, where the pulled block
+    goes, from the front-right, and from the side it does not; `under`,
+    beneath the board, is not counted)."""
     geometry = geometry_of(scene)
     places = [pose.xyz for pose in geometry.places.values()]
     centre = np.mean(places, axis=0) if places else np.array(geometry.robot.base.xyz) + [0.4, 0.0, 0.0]
     target = (float(centre[0]) - 0.1, float(centre[1]), 0.2)
-    yaw, pitch = math.radians(35.0), math.radians(40.0)
-    eye = (target[0] + distance * math.cos(pitch) * math.cos(yaw),
-           target[1] + distance * math.cos(pitch) * math.sin(yaw),
-           target[2] + distance * math.sin(pitch))
-    return Camera(eye=eye, target=target, width=width, height=height)
+    pitch = math.radians(40.0)
+    boxes = [bounds(body.shape, body.pose) for body in geometry.obstacles]
+    marks = [np.asarray(xyz, float) + [0.0, 0.0, MARK_HEIGHT] for xyz in places]
+    marks = [m for m in marks if not any(_crosses(m + [0.0, 0.0, distance], m, box) for box in boxes)]
+    best: tuple[int, tuple[float, float, float]] | None = None
+    for yaw in map(math.radians, YAWS):
+        eye = (target[0] + distance * math.cos(pitch) * math.cos(yaw),
+               target[1] + distance * math.cos(pitch) * math.sin(yaw),
+               target[2] + distance * math.sin(pitch))
+        hidden = sum(any(_crosses(np.asarray(eye), mark, box) for box in boxes) for mark in marks)
+        if best is None or hidden < best[0]:
+            best = (hidden, eye)
+    assert best is not None  # YAWS is not empty
+    return Camera(eye=best[1], target=target, width=width, height=height)
+
+
+YAWS = (35.0, -35.0, 90.0, -90.0)  # degrees about z, from +x: the sides a camera looks from
+MARK_HEIGHT = 0.03  # metres above a place: the point that must be seen
+
+
+def _crosses(start: np.ndarray, end: np.ndarray, box: tuple[np.ndarray, np.ndarray]) -> bool:
+    """Whether the segment from `start` to `end` passes through the
+    axis-aligned `box` (low, high) before reaching `end` (the slab method)."""
+    low, high = box
+    direction = end - start
+    enter, leave = 0.0, 1.0 - 1e-9
+    for axis in range(3):
+        if abs(direction[axis]) < 1e-12:
+            if not low[axis] <= start[axis] <= high[axis]:
+                return False
+            continue
+        a, b = sorted(((low[axis] - start[axis]) / direction[axis], (high[axis] - start[axis]) / direction[axis]))
+        enter, leave = max(enter, a), min(leave, b)
+        if enter > leave:
+            return False
+    return True
 
 
 def render_scene(scene: Scene, path: Path | str, *, width: int = 800, height: int = 600,

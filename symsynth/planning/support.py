@@ -42,20 +42,20 @@ def resting(scene: Scene) -> dict[str, frozenset[str]]:
     `p` that may (module doc)."""
     geometry = geometry_of(scene)
     shapes = geometry.shapes
-    bounds = {(name, place): _bounds(shapes[name], pose)
-              for name in scene.object_names for place, pose in geometry.places.items()}
+    boxes = {(name, place): bounds(shapes[name], pose)
+             for name in scene.object_names for place, pose in geometry.places.items()}
     found: dict[str, set[str]] = {}
-    for (below, x), (above, p) in itertools.permutations(bounds, 2):
+    for (below, x), (above, p) in itertools.permutations(boxes, 2):
         if below == above or x == p or p in found.get(x, ()):
             continue
-        (low, high), (top_low, _) = bounds[(below, x)], bounds[(above, p)]
-        overlap = np.minimum(high[:2], bounds[(above, p)][1][:2]) - np.maximum(low[:2], top_low[:2])
+        (low, high), (top_low, top_high) = boxes[(below, x)], boxes[(above, p)]
+        overlap = np.minimum(high[:2], top_high[:2]) - np.maximum(low[:2], top_low[:2])
         if abs(top_low[2] - high[2]) <= TOUCH and bool(np.all(overlap > OVERLAP)):
             found.setdefault(x, set()).add(p)
     return {x: frozenset(ps) for x, ps in sorted(found.items())}
 
 
-def _bounds(shape: Shape, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
+def bounds(shape: Shape, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
     """The world-frame axis-aligned box of `shape` standing at `pose`."""
     if shape.kind == "box":
         sx, sy, sz = shape.size
