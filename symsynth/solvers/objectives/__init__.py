@@ -201,6 +201,7 @@ def _expected(arena: Arena, vh: np.ndarray, top: int, cost_bound: float | None, 
               seconds: dict[str, float], base: dict[str, Any], budget: float | None, resolution: float,
               epsilon: float) -> ObjectiveSolution:
     from symsynth.solvers.objectives import kernels
+    from symsynth.solvers.objectives import steps as kernel
     from symsynth.solvers.objectives.steps import Steps, dense_choice, expected_steps
 
     if top >= INF:  # undefined: no strategy wins against every human
@@ -220,7 +221,7 @@ def _expected(arena: Arena, vh: np.ndarray, top: int, cost_bound: float | None, 
     yorder = yorder[arena.hflag[yorder] > 0]
     steps = Steps(*expected_steps(np.int64(units), arena.layer, arena.hflag, arena.r_off, arena.r_tgt,
                                   arena.r_units, arena.rval, vh, dr, dh, arena.stay, arena.h_off, arena.h_tgt,
-                                  arena.h_prob, xorder, yorder))
+                                  arena.h_prob, xorder, yorder, np.int64(kernel.CHUNK)))
     value = steps.y(0, units)
     seconds["expected"] = time.perf_counter() - clock
     waits = False
