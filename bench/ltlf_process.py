@@ -118,7 +118,7 @@ def measure(family: str, name: str, text: str, work: Path, args) -> dict:
         return row
     row["mona_s"], row["mona_cpu"], status = timed(["mona", *MONA_FLAGS, str(program)], args.timeout, args.reps)
     row["mona_status"] = "ok" if row["mona_s"] is not None else status
-    if row["mona_s"] is not None and wall is not None:
+    if row["mona_s"] is not None and wall is not None and not args.no_check:
         nonempty = work / "nonempty.mona"
         nonempty.write_text(program.read_text() + "0 in $;\n")
         output, complete = read_mona(nonempty, 3 * args.timeout)
@@ -141,6 +141,9 @@ def main(argv=None) -> int:
     parser.add_argument("--timeout", type=float, default=30.0, help="wall seconds per command run")
     parser.add_argument("--reps", type=int, default=3)
     parser.add_argument("--out", type=Path, default=Path("bench/results/ltlf-process.md"))
+    parser.add_argument("--only", default="", help="instances to run (names, comma-separated; default all)")
+    parser.add_argument("--no-check", action="store_true",
+                        help="skip the comparison with MONA's automaton (it runs MONA and symsynth once more)")
     args = parser.parse_args(argv)
     args.commit = commit()
     chosen = args.families.split(",")
@@ -152,6 +155,8 @@ def main(argv=None) -> int:
             items = ours[family] if family in ours else dataset_formulas(args.data, family)
             dead = False
             for name, text in items:
+                if args.only and name not in args.only.split(","):
+                    continue
                 if dead:  # a scaling family: past a timeout, the larger ones are skipped
                     rows.append({"family": family, "instance": name, "symsynth_status": "TO*",
                                  "mona_status": "TO*", "commit": args.commit, "ours": family in ours})
@@ -192,7 +197,8 @@ def write(rows: list[dict], args, loads: list[float]) -> None:
     write_atomic(csv_path, table.getvalue(), "the benchmark rows")
     lines = ["# `symsynth dfa` against raw MONA as processes", "",
              f"Command: `python bench/ltlf_process.py --families {args.families} --timeout {args.timeout:g} "
-             f"--reps {args.reps}`; symsynth at {args.commit}; machine: {platform.machine()}, "
+             f"--reps {args.reps}" + (f" --only {args.only}" if args.only else "") +
+             (" --no-check" if args.no_check else "") + f"`; symsynth at {args.commit}; machine: {platform.machine()}, "
              f"{os.cpu_count()} cores, Python {platform.python_version()}, shared with other jobs (load "
              f"average {min(loads):.1f} to {max(loads):.1f} during the run). Wall seconds of the whole "
              "command and its CPU seconds (user + system), medians of the runs (one run past 1 s); "

@@ -37,6 +37,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
+from symsynth.automata import choice
 from symsynth.automata.bdd import BACKEND, BDD, Function, new_manager
 from symsynth.automata.invariant import Invariants, invariant_shape
 from symsynth.automata.normal import expose, nnf, split_conjuncts
@@ -54,7 +55,7 @@ from symsynth.logic import ast
 from symsynth.logic.parser import NextSemantics, parse_ltlf
 
 #: How `compile_ltlf` builds the DFA (its docstring).
-Construction = Literal["compositional", "progression"]
+Construction = Literal["auto", "compositional", "progression"]
 
 #: Limits past which a formula is refused with a message (each part's state
 #: bits and each atom is a BDD variable; the product's state count is
@@ -66,7 +67,7 @@ MAX_STATE_BITS = 1000
 def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = "strong",
                  source: str = "<formula>", bdd: BDD | None = None,
                  prefix: str = "#q", compositional: bool = True,
-                 limits: dict[str, Any] | None = None, construction: Construction = "compositional") -> SymbolicDFA:
+                 limits: dict[str, Any] | None = None, construction: Construction = "auto") -> SymbolicDFA:
     """The minimal complete DFA of an LTLf formula over non-empty traces.
 
     `formula` is text (parsed with `next_semantics`, errors naming `source`)
@@ -86,12 +87,17 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
     ASSERT alone tracks every subset of the board, 2^(N*M), and the whole
     the boards that legal moves reach) and loses where a part's
     progression is exponential (the counters' `counter_i <-> X carry_i`).
+    `"auto"` (the default) chooses between the two by `choice.py`'s rule
+    and budget; `limits` or `compositional=False` make it compositional
+    (they are about that construction).
     """
-    if construction not in ("compositional", "progression"):
-        raise ValueError(f"construction must be 'compositional' or 'progression', not {construction!r}")
+    if construction not in ("auto", "compositional", "progression"):
+        raise ValueError(f"construction must be 'auto', 'compositional' or 'progression', not {construction!r}")
+    if construction == "auto" and (limits is not None or not compositional):
+        construction = "compositional"
     with _without_cyclic_gc():
         return _compile(formula, next_semantics, source, bdd, prefix,
-                        "whole" if construction == "progression" else compositional, limits)
+                        construction if compositional else False, limits)
 
 
 @contextmanager
@@ -111,7 +117,7 @@ def _without_cyclic_gc() -> Iterator[None]:
 
 
 def _compile(formula: str | ast.Formula, next_semantics: NextSemantics, source: str, bdd: BDD | None,
-             prefix: str, compositional: bool | Literal["whole"], limits: dict[str, Any] | None) -> SymbolicDFA:
+             prefix: str, construction: Construction | Literal[False], limits: dict[str, Any] | None) -> SymbolicDFA:
     if isinstance(formula, str):
         formula = parse_ltlf(formula, source=source, next_semantics=next_semantics)
     atom_keys = [a.key for a in ast.atoms(formula)]
@@ -120,9 +126,16 @@ def _compile(formula: str | ast.Formula, next_semantics: NextSemantics, source: 
                          f"of at most {MAX_ATOMS}")
     progression = Progression(atom_keys)
     acceptance: tuple | None
-    if compositional == "whole":
-        components, acceptance = [minimize(progression.dfa(nnf(formula)))], None
-    elif compositional:
+    whole = None
+    if construction == "progression":
+        whole = minimize(progression.dfa(nnf(formula)))
+    elif construction == "auto":
+        whole = _progressed_within_budget(formula, progression)
+        if whole is None:
+            progression = Progression(atom_keys)  # (the attempt's obligations and nodes left behind)
+    if whole is not None:
+        components, acceptance = [whole], None
+    elif construction:
         composer = Composer(progression, **(limits or {}))
         result = composer.finish(composer.compose(formula))
         if isinstance(result, GuardedDFA):
@@ -161,6 +174,19 @@ def _compile(formula: str | ast.Formula, next_semantics: NextSemantics, source: 
     if own:
         manager.configure(reordering=False)  # a stable order for whoever uses the DFA
     return dfa
+
+
+def _progressed_within_budget(formula: ast.Formula, progression: Progression) -> GuardedDFA | None:
+    """`construction="auto"`: the minimal DFA of the whole formula by
+    progression, unless `choice.rule` sends it to the compositional
+    construction or it passes `choice`'s budget (None then)."""
+    if choice.rule(formula) is not None:
+        return None
+    try:
+        return minimize(progression.dfa(nnf(formula), choice.AUTO_EDGES,
+                                        (choice.AUTO_DENSE_AFTER, choice.AUTO_DEGREE)))
+    except TooLarge:  # (TooDense too)
+        return None
 
 
 # --------------------------------------------------------------- composition

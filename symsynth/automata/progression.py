@@ -304,11 +304,14 @@ class Progression:
                     found.setdefault(other, []).append(name)
         return found
 
-    def dfa(self, formula: ast.Formula, max_edges: int | None = None) -> GuardedDFA:
+    def dfa(self, formula: ast.Formula, max_edges: int | None = None,
+            max_degree: tuple[int, int] | None = None) -> GuardedDFA:
         """The complete DFA of an NNF formula; states are numbered in BFS order.
 
         With `max_edges`, `TooLarge` is raised once the DFA has more edges
-        (pairs of a state and a successor) than that."""
+        (pairs of a state and a successor) than that; with `max_degree`
+        `(states, degree)`, `TooDense` when the first `states` states have
+        more than `degree` successors each on average."""
         self._learn_implications(formula)
         start = self._canonical(self.obligation(True, formula))
         index = {start: 0}
@@ -321,10 +324,11 @@ class Progression:
             grew(len(order))
             accepting.append(self._accepts(state))
             out: dict[int, Function] = {}
-            if max_edges is not None:
-                count += len(edges[-1]) if edges else 0
-                if count > max_edges:
-                    raise TooLarge(f"more than {max_edges} edges")
+            count += len(edges[-1]) if edges else 0
+            if max_edges is not None and count > max_edges:
+                raise TooLarge(f"more than {max_edges} edges")
+            if max_degree is not None and len(edges) == max_degree[0] and count > max_degree[1] * len(edges):
+                raise TooDense(f"more than {max_degree[1]} successors per state")
             for succ, guard in self._successors(state, below).items():
                 if succ not in index:
                     index[succ] = len(order)

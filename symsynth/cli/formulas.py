@@ -27,11 +27,13 @@ MAX_STATES = 1_000_000
 
 def add_limits(parser: argparse.ArgumentParser) -> None:
     """--max-bytes, --max-states and --construction."""
-    parser.add_argument("--construction", choices=("compositional", "progression"), default="compositional",
-                        help="how the DFA is built: compositional (default: a minimal DFA per part, combined) "
-                             "or progression of the whole formula from its start, which builds only the states "
-                             "reachable there (faster when the parts are large alone and small together, as in "
-                             "SYNTCOMP's chomp; slower on counters)")
+    parser.add_argument("--construction", choices=("auto", "compositional", "progression"), default="auto",
+                        help="how the DFA is built: compositional (a minimal DFA per part, combined), progression "
+                             "of the whole formula from its start (only the states reachable there: faster when the "
+                             "parts are large alone and small together, as in SYNTCOMP's chomp; slower on counters), "
+                             "or auto (default): compositional for an equivalence with a next operand or temporal "
+                             "parts over disjoint atoms, else progression while it stays under 200,000 edges "
+                             "(and 64 successors per state over its first 32), compositional past that (docs/ltlf.md)")
     parser.add_argument("--max-states", type=count, default=MAX_STATES, metavar="N",
                         help="refuse a formula once an automaton built for it passes N states "
                              f"(default {MAX_STATES:,}; 0: no limit)")
@@ -58,7 +60,7 @@ def parse(text: str, source: str, next_semantics: NextSemantics) -> ast.Formula:
 
 
 def compile_formula(formula: ast.Formula, source: str, max_states: int,
-                    construction: Construction = "compositional") -> SymbolicDFA:
+                    construction: Construction = "auto") -> SymbolicDFA:
     """`compile_ltlf`, refused past `max_states` explicit states (0: no
     limit), with a count of the states built on a terminal."""
     with bar(desc=f"building the DFA of {source}", unit=" states", unit_scale=True, delay=1.0) as shown, \

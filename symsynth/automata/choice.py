@@ -1,0 +1,105 @@
+"""Which construction `compile_ltlf(construction="auto")` uses: a rule read
+off the formula, then a bounded race.
+
+The compositional construction (compose.py) builds a minimal DFA for each
+part of the formula alone; progression (progression.py) builds the states
+of the whole formula reachable from its start.  Each loses badly somewhere:
+
+- progression, where its obligations are exponential in the formula's
+  size: an equivalence with a next on one side (`counter_i <-> X carry_i`:
+  the counters, Double-Counter counters_03 3.0 s against 0.12 s), and a
+  Boolean combination of temporal parts over disjoint atoms, whose states
+  progression multiplies out (GFand's `G p1 & F p2 & ... & F pn`: 2^(n-1)
+  states with 2^(n-1) successors each, where the compositional construction
+  keeps the parts apart in a symbolic product);
+- the compositional construction, where a part is large alone and small in
+  context: SYNTCOMP's chomp, whose `G ASSERT` tracks every subset of the
+  board (1,538 states at 2 x 5) while the boards reachable from the initial
+  one are few (64 states in all).
+
+So `auto` takes the compositional construction when the formula has one of
+the two shapes above (`rule`), and otherwise progresses the whole formula
+under a budget, AUTO_EDGES edges, and at most AUTO_DEGREE successors per
+state on average over its first AUTO_DENSE_AFTER states; past the budget
+the work is dropped and the compositional construction runs.  (Nim's
+formula has chomp's shape, `Init & (G A -> (G B & U))`, but its states are
+dense from the start, 228 successors each over the first 16 at five heaps,
+700 at six: progression and its minimization by guards cost 16 s at five
+heaps, the compositional construction 4 s, on moves.  Chomp's first states
+have 5-9 successors; a few later ones thousands, 36 on average at 4 x 3.)
+Measurements: docs/ltlf.md, "Choosing the construction".
+"""
+
+from __future__ import annotations
+
+from symsynth.logic import ast
+
+#: Progression's budget under `auto`: edges in all (chomp 4 x 3: 76,419), ...
+AUTO_EDGES = 200_000
+#: ... and successors per state on average over the first AUTO_DENSE_AFTER
+#: states (chomp 2 x 5 and 4 x 3: 5.8 and 6.9; Nim nim_05_01: 236).
+AUTO_DEGREE = 64
+AUTO_DENSE_AFTER = 32
+
+_NEXT = (ast.Next, ast.WeakNext)
+_TEMPORAL = (ast.Next, ast.WeakNext, ast.Eventually, ast.Always, ast.Until, ast.Release, ast.WeakUntil)
+_BOOLEAN = (ast.Not, ast.And, ast.Or, ast.Implies, ast.Equiv)
+
+
+def rule(formula: ast.Formula) -> str | None:
+    """Why `formula` goes to the compositional construction directly (a
+    sentence), or None when progression is tried first."""
+    if _next_equivalence(formula):
+        return "an equivalence with a next operand (progression is exponential in them)"
+    if len(_independent_parts(formula)) > 1:
+        return "temporal parts over disjoint atoms (progression multiplies their states)"
+    return None
+
+
+def _children(node: ast.Formula) -> tuple[ast.Formula, ...]:
+    if isinstance(node, ast.UNARY):
+        return (node.arg,)
+    if isinstance(node, ast.BINARY):
+        return (node.left, node.right)
+    return ()
+
+
+def _has_next(node: ast.Formula) -> bool:
+    stack = [node]
+    while stack:
+        f = stack.pop()
+        if isinstance(f, _NEXT):
+            return True
+        stack.extend(_children(f))
+    return False
+
+
+def _next_equivalence(formula: ast.Formula) -> bool:
+    """Whether an `<->` has a next (`X`, `WX`) in exactly one operand."""
+    stack = [formula]
+    while stack:
+        f = stack.pop()
+        if isinstance(f, ast.Equiv) and _has_next(f.left) != _has_next(f.right):
+            return True
+        stack.extend(_children(f))
+    return False
+
+
+def _independent_parts(formula: ast.Formula) -> list[set[str]]:
+    """The atoms of the formula's temporal parts (the subformulas under its
+    Boolean skeleton whose top operator is temporal), grouped by the atoms
+    they share (connected components)."""
+    parts: list[set[str]] = []
+    stack = [formula]
+    while stack:
+        f = stack.pop()
+        if isinstance(f, _BOOLEAN):
+            stack.extend(_children(f))
+        elif isinstance(f, _TEMPORAL) and ast.atoms(f):  # (a part without atoms reads trace lengths)
+            parts.append({a.key for a in ast.atoms(f)})
+    groups: list[set[str]] = []
+    for atoms in parts:
+        joined = [g for g in groups if g & atoms]
+        merged = set(atoms).union(*joined)
+        groups = [g for g in groups if not g & atoms] + [merged]
+    return groups

@@ -1,0 +1,92 @@
+"""`compile_ltlf(construction="auto")`: the rule of symsynth/automata/choice.py
+and progression's budget choose the construction as docs/ltlf.md says, and
+the DFA is the minimal one either way (checked against the reference DFA of
+tests/support/reference.py).  Which construction ran is seen by counting the
+compositional construction's calls; nothing is timed."""
+
+from __future__ import annotations
+
+import pytest
+
+from support.reference import distinguishing_trace, minimal_num_states, reference_dfa
+from symsynth.automata import choice, compile_ltlf, compose
+from symsynth.logic import atoms, parse_ltlf
+
+
+@pytest.fixture
+def composed(monkeypatch):
+    """How many times the compositional construction ran."""
+    calls = []
+    original = compose.Composer.compose
+
+    def counted(self, formula):
+        calls.append(formula)
+        return original(self, formula)
+
+    monkeypatch.setattr(compose.Composer, "compose", counted)
+    return calls
+
+
+def check(text: str) -> None:
+    formula = parse_ltlf(text)
+    dfa = compile_ltlf(formula)
+    assert dfa.num_states == minimal_num_states(formula), text
+    assert distinguishing_trace(dfa, reference_dfa(formula), [a.key for a in atoms(formula)]) is None, text
+
+
+@pytest.mark.parametrize(("text", "why"), [
+    ("G(a <-> X b)", "next"),                 # the counters' counter_i <-> X carry_i
+    ("G(X[!] b <-> a) & F c", "next"),
+    ("G a & F b & F c", "disjoint"),          # GFand
+    ("(a U b) & (c U d)", "disjoint"),        # Uconj
+    ("G(a -> X b) | F c", "disjoint"),
+])
+def test_the_rule_sends_these_shapes_to_the_compositional_construction(text, why, composed):
+    reason = choice.rule(parse_ltlf(text))
+    assert reason is not None and ("next" in reason if why == "next" else "disjoint" in reason), reason
+    check(text)
+    assert composed, text
+
+
+@pytest.mark.parametrize("text", [
+    "a & (G(a -> X b) -> G(b -> X a) & F(a & b))",   # chomp's shape, one connected part
+    "G(a <-> b) & F(a & X b)",                         # an equivalence, no next in it
+    "G(a -> X(a <-> b))",                              # a next on both sides of nothing: inside X
+    "F last & G a",                                    # a part without atoms joins no group
+])
+def test_other_formulas_are_progressed_whole_within_the_budget(text, composed):
+    assert choice.rule(parse_ltlf(text)) is None, text
+    check(text)
+    assert not composed, text
+
+
+def test_past_the_edge_budget_the_compositional_construction_runs(monkeypatch, composed):
+    text = "a & (G(a -> X b) -> G(b -> X a) & F(a & b))"
+    monkeypatch.setattr(choice, "AUTO_EDGES", 3)
+    check(text)
+    assert composed
+
+
+def test_dense_first_states_send_it_to_the_compositional_construction(monkeypatch, composed):
+    """The states of G((a -> X c) & (b -> X d)) have 4 or 5 successors
+    (one per set of pending c, d, and the sink once one is pending): over a
+    budget of 3 per state, within one of 5."""
+    text = "G((a -> X[!] c) & (b -> X[!] d))"
+    monkeypatch.setattr(choice, "AUTO_DENSE_AFTER", 3)
+    monkeypatch.setattr(choice, "AUTO_DEGREE", 3)
+    check(text)
+    assert composed
+    composed.clear()
+    monkeypatch.setattr(choice, "AUTO_DEGREE", 5)
+    check(text)
+    assert not composed
+
+
+def test_limits_and_the_named_constructions_are_kept(composed):
+    text = "a & (G(a -> X b) -> G(b -> X a) & F(a & b))"
+    compile_ltlf(text, construction="progression")
+    assert not composed
+    compile_ltlf(text, construction="compositional")
+    assert len(composed) == 1
+    compile_ltlf(text, limits={"single": 10**9})  # limits are the compositional construction's
+    assert len(composed) == 2
