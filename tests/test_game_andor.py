@@ -48,6 +48,26 @@ def test_zero_cost_moves_go_to_the_layered_solver():
         assert solve_andor(scene, k=seed % 3).units == solve_explicit(scene, k=seed % 3).units, seed
 
 
+def test_zero_cost_moves_under_a_time_limit_are_out_of_reach():
+    """The layered solver, which answers zero-cost games, takes no time
+    limit: under one, such a game is out of the search's reach (auto then
+    goes on), every other game is answered within its interval."""
+    from symsynth.game.solution import OutOfReach
+
+    refused = 0
+    for seed in range(12):
+        scene = random_scene(7000 + seed, positive=False)
+        exact = solve_explicit(scene, k=seed % 3).units
+        try:
+            found = solve_andor(scene, k=seed % 3, time_limit=30)
+        except OutOfReach as error:
+            assert "0 units" in str(error)
+            refused += 1
+            continue
+        assert found.units == exact, seed
+    assert refused >= 1
+
+
 class _Clock:
     """A clock that ticks once per look: deadlines fall after a known number
     of looks, whatever the machine's speed."""

@@ -73,8 +73,8 @@ from collections.abc import Iterator, Mapping
 import numpy as np
 
 from symsynth.game.abstraction import in_costmap_units, initial_state, legal_human_moves, legal_robot_moves
-from symsynth.game.solution import (Position, Solution, Step, check_parameters, task_formula, verdict,
-                                    won_at_start)
+from symsynth.game.solution import (OutOfReach, Position, Solution, Step, check_parameters, task_formula,
+                                    verdict, won_at_start)
 from symsynth.game.symmetry import Symmetry
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
@@ -224,7 +224,9 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     is not proven in time: `Solution.lower_units <= E_p <= units`, with a
     strategy that guarantees `units` (None when none was proven in time).
     Games with a zero-cost robot move, and games the robot loses (for the
-    counter play), are answered by the layered solver."""
+    counter play), are answered by the layered solver; with `time_limit`, a
+    zero-cost move is `OutOfReach` instead (the layered solver takes no
+    limit: `auto` goes on to the forward search)."""
     from symsynth.solvers.compiled import solve_compiled
 
     k = check_parameters(scene, k, resolution)
@@ -247,6 +249,10 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     try:
         lower, upper, rounds = _search(memo, start, deadline)
     except (_ZeroCost, _TooManyRounds) as why:
+        if time_limit is not None:  # (rounds run out only without a limit)
+            raise OutOfReach("a robot move of this game costs 0 units, which the AND-OR search hands to the "
+                             "layered solver, and that one takes no time limit: drop the time limit, or use "
+                             "the forward search (--solver forward)") from None
         return _layered(solve_compiled(scene, formula, k=k, budget=budget, resolution=resolution,
                                        symmetric=symmetric), why.__doc__ or "")
     seconds["search"] = time.perf_counter() - clock

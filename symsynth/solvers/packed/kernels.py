@@ -487,6 +487,17 @@ def _room_nodes(keys, hflag, r_off, h_off, count, room, store):
     return keys, hflag, r_off, h_off
 
 
+@njit(cache=True)
+def _known(moves, nm, table, bits):
+    """Each target key among moves[:nm] found in the table (only read) as
+    node j becomes -2 - j."""
+    for e in range(nm):
+        if moves[e] >= 0:
+            j = _find(table, bits, moves[e])
+            if j >= 0:
+                moves[e] = -2 - j
+
+
 @njit(cache=True, parallel=True)
 def _robot_batch(b0, b1, keys, out, mvb, cnt, room, table, bits, n, m, F, pb, eb, gb, qbits, anchor_at,
                  anchor_count, home_starts, samples_mask, rule_start, rule_count, rule_free, rule_units,
@@ -519,10 +530,7 @@ def _robot_batch(b0, b1, keys, out, mvb, cnt, room, table, bits, n, m, F, pb, eb
                             accepting, table, bits, units)
             for e in range(nm):
                 mvb[base + e] = (units[e] << code_bits) | codes[e]
-                if moves[e] >= 0:
-                    j = _find(table, bits, moves[e])
-                    if j >= 0:
-                        moves[e] = -2 - j
+            _known(moves, nm, table, bits)
             cnt[i - b0] = nm | ((sink & 1) << 40)  # (keeps the first reads)
 
 
@@ -539,24 +547,13 @@ def _robot_layer(st, lo, b0, b1, room, keys, hflag, r_off, r_tgt, r_move, table,
             break
         base = (i - b0) * room
         nm = cnt[i - b0] & ((1 << 32) - 1)
-        for e in range(nm):  # the first slots read at once, so that the cache misses overlap
-            if out[base + e] >= 0:
-                sink ^= table[_slot(out[base + e], bits), 0]
+        count, sink = _number(out, base, nm, table, bits, keys, count, sink, r_tgt, ne)
         for e in range(nm):
-            w = out[base + e]
-            j = -1
-            if w >= 0:
-                j = _probe(table, bits, w, count)
-                if j == count:
-                    keys[count] = w
-                    count += 1
-            elif w < -1:
-                j = -2 - w
+            j = r_tgt[ne + e]
             if j >= 0:
                 hflag[j] = 1
-            r_tgt[ne] = j
-            r_move[ne] = mvb[base + e]
-            ne += 1
+            r_move[ne + e] = mvb[base + e]
+        ne += nm
         r_off[i + 1] = ne
         i += 1
     st[0], st[1], st[2], st[5] = i, count, ne, sink
@@ -590,12 +587,31 @@ def _human_batch(b0, b1, keys, hflag, out, cnt, room, table, bits, n, m, F, pb, 
             sink = _targets(moves, nm, True, key & ((1 << qbits) - 1), n, m, F, pb, eb, qbits, class_members,
                             class_offsets, place_rank, rank_place, desc, atom_at, free_at, free_all, trans,
                             accepting, table, bits, letters)
-            for e in range(nm):
-                if moves[e] >= 0:
-                    j = _find(table, bits, moves[e])
-                    if j >= 0:
-                        moves[e] = -2 - j
+            _known(moves, nm, table, bits)
             cnt[i - b0] = nm | ((sink & 1) << 40)  # (keeps the first reads)
+
+
+@njit(cache=True)
+def _number(out, base, nm, table, bits, keys, count, sink, tgt, t0):
+    """The node numbers of the nm targets a batch left in out[base:] (-1 a
+    win, -2 - j found as node j, else a key: probed, and added as node
+    `count` when new), into tgt[t0:t0 + nm]; (count, sink) after them.  The
+    first slots are read at once, so that the cache misses overlap."""
+    for e in range(nm):
+        if out[base + e] >= 0:
+            sink ^= table[_slot(out[base + e], bits), 0]
+    for e in range(nm):
+        w = out[base + e]
+        j = -1
+        if w >= 0:
+            j = _probe(table, bits, w, count)
+            if j == count:
+                keys[count] = w
+                count += 1
+        elif w < -1:
+            j = -2 - w
+        tgt[t0 + e] = j
+    return count, sink
 
 
 @njit(cache=True)
@@ -607,27 +623,17 @@ def _human_layer(st, lo, b0, b1, room, keys, h_off, h_tgt, table, bits, out, cnt
     counted, and stored (h_off, h_tgt: their target nodes, -1 for a win)
     while st[4] says so."""
     i, count, nh, store, sink = st[0], st[1], st[3], st[4], st[5]
+    scratch = np.empty(room, np.int64)  # the targets' numbers while they are not stored
     while i < b1:
         if (count + room > len(keys) or 2 * (count + room - lo) > len(table)
                 or (store and nh + room > len(h_tgt))):
             break
         base = (i - b0) * room
         nm = cnt[i - b0] & ((1 << 32) - 1)
-        for e in range(nm):  # the first slots read at once, so that the cache misses overlap
-            if out[base + e] >= 0:
-                sink ^= table[_slot(out[base + e], bits), 0]
-        for e in range(nm):
-            w = out[base + e]
-            j = -1
-            if w >= 0:
-                j = _probe(table, bits, w, count)
-                if j == count:
-                    keys[count] = w
-                    count += 1
-            elif w < -1:
-                j = -2 - w
-            if store:
-                h_tgt[nh + e] = j
+        if store:
+            count, sink = _number(out, base, nm, table, bits, keys, count, sink, h_tgt, nh)
+        else:
+            count, sink = _number(out, base, nm, table, bits, keys, count, sink, scratch, 0)
         nh += nm
         if store:
             h_off[i + 1] = nh

@@ -29,7 +29,7 @@ from symsynth.solvers.packed.kernels import INF, _canon, _human_moves, _insert, 
 # in the code of kernels.py's: its SHA-256 (first 16 hex digits) stands here, so
 # that a change there changes this file too and no stale machine code is
 # loaded (tests/test_numba_cache.py fails until it is updated).
-COMPILED_WITH = {"kernels.py": "0e08f080942b2d20"}
+COMPILED_WITH = {"kernels.py": "e4a5b3789bf06122"}
 
 # st: the search's counters and flags, one int64 array
 ST_COUNT, ST_NE, ST_NH, ST_CALLS, ST_ABORT, ST_LIMIT, ST_BITS, ST_DEPTH, ST_DEEPEST = range(9)
