@@ -1,11 +1,11 @@
 """The objectives of semantics §9 against the worst-case solve, side by side
 in one process, on the game family (bench/gamefamily.py).
 
-    python bench/objectives_bench.py 5x7 [--colours C] [--P 0.3]
+    python bench/objectives_bench.py 5x7 [--colours C] [--seed S] [--P 0.3]
     python bench/objectives_bench.py scenes [--P 0.3]
 
-Prints, for `pattern_scene(n, m, k=3)` (with `colours=C`: the sorting
-variant), or for the bundled physical scenes (the arch and the line with
+Prints, for `pattern_scene(n, m, k=3, seed=S)` (with `colours=C`: the
+sorting variant), or for the bundled physical scenes (the arch and the line with
 their cached recursive costmaps, at their k), the compiled worst-case solve,
 best effort and expected (B = E_p; on the scenes also 1.5 E_p; random(P)) with their
 seconds and the ratios to the worst-case solve.  The kernels of all three
@@ -34,6 +34,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("size", help="NxM: blocks x locations; or 'scenes': the arch and the line")
     parser.add_argument("--colours", type=int, default=None)
+    parser.add_argument("--seed", type=int, default=0, help="the game family's seed (its layout and costs)")
     parser.add_argument("--P", default="0.3")
     args = parser.parse_args()
     compile_kernels()
@@ -48,8 +49,8 @@ def main() -> None:
             side_by_side(p.scene, p.formula, args.P, (1.0, 1.5))
     else:
         n, m = map(int, args.size.split("x"))
-        print(f"pattern_scene({n}, {m}, k=3, colours={args.colours})")
-        side_by_side(pattern_scene(n, m, k=3, colours=args.colours), None, args.P, (1.0,))
+        print(f"pattern_scene({n}, {m}, k=3, seed={args.seed}, colours={args.colours})")
+        side_by_side(pattern_scene(n, m, k=3, seed=args.seed, colours=args.colours), None, args.P, (1.0,))
     print(f"load at end {os.getloadavg()[0]:.2f}")
 
 

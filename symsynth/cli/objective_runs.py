@@ -12,8 +12,10 @@ every human is also checked (the most any human can make it cost).
 With `--in-world` (a physical scene) the strategy is run in the world
 (`--world kinematic|physics`, `execution.simulate`), solved on the explicit
 solver's graph: the expected-cost strategy with its budget counter
-(`execution.objective_policy`), against no human or the model's random
-human; each run's measured cost is reported next to EX, E_p and B.
+(`execution.objective_policy`), against no human, the model's random
+human or (expected) the adversary, which takes the reply after which the
+strategy may still pay the most (`BudgetPolicy.still_to_pay`); each run's
+measured cost is reported next to EX, E_p and B.
 """
 
 from __future__ import annotations
@@ -41,7 +43,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "--human (random: the human model; adversarial; cooperative for best-effort)")
     parser.add_argument("--in-world", action="store_true",
                         help="--objective: run the strategy in the world (--world) instead of the abstraction, "
-                             "against --human none or random (the model); physical scenes only")
+                             "against --human none, random (the model) or, for expected, adversarial (the "
+                             "reply after which the strategy may still pay the most); physical scenes only")
     parser.add_argument("--human-model", metavar="NAME:ARGS",
                         help="--objective: the model of the random human (default: the scene's human.model, "
                              "else random:--move-probability)")
@@ -129,16 +132,22 @@ def run_objective_world(args: argparse.Namespace, problem: Problem) -> int:
     from symsynth.planning.registry import planner_class
     from symsynth.problem import simulation_planner
     from symsynth.solvers.objectives import solve_objective
-    from symsynth.solvers.objectives.files import objective_table
+    from symsynth.solvers.objectives.files import objective_table, to_pay_by_position
 
     scene = problem.scene
     if scene.geometry is None:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world: leave out --in-world")
-    if args.human not in ("none", "random"):
-        raise InputError(f"--in-world runs against --human none or random (the model), not {args.human!r}")
+    wanted = ("none", "random", "adversarial") if args.objective == "expected" else ("none", "random")
+    if args.human not in wanted:
+        raise InputError(f"--in-world --objective {args.objective} runs against --human {', '.join(wanted)}, "
+                         f"not {args.human!r}")
     model = human_model(scene, args.human_model) or parse_model(f"random:{args.move_probability!r}")
     if not isinstance(model, RandomModel):
         raise InputError(f"--in-world: the world's random human is random(P); the model {model.name} is not")
+    if args.world is None:  # as `simulate` chooses it: physics where the fingers close on every grasp
+        from symsynth.execution.physics import default_world
+
+        args.world, _ = default_world(scene)
     planner = planner_class(simulation_planner(scene, args.planner))(scene)
     s = solve_objective(scene, problem.formula, objective=args.objective, model=model, budget=args.budget,
                         solver="explicit")
@@ -146,12 +155,16 @@ def run_objective_world(args: argparse.Namespace, problem: Problem) -> int:
         print(f"EX         undefined (no B-safe strategy; E_p {s.cost_bound}): nothing to run")
         return 1
     table = objective_table(scene, problem.task, problem.formula, s)
-    policy = (BudgetPolicy(table, GameGraph(scene, problem.formula, s.resolution)) if args.objective == "expected"
-              else Policy(table.positions, {}, None))
+    policy = Policy(table.positions, {}, None)
+    budget = policy.budget
+    if args.objective == "expected":  # the adversary chooses by what the strategy may still pay
+        to_pay = to_pay_by_position(s) if args.human == "adversarial" else None
+        policy = budgeted = BudgetPolicy(table, GameGraph(scene, problem.formula, s.resolution), to_pay)
+        budget = budgeted.still_to_pay
     simulator = Simulator(scene, problem.formula, policy, planner, resolution=s.resolution, world=args.world,
                           randomization=args.randomize)
-    runs = [simulator.run(HUMANS[args.human](HumanContext(args.seed + i, float(model.probability), policy.budget,
-                                                          scene)), args.seed + i) for i in range(args.runs)]
+    runs = [simulator.run(HUMANS[args.human](HumanContext(args.seed + i, float(model.probability), budget, scene)),
+                          args.seed + i) for i in range(args.runs)]
     out = _world_summary(s, runs)
     if args.json:
         print(json.dumps(s.to_json() | {"scene": scene.name, "world": args.world, "human": args.human,

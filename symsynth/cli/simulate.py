@@ -83,9 +83,11 @@ and is reported as one.
 against the random human of --human-model (mean cost with its 95%
 confidence interval next to EX), the adversary, and for best effort a
 cooperating human, with the share of runs that finish.  With --in-world it
-runs in the world (--world) against --human none or random: the
-expected-cost strategy keeps its budget counter, and each run's measured
-cost is reported next to EX, E_p and B (never above B).
+runs in the world (--world) against --human none or random (and, for
+expected, adversarial: the reply after which the strategy may still pay
+the most with the budget it has left): the expected-cost strategy keeps
+its budget counter, and each run's measured cost is reported next to EX,
+E_p and B (never above B).
 
 Exit status: 0 when every run completed within E_p without a soundness
 divergence; 1 otherwise (or when no guarantee holds and --best-effort was

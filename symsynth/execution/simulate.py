@@ -201,6 +201,12 @@ class Policy:
     def moved(self, position: Position, action: str) -> None:
         """The robot carried out `action` at `position` (a policy with memory counts it)."""
 
+    def memory(self) -> object:
+        """What the policy remembers of the run now (None: nothing); a
+        position the robot's turn comes back to with other memory is
+        progress (a budget spent), not the world failing the abstraction."""
+        return None
+
 
 class ActionFailed(SymsynthError):
     pass
@@ -261,7 +267,7 @@ class _Episode:
         self.run = Run(seed, human.name, sim.policy.bound)
         self.anchor: str | None = HOME  # the anchor the robot stands on, None when off every anchor
         self.actions = 0
-        self.visits: dict[Position, int] = {}
+        self.visits: dict[tuple, int] = {}  # (position, the policy's memory): robot turns there
         self.last: str | None = None
         self.expected: State = observe(self.scene, world)  # the abstraction's state after the last step
         sim.policy.start()
@@ -284,8 +290,9 @@ class _Episode:
                     return self._end(True, "completed (by a human move)")
             if self.actions >= self.max_actions:
                 return self._end(False, f"gave up after {self.actions} robot actions")
-            self.visits[(v, q, h)] = self.visits.get((v, q, h), 0) + 1
-            if self.visits[(v, q, h)] > MAX_VISITS:  # the abstraction's progress never came about
+            seen = (v, q, h, self.sim.policy.memory())
+            self.visits[seen] = self.visits.get(seen, 0) + 1
+            if self.visits[seen] > MAX_VISITS:  # the abstraction's progress never came about
                 return self._end(False, f"stuck: the robot's turn came {MAX_VISITS + 1} times at the observed "
                                  f"position {format_position((v, q, h), self.scene.object_names)} "
                                  "(its actions do not do in the world what the abstraction says)")

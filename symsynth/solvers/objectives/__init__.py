@@ -118,8 +118,8 @@ class ObjectiveSolution:
             "states": self.states, "seconds": dict(self.seconds), "resolution": self.resolution,
             "solver": self.solver}
         if self.objective == "expected":
-            out |= {"human_model": self.human_model, "budget": json_number(self.budget), "expected_cost": self.expected_cost,
-                    "realizable": self.realizable, "attained": self.attained,
+            out |= {"human_model": self.human_model, "budget": json_number(self.budget),
+                    "expected_cost": self.expected_cost, "realizable": self.realizable, "attained": self.attained,
                     "waiting": self.waiting, "waiting_bound": self.waiting_bound, "epsilon": self.epsilon}
         else:
             out |= {"class": self.position_class, "cooperative_cost": self.cooperative_cost,

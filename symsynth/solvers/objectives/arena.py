@@ -165,9 +165,11 @@ def from_compiled(scene: Scene, formula: ast.Formula, k: int, resolution: float,
     if model is not None:
         counts = np.diff(h_off)
         wide = int(counts.max(initial=0)) + 1
-        pairs, which = np.unique(layer * wide + counts, return_inverse=True)  # each (h, moves) asked once
-        stay = [float(model.pass_probability(x // wide, x % wide)) for x in pairs.tolist()]  # checked above
-        arena.stay = np.array(stay)[which]
+        pairs = layer * wide + counts
+        table = np.zeros((k + 1) * wide)
+        for x in np.flatnonzero(np.bincount(pairs, minlength=len(table))).tolist():  # each (h, moves) asked once
+            table[x] = float(model.pass_probability(x // wide, x % wide))  # checked above
+        arena.stay = table[pairs]
         share = np.where(counts > 0, (1.0 - arena.stay) / np.maximum(counts, 1), 0.0)
         arena.h_prob = np.repeat(share, counts)
     arena.tables = tables  # type: ignore[attr-defined]  # to name positions and moves

@@ -14,7 +14,7 @@ from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.objectives import ObjectiveSolution
 from symsynth.solvers.objectives.arena import INF, Arena
-from symsynth.solvers.objectives.play import ExpectedStrategy, Strategy, replies
+from symsynth.solvers.objectives.play import ExpectedStrategy, Strategy, replies, still_to_pay
 
 
 def objective_table(scene: Scene, task: str, formula: ast.Formula, s: ObjectiveSolution) -> ObjectiveStrategyFile:
@@ -100,3 +100,13 @@ def _best_effort_turns(arena: Arena, strategy: Strategy, classes: Any, table: Ob
         cost, steps = claim[i]
         table.claims[position] = ("winning" if arena.rval[i] < INF else "cooperative",
                                   None if math.isinf(cost) else int(cost), None if math.isinf(steps) else int(steps))
+
+
+def to_pay_by_position(s: ObjectiveSolution) -> dict[tuple[Position, int, int], int]:
+    """`play.still_to_pay` of the expected-cost strategy of `s` (solved on
+    the explicit solver's graph), keyed by (position, budget left, count)."""
+    if s.arena is None or s.expected_cost is None:
+        return {}
+    names = s.arena.positions
+    worst = still_to_pay(s.strategy(), int(s.budget_units or 0))
+    return {(names[i], b, w): cost for (i, b, w), cost in worst.items()}

@@ -8,8 +8,9 @@ does at a turn, every play it allows checked, and runs against humans.
   cheapest cooperative play's move at cooperative ones.
 - `check_expected` follows a strategy through every human behaviour (each
   pass and move at each human turn) and returns the largest total cost
-  (raising on a play that never wins); `check_best_effort` checks that no
-  robot move lowers the class.
+  (raising on a play that never wins), from `still_to_pay` (the most still
+  to pay from every turn reached, which the world's adversary maximizes);
+  `check_best_effort` checks that no robot move lowers the class.
 - `run`: one play against a human (`model`: the arena's model; `worst`:
   the reply of largest V; `cooperative`: the reply on a cheapest cooperative
   play), its cost and whether it won.
@@ -79,6 +80,15 @@ def check_expected(strategy: Strategy, budget: int, switched: bool = True) -> in
     """The largest total cost (units) of a play of `strategy` from the start
     with `budget` left, over every human behaviour; a `RuntimeError` when a
     play goes in circles or reaches a turn where the strategy has no move."""
+    worst = still_to_pay(strategy, budget)
+    return max(worst[(j, budget, 0)] if j >= 0 else 0 for j in replies(strategy.arena, 0))
+
+
+def still_to_pay(strategy: Strategy, budget: int) -> dict[Turn, int]:
+    """The most `strategy` may still pay (units) from each robot turn
+    (node, budget left, its count) that a play of it from the start with
+    `budget` reaches, over every human behaviour: what an adversary that
+    knows the strategy maximizes.  A `RuntimeError` as `check_expected`."""
     arena = strategy.arena
     worst: dict[Turn, int] = {}
     on_path: set[Turn] = set()
@@ -100,7 +110,10 @@ def check_expected(strategy: Strategy, budget: int, switched: bool = True) -> in
         worst[turn] = cost
         return cost
 
-    return max(robot((j, budget, 0)) if j >= 0 else 0 for j in replies(arena, 0))
+    for j in replies(arena, 0):
+        if j >= 0:
+            robot((j, budget, 0))
+    return worst
 
 
 def check_best_effort(strategy: BestEffortStrategy, classes: np.ndarray) -> int:
