@@ -66,6 +66,7 @@ def test_a_signal_ends_the_command_and_its_workers(tmp_path, signum, code):
     finally:
         if process.poll() is None:
             process.kill()
+            process.communicate()  # reaped and its pipes closed, not left to a later test's collection
     if signum != signal.SIGKILL:
         assert "Traceback" not in err
         # the last line: the progress bar's (not a terminal, so it is not cleared), then the message
@@ -98,3 +99,31 @@ def test_sigterm_ends_a_long_solve_at_once(tmp_path, solver):
     finally:
         if process.poll() is None:
             process.kill()
+            process.communicate()  # reaped and its pipes closed, not left to a later test's collection
+
+
+FORK_RACE = """
+import os, signal, sys
+from symsynth.parallel import LocalPool
+
+def square(x):
+    return x * x
+
+# the signal arrives while the pool forks: in the parent, right after a child exists
+os.register_at_fork(after_in_parent=lambda: os.kill(os.getpid(), signal.SIGINT))
+try:
+    with LocalPool(2) as pool:
+        results = dict(pool.imap(square, [1, 2, 3]))
+except KeyboardInterrupt:
+    sys.exit(130)
+print(sorted(results.values()))
+"""
+
+
+def test_ctrl_c_while_the_pool_forks_stops_the_work():
+    """Python prints "Exception ignored" for a KeyboardInterrupt raised in a
+    fork's hooks and goes on: the command then ran to its end.  The pool
+    holds SIGINT and SIGTERM back while it forks, so the stop comes after."""
+    done = subprocess.run([sys.executable, "-c", FORK_RACE], capture_output=True, text=True, timeout=60,
+                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    assert done.returncode == 130 and "Exception ignored" not in done.stderr, (done.returncode, done.stderr)
