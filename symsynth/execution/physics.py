@@ -373,7 +373,7 @@ class PhysicsWorld(SimWorld):
         others = [body for name, body in self.bodies.items() if name != self.held]
 
         def clear(config: np.ndarray) -> bool:
-            SimWorld.set_config(self, config)
+            SimWorld.set_config(self, config.tolist())
             if any(self.client.getClosestPoints(self.robot, body, CLEAR) for body in others):
                 return False
             return held is None or not any(self.client.getClosestPoints(held, body, CLEAR)
