@@ -24,9 +24,9 @@ state on average over its first AUTO_DENSE_AFTER states; past the budget
 the work is dropped and the compositional construction runs.  (Nim's
 formula has chomp's shape, `Init & (G A -> (G B & U))`, but its states are
 dense from the start, 228 successors each over the first 16 at five heaps,
-700 at six: progression and its minimization by guards cost 16 s at five
-heaps, the compositional construction 4 s, on moves.  Chomp's first states
-have 5-9 successors; a few later ones thousands, 36 on average at 4 x 3.)
+684 at six: progression and its minimization by guards cost 16 s at five
+heaps, the compositional construction 4 s, on moves.  Chomp's first 16
+states have 8-9 successors; a few later ones thousands, 36 on average at 4 x 3.)
 Measurements: docs/ltlf.md, "Choosing the construction".
 """
 
@@ -37,9 +37,10 @@ from symsynth.logic import ast
 #: Progression's budget under `auto`: edges in all (chomp 4 x 3: 76,419), ...
 AUTO_EDGES = 200_000
 #: ... and successors per state on average over the first AUTO_DENSE_AFTER
-#: states (chomp 2 x 5 and 4 x 3: 5.8 and 6.9; Nim nim_05_01: 236).
+#: states (chomp 2 x 5 and 4 x 3: 8.1 and 9.2; Nim nim_05_01: 228, nim_06_01: 684).
+#: (32 states at first: AG's, Nim's and Syft's dropped attempts cost more, docs/ltlf.md.)
 AUTO_DEGREE = 64
-AUTO_DENSE_AFTER = 32
+AUTO_DENSE_AFTER = 16
 
 _NEXT = (ast.Next, ast.WeakNext)
 _TEMPORAL = (ast.Next, ast.WeakNext, ast.Eventually, ast.Always, ast.Until, ast.Release, ast.WeakUntil)

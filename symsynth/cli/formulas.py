@@ -33,7 +33,7 @@ def add_limits(parser: argparse.ArgumentParser) -> None:
                              "parts are large alone and small together, as in SYNTCOMP's chomp; slower on counters), "
                              "or auto (default): compositional for an equivalence with a next operand or temporal "
                              "parts over disjoint atoms, else progression while it stays under 200,000 edges "
-                             "(and 64 successors per state over its first 32), compositional past that (docs/ltlf.md)")
+                             "(and 64 successors per state over its first 16), compositional past that (docs/ltlf.md)")
     parser.add_argument("--max-states", type=count, default=MAX_STATES, metavar="N",
                         help="refuse a formula once an automaton built for it passes N states "
                              f"(default {MAX_STATES:,}; 0: no limit)")
