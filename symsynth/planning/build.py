@@ -14,7 +14,7 @@ import dataclasses
 import os
 import time
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -174,7 +174,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
                 result[method].update({key: value for key, value in rules.items() if value})
             stats.motions += len(queries)
     clock = stats.add("searches", clock)
-    slides = slide_rules(scene, planner, configs)
+    slides = slide_rules(scene, planner, configs, support)
     stats.add("slides", clock)
     bar.close()
     stats.rules = sum(len(r) for found in result.values() for r in found.values())
@@ -184,13 +184,13 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
             for method, found in result.items()}, stats
 
 
-def slide_rules(scene: Scene, planner: Planner, configs: dict[str, Config]) -> dict[SlideKey, tuple[Rule, ...]]:
+def slide_rules(scene: Scene, planner: Planner, configs: dict[str, Config],
+                support: Mapping[str, frozenset[str]]) -> dict[SlideKey, tuple[Rule, ...]]:
     """The slide rules of every contact, from its displacement primitive
     (`planning.primitive_protocol`); the same for every costmap method: a slide is
     one Cartesian path, not a roadmap search.  A slide from `x` also requires
-    the places resting on `x` free (`support.resting`)."""
+    the places resting on `x` free (`support`, from `support.resting`)."""
     found: dict[SlideKey, list[Rule]] = {}
-    support = resting(scene)  # an object slid from under another (support.py)
     for contact, spec in sorted(geometry_of(scene).contacts.items()):
         for rule in displacement(spec.primitive).slides(scene, planner, contact, configs):
             found.setdefault((rule.contact, rule.start, rule.goal), []).append(

@@ -41,8 +41,8 @@ def resting(scene: Scene) -> dict[str, frozenset[str]]:
     """For every place `x` with something that may rest on it, the places
     `p` that may (module doc)."""
     geometry = geometry_of(scene)
-    shapes = geometry.shapes
-    boxes = {(name, place): bounds(shapes[name], pose)
+    outlines = {name: corners(geometry.shapes[name]) for name in scene.object_names}
+    boxes = {(name, place): placed(outlines[name], pose)
              for name in scene.object_names for place, pose in geometry.places.items()}
     found: dict[str, set[str]] = {}
     for (below, x), (above, p) in itertools.permutations(boxes, 2):
@@ -57,17 +57,27 @@ def resting(scene: Scene) -> dict[str, frozenset[str]]:
 
 def bounds(shape: Shape, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
     """The world-frame axis-aligned box of `shape` standing at `pose`."""
+    return placed(corners(shape), pose)
+
+
+def corners(shape: Shape) -> np.ndarray:
+    """Points in the shape's own frame whose hull is the shape's: a box's or
+    cylinder's bounding corners, a mesh's vertices (its file read once a shape,
+    not once a place)."""
     if shape.kind == "box":
         sx, sy, sz = shape.size
-        corners = np.array(list(itertools.product((-sx / 2, sx / 2), (-sy / 2, sy / 2), (0.0, sz))))
-    elif shape.kind == "cylinder":
+        return np.array(list(itertools.product((-sx / 2, sx / 2), (-sy / 2, sy / 2), (0.0, sz))))
+    if shape.kind == "cylinder":
         r = shape.radius
-        corners = np.array(list(itertools.product((-r, r), (-r, r), (0.0, shape.height))))
-    else:
-        assert shape.mesh is not None  # a mesh shape names its file
-        corners = np.asarray(load_mesh(shape.mesh, shape.scale).vertices, float)
+        return np.array(list(itertools.product((-r, r), (-r, r), (0.0, shape.height))))
+    assert shape.mesh is not None  # a mesh shape names its file
+    return np.asarray(load_mesh(shape.mesh, shape.scale).vertices, float)
+
+
+def placed(points: np.ndarray, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
+    """The world-frame axis-aligned box of `points` moved to `pose`."""
     matrix = pose.matrix()
-    world = corners @ matrix[:3, :3].T + matrix[:3, 3]
+    world = points @ matrix[:3, :3].T + matrix[:3, 3]
     return world.min(axis=0), world.max(axis=0)
 
 
