@@ -57,21 +57,13 @@ def rule(formula: ast.Formula) -> str | None:
     return None
 
 
-def _children(node: ast.Formula) -> tuple[ast.Formula, ...]:
-    if isinstance(node, ast.UNARY):
-        return (node.arg,)
-    if isinstance(node, ast.BINARY):
-        return (node.left, node.right)
-    return ()
-
-
 def _has_next(node: ast.Formula) -> bool:
     stack = [node]
     while stack:
         f = stack.pop()
         if isinstance(f, _NEXT):
             return True
-        stack.extend(_children(f))
+        stack.extend(ast.children(f))
     return False
 
 
@@ -82,7 +74,7 @@ def _next_equivalence(formula: ast.Formula) -> bool:
         f = stack.pop()
         if isinstance(f, ast.Equiv) and _has_next(f.left) != _has_next(f.right):
             return True
-        stack.extend(_children(f))
+        stack.extend(ast.children(f))
     return False
 
 
@@ -95,7 +87,7 @@ def _independent_parts(formula: ast.Formula) -> list[set[str]]:
     while stack:
         f = stack.pop()
         if isinstance(f, _BOOLEAN):
-            stack.extend(_children(f))
+            stack.extend(ast.children(f))
         elif isinstance(f, _TEMPORAL) and ast.atoms(f):  # (a part without atoms reads trace lengths)
             parts.append({a.key for a in ast.atoms(f)})
     groups: list[set[str]] = []

@@ -650,8 +650,7 @@ def _plain_nodes(formula: ast.Formula) -> tuple[set[int], set[int]]:
     stack = [(formula, False)]
     while stack:
         node, visited = stack.pop()
-        children = ((node.arg,) if isinstance(node, ast.UNARY)
-                    else (node.left, node.right) if isinstance(node, ast.BINARY) else ())
+        children = ast.children(node)
         if not visited and children:
             stack.append((node, True))
             stack.extend((c, False) for c in children)

@@ -250,10 +250,7 @@ class Progression:
                 direct.setdefault(f, set()).add(f.right)
             elif isinstance(f, ast.Always):
                 direct.setdefault(f, set()).add(f.arg)
-            if isinstance(f, ast.UNARY):
-                stack.append(f.arg)
-            elif isinstance(f, ast.BINARY):
-                stack += [f.left, f.right]
+            stack += ast.children(f)
         for f in direct:
             if f in self._implied:
                 continue

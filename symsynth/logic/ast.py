@@ -125,6 +125,15 @@ UNARY = (Not, Next, WeakNext, Eventually, Always)
 BINARY = (Until, Release, WeakUntil, And, Or, Implies, Equiv)
 
 
+def children(node: Formula) -> tuple[Formula, ...]:
+    """The operands of `node` (none for an atom or a constant), left first."""
+    if isinstance(node, UNARY):
+        return (node.arg,)
+    if isinstance(node, BINARY):
+        return (node.left, node.right)
+    return ()
+
+
 def atoms(formula: Formula) -> tuple[Atom, ...]:
     """The atoms of `formula`, each once, in order of first occurrence."""
     seen: dict[Atom, None] = {}
