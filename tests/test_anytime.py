@@ -12,7 +12,7 @@ import itertools
 import pytest
 
 from symsynth.logic import parse_ltlf
-from symsynth.solvers import forward
+from symsynth.solvers import forward, forward_search
 from symsynth.solvers.auto import choose
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.testing.gamegen import alike_scene, random_scene
@@ -23,7 +23,7 @@ from support.games import worst_case_of
 def counted(monkeypatch):
     """The deadline clock advances one "second" per question asked."""
     ticks = itertools.count()
-    monkeypatch.setattr(forward, "deadline_clock", lambda: next(ticks))
+    monkeypatch.setattr(forward_search, "deadline_clock", lambda: next(ticks))
     monkeypatch.setattr(forward.Search, "check_mask", 0)
 
 
