@@ -125,17 +125,7 @@ def scene_from_data(data: Any, source: Path | None = None,
         report.add((), "expected a mapping with name, objects, locations, ...")
         report.raise_if_any()
     is_physical = "robot" in data
-    schema = PHYSICAL_SCHEMA if is_physical else SCHEMA
-    flagged = set()
-    for error in sorted(jsonschema.Draft202012Validator(schema).iter_errors(data),
-                        key=lambda e: list(map(str, e.absolute_path))):
-        report.add(tuple(error.absolute_path), _schema_message(error, is_physical))
-        flagged.add(tuple(error.absolute_path))
-    # JSON Schema's bounds let YAML's .inf and .nan through (nan > 0 is false,
-    # so is nan <= 0); the costmap, a format of its own, checks its numbers itself
-    for where, value in non_finite({key: v for key, v in data.items() if key != "costmap"}):
-        if where not in flagged:
-            report.add(where, f"expected a finite number, found {_yaml_float(value)}")
+    _check_schema(data, is_physical, report)
     report.raise_if_any()
     if "costs" in data and "primitives" in data:
         report.add(("primitives",), "give grab and drop costs either in costs or in primitives, not both")
@@ -152,32 +142,8 @@ def scene_from_data(data: Any, source: Path | None = None,
                        "a grasp are aimed at by the same name in actions and anchors, so their names must differ")
     if is_physical:
         _check_primitives(data, report)
-    for i, name in enumerate(locations):
-        if name in (ELSE, HAND, HOME):
-            report.add(("locations", i), f"{name!r} is reserved and cannot name a location")
-    for i, name in enumerate(else_samples):
-        if name in (ELSE, HAND, HOME):  # `at: Else`, the hand and the robot's home are these names
-            report.add(("else_samples", i), f"{name!r} is reserved and cannot name an Else sample")
-        elif name in locations:
-            report.add(("else_samples", i), f"{name!r} is already a location of interest")
-    if len(data["objects"]) > MAX_OBJECTS:
-        report.add(("objects",), f"{len(data['objects']):,} objects: symsynth solves games of at most "
-                   f"{MAX_OBJECTS} (its positions grow as the places to the power of the objects; "
-                   "docs/input-limits.md)")
-        report.raise_if_any()
-    objects = []
-    standing: dict[str, str] = {}
-    for name, spec in data["objects"].items():
-        _check_object_names(name, spec, locations, else_samples, report)
-        at = spec.get("at", ELSE)
-        if at != ELSE and at not in locations:
-            report.add(("objects", name, "at"),
-                       f"unknown location {at!r}; expected one of {', '.join(locations + (ELSE,))}")
-        elif at != ELSE and at in standing:
-            report.add(("objects", name, "at"), f"location {at!r} already holds {standing[at]!r}")
-        elif at != ELSE:
-            standing[at] = name
-        objects.append(ObjectSpec(name, frozenset(spec.get("tags", ())) | {name}, at))
+    _check_places(locations, else_samples, report)
+    objects = _objects(data["objects"], locations, else_samples, report)
     declared, where = _declared_classes(data, objects, report)
     primitives = data.get("costs", data.get("primitives", {}))
     scene = Scene(
@@ -203,6 +169,58 @@ def scene_from_data(data: Any, source: Path | None = None,
     report.raise_if_any()
     checks.raise_if_any()
     return dataclasses.replace(scene, costmap=loaded)
+
+
+def _check_schema(data: dict, is_physical: bool, report: Report) -> None:
+    """The scene schema's complaints, and the non-finite numbers it lets through."""
+    schema = PHYSICAL_SCHEMA if is_physical else SCHEMA
+    flagged = set()
+    for error in sorted(jsonschema.Draft202012Validator(schema).iter_errors(data),
+                        key=lambda e: list(map(str, e.absolute_path))):
+        report.add(tuple(error.absolute_path), _schema_message(error, is_physical))
+        flagged.add(tuple(error.absolute_path))
+    # JSON Schema's bounds let YAML's .inf and .nan through (nan > 0 is false,
+    # so is nan <= 0); the costmap, a format of its own, checks its numbers itself
+    for where, value in non_finite({key: v for key, v in data.items() if key != "costmap"}):
+        if where not in flagged:
+            report.add(where, f"expected a finite number, found {_yaml_float(value)}")
+
+
+def _check_places(locations: tuple[str, ...], else_samples: tuple[str, ...], report: Report) -> None:
+    """Places apart from the reserved names and from each other."""
+    for i, name in enumerate(locations):
+        if name in (ELSE, HAND, HOME):
+            report.add(("locations", i), f"{name!r} is reserved and cannot name a location")
+    for i, name in enumerate(else_samples):
+        if name in (ELSE, HAND, HOME):  # `at: Else`, the hand and the robot's home are these names
+            report.add(("else_samples", i), f"{name!r} is reserved and cannot name an Else sample")
+        elif name in locations:
+            report.add(("else_samples", i), f"{name!r} is already a location of interest")
+
+
+def _objects(specs: dict, locations: tuple[str, ...], else_samples: tuple[str, ...],
+             report: Report) -> list[ObjectSpec]:
+    """The objects in the order written, each at a known location no other one holds
+    (too many objects stop the load here: the rest would only repeat it)."""
+    if len(specs) > MAX_OBJECTS:
+        report.add(("objects",), f"{len(specs):,} objects: symsynth solves games of at most "
+                   f"{MAX_OBJECTS} (its positions grow as the places to the power of the objects; "
+                   "docs/input-limits.md)")
+        report.raise_if_any()
+    objects = []
+    standing: dict[str, str] = {}
+    for name, spec in specs.items():
+        _check_object_names(name, spec, locations, else_samples, report)
+        at = spec.get("at", ELSE)
+        if at != ELSE and at not in locations:
+            report.add(("objects", name, "at"),
+                       f"unknown location {at!r}; expected one of {', '.join(locations + (ELSE,))}")
+        elif at != ELSE and at in standing:
+            report.add(("objects", name, "at"), f"location {at!r} already holds {standing[at]!r}")
+        elif at != ELSE:
+            standing[at] = name
+        objects.append(ObjectSpec(name, frozenset(spec.get("tags", ())) | {name}, at))
+    return objects
 
 
 def _human_model(data: dict, report: Report) -> str | None:
