@@ -5,7 +5,7 @@ adds its parser and sets `run`.  Only the module of the subcommand chosen
 is imported (`COMMANDS` names them): `symsynth dfa` loads the LTLf
 compiler, not the solvers, the scene or numba, so it starts in a tenth of
 a second.  `symsynth --help` (or a command line without a known
-subcommand) imports them all, to list each with its help.  Only
+subcommand) imports none of them: it lists each by its line in `COMMANDS`.  Only
 `SymsynthError` is caught here: it becomes one message on stderr and exit
 code 2.  Anything else is a bug and keeps its traceback.
 """
@@ -25,9 +25,18 @@ from typing import NoReturn
 from symsynth import __version__
 from symsynth.errors import SymsynthError, SymsynthWarning
 
-#: The subcommands in the order `--help` lists them: each is the module
-#: `symsynth.cli.NAME`, imported only when it is chosen (or listed).
-COMMANDS = ("dfa", "solve", "costmap", "show", "simulate", "synth", "bench")
+#: The subcommands in the order `--help` lists them, with the line it shows
+#: for each: the command NAME is the module `symsynth.cli.NAME`, imported
+#: only when it is chosen.
+COMMANDS = {
+    "dfa": "compile an LTLf formula to its minimal symbolic DFA",
+    "solve": "solve a scene's game: the cost the robot can guarantee against the human",
+    "costmap": "compute a physical scene's conditional costmap by motion planning, or verify one",
+    "show": "render a physical scene to a PNG with its places and objects labelled",
+    "simulate": "run a strategy in a PyBullet world against a simulated human",
+    "synth": "LTLf synthesis: is a formula realizable by an agent against an environment?",
+    "bench": "run a comparison experiment: a matrix of scenes, methods and solvers, with tables and plots",
+}
 
 
 class Parser(argparse.ArgumentParser):
@@ -79,10 +88,10 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"symsynth {__version__}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMANDS:
-        if command is None or name == command:
+        if name == command:
             importlib.import_module(f"symsynth.cli.{name}").register(subparsers)
         else:
-            subparsers.add_parser(name)
+            subparsers.add_parser(name, help=COMMANDS[name] if command is None else None)
     return parser
 
 

@@ -7,6 +7,7 @@ import shlex
 import sys
 from pathlib import Path
 
+from symsynth.cli import COMMANDS
 from symsynth.bench.experiment import load_experiment
 from symsynth.bench.results import markdown_table, read_rows
 from symsynth.bench.runner import run_experiment
@@ -14,7 +15,6 @@ from symsynth.cli import options
 from symsynth.errors import InputError
 from symsynth.files import write_atomic
 
-HELP = "run a comparison experiment: a matrix of scenes, methods and solvers, with tables and plots"
 DESCRIPTION = """\
 Run every cell of an experiment file (YAML; docs/bench.md) for each of its
 seeds, each run in a child process with the file's time and memory limits:
@@ -43,7 +43,7 @@ Exit status: 0 when every run ended ok, 1 when one did not, 2 on bad input."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("bench", help=HELP, description=DESCRIPTION,
+    parser = subparsers.add_parser("bench", help=COMMANDS["bench"], description=DESCRIPTION,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("experiment", type=Path, help="the experiment file (YAML)")
     parser.add_argument("-o", "--output", type=Path, metavar="DIR",

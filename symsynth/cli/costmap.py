@@ -7,6 +7,7 @@ import dataclasses
 import json
 from pathlib import Path
 
+from symsynth.cli import COMMANDS
 from symsynth.cli import options, physical
 from symsynth.cli.options import check_writable
 from symsynth.errors import InputError
@@ -17,7 +18,6 @@ from symsynth.planning.verify import building_planner, verify_costmap
 from symsynth.scene import load_scene
 from symsynth.scene.costmap import write_costmap
 
-HELP = "compute a physical scene's conditional costmap by motion planning, or verify one"
 DESCRIPTION = f"""\
 Compute the conditional costmap of a physical scene (one with a robot):
 
@@ -69,7 +69,7 @@ default {DEFAULT})."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("costmap", help=HELP, description=DESCRIPTION,
+    parser = subparsers.add_parser("costmap", help=COMMANDS["costmap"], description=DESCRIPTION,
                                    usage="symsynth costmap SCENE [options]\n"
                                          "       symsynth costmap verify FILE --scene SCENE [--planner NAME]",
                                    formatter_class=argparse.RawDescriptionHelpFormatter)

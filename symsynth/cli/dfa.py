@@ -7,6 +7,7 @@ import json
 import time
 from pathlib import Path
 
+from symsynth.cli import COMMANDS
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.symbolic import SymbolicDFA, TooManyTransitions
 from symsynth.cli import formulas
@@ -19,7 +20,6 @@ from symsynth.files import write_atomic
 #: Transitions `--json` and `--dot` list at most unless asked (JSON: ~80 bytes each).
 MAX_TRANSITIONS = 200_000
 
-HELP = "compile an LTLf formula to its minimal symbolic DFA"
 DESCRIPTION = """\
 Compile an LTLf formula (finite, non-empty traces) to its minimal complete DFA.
 
@@ -49,7 +49,7 @@ refused.  SIGTERM and Ctrl-C end the command at once."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("dfa", help=HELP, description=DESCRIPTION,
+    parser = subparsers.add_parser("dfa", help=COMMANDS["dfa"], description=DESCRIPTION,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("formula", nargs="?", help="the LTLf formula, quoted")

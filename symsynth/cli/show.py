@@ -5,12 +5,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from symsynth.cli import COMMANDS
 from symsynth.cli import options
 from symsynth.cli.options import check_writable
 from symsynth.errors import InputError
 from symsynth.scene import load_scene
 
-HELP = "render a physical scene to a PNG with its places and objects labelled"
 DESCRIPTION = """\
 Render a physical scene headless (PyBullet's TinyRenderer, no display
 needed): the robot at home, the static obstacles in grey, every object at
@@ -21,7 +21,7 @@ point rather than cover another label."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("show", help=HELP, description=DESCRIPTION,
+    parser = subparsers.add_parser("show", help=COMMANDS["show"], description=DESCRIPTION,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scene", type=Path, help="a physical scene file (YAML, with a robot)")
     parser.add_argument("-o", "--output", type=options.output_file, metavar="FILE", default=None,

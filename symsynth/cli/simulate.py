@@ -9,6 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from symsynth.cli import COMMANDS
 from symsynth.cli import objective_runs, options
 from symsynth.cli.options import check_writable
 from symsynth.cli.solve import costmap_json, costmap_report
@@ -25,7 +26,6 @@ if TYPE_CHECKING:
 
 HUMANS_GROUP = "symsynth.humans"  # none, random, adversarial, and any installed
 WORLDS = ("kinematic", "physics")  # execution.simulate.WORLDS, without importing pybullet for --help
-HELP = "run a strategy in a PyBullet world against a simulated human"
 DESCRIPTION = """\
 Execute a strategy in simulation (paper Sec. V-B): the robot follows the
 strategy while a simulated human moves objects, and each run shows whether
@@ -95,7 +95,7 @@ not given); 2 on bad input."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("simulate", help=HELP, description=DESCRIPTION,
+    parser = subparsers.add_parser("simulate", help=COMMANDS["simulate"], description=DESCRIPTION,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scene", type=Path, help="a physical scene file (YAML, with a robot)")
     parser.add_argument("--strategy", type=Path, metavar="FILE",

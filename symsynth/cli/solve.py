@@ -8,6 +8,7 @@ import sys
 from decimal import Decimal
 from pathlib import Path
 
+from symsynth.cli import COMMANDS
 from symsynth.cli import objective, options
 from symsynth.cli.options import check_writable
 from symsynth.game.abstraction import initial_state, robot_moves
@@ -24,7 +25,6 @@ from symsynth.scene import Scene, load_scene
 from symsynth.scene.load import where
 from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 
-HELP = "solve a scene's game: the cost the robot can guarantee against the human"
 DESCRIPTION = """\
 Solve the manipulation game of a scene.
 
@@ -56,7 +56,7 @@ Exit status: 0 when the game is solved, whatever the verdict (read it in
 the output, or "realizable" in --json); 2 on bad input."""
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("solve", help=HELP, description=DESCRIPTION,
+    parser = subparsers.add_parser("solve", help=COMMANDS["solve"], description=DESCRIPTION,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scene", type=Path, help="the scene file (YAML)")
     parser.add_argument("--task", metavar="FORMULA", help="LTLf task instead of the scene's")

@@ -9,6 +9,7 @@ import sys
 import time
 from pathlib import Path
 
+from symsynth.cli import COMMANDS
 from symsynth.cli import formulas
 from symsynth.cli.progress import bar as progress_bar
 from symsynth.cli.stopping import killable
@@ -20,7 +21,6 @@ from symsynth.synthesis import symbolic_strategy as symbolic
 from symsynth.synthesis.tlsf import read_tlsf
 from symsynth.synthesis.machine import MAX_INPUTS, MAX_STATES, TooLarge, strategy_machine, write_json
 
-HELP = "LTLf synthesis: is a formula realizable by an agent against an environment?"
 DESCRIPTION = """\
 Decide whether the agent, which sets the .outputs of SPEC.part, can force the
 LTLf formula of SPEC.ltlf against an environment that sets the .inputs,
@@ -62,7 +62,7 @@ def _position(text: str, name: str) -> str:
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("synth", help=HELP, description=DESCRIPTION,
+    parser = subparsers.add_parser("synth", help=COMMANDS["synth"], description=DESCRIPTION,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("spec", type=Path, metavar="SPEC",
                         help="the LTLf formula (SPEC.ltlf, '#' starts a comment) or a TLSF specification (SPEC.tlsf)")
