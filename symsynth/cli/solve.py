@@ -164,8 +164,17 @@ def elapsed(stats: Stats) -> str:
 
 
 def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: ast.Formula) -> None:
+    _report_problem(scene, task, solver, solution)
+    print(f"verdict    {_verdict(solution)}")
+    _report_value(scene, solution)
+    _report_work(scene, solution, formula)
+    print()
+    _report_play(scene, solution)
+
+
+def _report_problem(scene: Scene, task: str, solver: str, solution: Solution) -> None:
+    """The scene, the task, the human and the solver, as solved."""
     where = f" ({scene.source})" if scene.source else ""
-    r = solution.resolution
     print(f"scene      {scene.name}{where}")
     print(f"task       {task.strip()}")
     if scene.costmap is not None and scene.costmap.absent:
@@ -178,7 +187,11 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
         print(f"solver     auto: {solution.stats['auto']}, as {solution.stats['auto_reason']}")
     else:
         print(f"solver     {solver}")
-    print(f"verdict    {_verdict(solution)}")
+
+
+def _report_value(scene: Scene, solution: Solution) -> None:
+    """E_p, or the proven interval around it, and what it means."""
+    r = solution.resolution
     if not solution.exact:
         lower = solution.lower_bound
         assert lower is not None  # set whenever the answer is not exact (Solution.lower_units)
@@ -198,6 +211,10 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
               f"{_num(r)}, each cost rounded up)")
     if solution.cost_bound is not None or not solution.exact:
         print(f"           {_meaning(scene, solution.k)}")
+
+
+def _report_work(scene: Scene, solution: Solution, formula: ast.Formula) -> None:
+    """The positions the solver looked at, its seconds and, for BDDs, their size."""
     if "interchangeable" in solution.stats:
         print(f"positions  {solution.states} canonical game positions (interchangeable objects: "
               f"{solution.stats['interchangeable']}; one position per renaming of them)")
@@ -215,7 +232,10 @@ def _report(scene: Scene, task: str, solver: str, solution: Solution, formula: a
                   (("qualitative_iterations", "qualitative"), ("iterations", "cost-bounded"))
                   if key in stats]
         print(f"bdd        {stats['peak_nodes']} peak nodes; fixpoint rounds: {', '.join(rounds)}")
-    print()
+
+
+def _report_play(scene: Scene, solution: Solution) -> None:
+    """The principal play (or the strategy found in time, or why there is none)."""
     if not solution.exact and solution.cost_bound is None:
         print("No strategy was found within the time limit, and none was ruled out: "
               "give more time for an upper bound.")
