@@ -62,21 +62,8 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
     k = check_parameters(scene, k, resolution)
     formula = task_formula(scene, formula)
     clock = time.perf_counter()
-    classes = interchangeable(scene, formula) if symmetric else ()
-    arena: Arena
-    game: _Queries
-    if classes:
-        arena = ClassArena(scene, formula, k, resolution, classes)
-        game = _ClassQueries(arena)
-    else:
-        arena = Arena(scene, formula, k, resolution)
-        game = _Queries(arena)
+    arena, game, stats = _encoded(scene, formula, k, resolution, symmetric)
     seconds = {"encode": time.perf_counter() - clock}
-    stats: dict[str, object] = {"encoding": "classes" if classes else "objects",
-                                "state_bits": len(arena.state_bits), "dfa_bits": len(arena.dfa.bits),
-                                "cost_bits": len(arena.c.bits), "max_units": arena.max_units}
-    if classes:
-        stats["interchangeable"] = Symmetry(scene, classes).describe()
 
     v0 = initial_state(scene)
     q0 = game.read(game.dfa_initial, v0)
@@ -123,6 +110,27 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
     seconds["plays"] = time.perf_counter() - clock
     counter = principal if verdict(units, resolution, budget) is False else None
     return _solution(arena, units, budget, seconds, stats, strategy, principal, counter)
+
+
+def _encoded(scene: Scene, formula: ast.Formula, k: int, resolution: float,
+             symmetric: bool) -> tuple[Arena, _Queries, dict[str, object]]:
+    """The arena (the class encoding when `symmetric` finds interchangeable
+    objects, else each object's place in bits), its queries and its sizes."""
+    classes = interchangeable(scene, formula) if symmetric else ()
+    arena: Arena
+    game: _Queries
+    if classes:
+        arena = ClassArena(scene, formula, k, resolution, classes)
+        game = _ClassQueries(arena)
+    else:
+        arena = Arena(scene, formula, k, resolution)
+        game = _Queries(arena)
+    stats: dict[str, object] = {"encoding": "classes" if classes else "objects",
+                                "state_bits": len(arena.state_bits), "dfa_bits": len(arena.dfa.bits),
+                                "cost_bits": len(arena.c.bits), "max_units": arena.max_units}
+    if classes:
+        stats["interchangeable"] = Symmetry(scene, classes).describe()
+    return arena, game, stats
 
 
 @contextmanager
