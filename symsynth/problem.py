@@ -20,7 +20,7 @@ import inspect
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 from pathlib import Path
 
 from tqdm import tqdm
@@ -215,28 +215,7 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
     if isinstance(human, str) and human not in HUMANS:
         raise InputError(f"unknown human {human!r}; installed humans: {', '.join(HUMANS)}")
     needs = frozenset() if isinstance(human, ScriptedHuman) else human_needs(human)
-    given, table, solution = problem.strategy, None, None
-    if given is not None:  # what it claims is checked now that the costmap gives the costs
-        table = given.table
-        try:
-            certify(scene, table, problem.formula)
-        except InputError as error:
-            raise InputError(f"{given.path}: not a strategy for scene {scene.name!r}: {error}") from None
-    else:
-        solution = solve(problem, solver, budget=budget)
-        if "budgets" in needs:  # e.g. the adversary weighs its moves by the budgets of every position reached
-            table = strategy_table(scene, problem.task, solution, formula=problem.formula)
-    if table is not None:
-        bound, units, resolution = table.cost_bound, table.units, table.resolution
-        actions, budgets, positions = table.positions, table.budgets, len(table.positions)
-    else:
-        assert solution is not None  # solved above: no strategy file was given
-        # The solver's strategy, looked up only where a run goes (none when
-        # none wins).  Unlike strategy_table's exploration, this does not
-        # check up front that every reachable position has an available
-        # action: a strategy that lacks one ends that run with the reason.
-        bound, units, resolution = solution.cost_bound, solution.units, solution.resolution
-        actions, budgets, positions = ({} if bound is None else solution.strategy), {}, None
+    solution, (bound, units, resolution, actions, budgets, positions) = _played(problem, solver, budget, needs)
     guarantee = bound is not None and (budget is None or verdict(units, resolution, budget) is True)
     task = problem.task.strip()
     if not guarantee and not best_effort:
@@ -277,6 +256,38 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
             done.append(simulator.run(player, seed + i, recorder=first if i == 0 else None, gui=gui))
     frames = made[0].save() if made else 0
     return Simulation(task, bound, positions, guarantee, budget, tuple(done), frames)
+
+
+def _played(problem: Problem, solver: str, budget: float | None,
+            needs: frozenset[str]) -> tuple[Solution | None, tuple[Any, ...]]:
+    """The strategy the runs play: the problem's strategy file, certified
+    against the scene now that the costmap gives the costs, or the one
+    `solver` finds (as a table when the human `needs` every position's
+    budget).  Returns the solution (None for a file) and (E_p, its units,
+    the resolution, the actions, the budgets, the positions tabled)."""
+    given, table, solution = problem.strategy, None, None
+    scene = problem.scene
+    if given is not None:  # what it claims is checked now that the costmap gives the costs
+        table = given.table
+        try:
+            certify(scene, table, problem.formula)
+        except InputError as error:
+            raise InputError(f"{given.path}: not a strategy for scene {scene.name!r}: {error}") from None
+    else:
+        solution = solve(problem, solver, budget=budget)
+        if "budgets" in needs:  # e.g. the adversary weighs its moves by the budgets of every position reached
+            table = strategy_table(scene, problem.task, solution, formula=problem.formula)
+    if table is not None:
+        return solution, (table.cost_bound, table.units, table.resolution, table.positions, table.budgets,
+                          len(table.positions))
+    assert solution is not None  # solved above: no strategy file was given
+    # The solver's strategy, looked up only where a run goes (none when
+    # none wins).  Unlike strategy_table's exploration, this does not
+    # check up front that every reachable position has an available
+    # action: a strategy that lacks one ends that run with the reason.
+    bound = solution.cost_bound
+    return solution, (bound, solution.units, solution.resolution, {} if bound is None else solution.strategy,
+                      {}, None)
 
 
 def simulation_planner(scene: Scene, given: str | None) -> str:
