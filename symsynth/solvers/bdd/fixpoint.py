@@ -136,32 +136,15 @@ def attractor(arena: Arena, *, with_costs: bool,
     top layer h = k (the lower layers are then final).  With `within` (a
     set over (v, q) per layer h, closed under the moves out of its
     non-accepting positions: `reachable`), every set is kept inside it.
-
-    The robot step works on the frontier X_i \\ X_{i-1} only: the image
-    distributes over union, so R_{i+1} = R_i \\/ pre(X_i \\ X_{i-1}) exactly,
-    and each position is carried through a relation once per budget band
-    it gains, not once per round (image time 9.8 s -> 2.4 s on the
-    benchmark family at 4 x 6).
     """
     bdd = arena.bdd
-    robot_sub = arena.robot_substitution(with_costs)
+    step = _RobotStep(arena, with_costs, progress)
     move_sub = arena.move_substitution()
     moved = set(arena.next_bits)
-    if with_costs:
-        relations = list(arena.robot.values())
-        hidden = moved | set(arena.c.bits)
-        affordable = arena.affordable()
-    else:
-        relations = [bdd.exist(set(arena.c.bits), rel) for rel in arena.robot.values()]
-        hidden = moved
-        affordable = bdd.true
     well_formed = arena.enc.well_formed()
-    seconds = {"compose": 0.0, "image": 0.0, "human": 0.0}
-
     per_layer: list[tuple[list[Function], list[Function]]] = []
     below = None  # Z_{h-1} = Acc \/ R_{h-1}, final
     stopped = False
-    done = 0
     for h in range(arena.k + 1):
         # well-formed, and reached in layer h when restricted
         wf = well_formed if within is None else well_formed & within[h]
@@ -173,8 +156,45 @@ def attractor(arena: Arena, *, with_costs: bool,
             # \A v': H(v, v') => Z_{h-1}(v', D(q, v'), e)
             after_move = bdd.let(move_sub, below)
             safe = wf & ~and_exists(bdd, arena.human, ~after_move, moved)
-        seconds["human"] += time.perf_counter() - clock
-        top = h == arena.k
+        step.seconds["human"] += time.perf_counter() - clock
+        layers, wins, robot, stopped = step.layer(acc, wf, safe, stop if h == arena.k else None)
+        per_layer.append((layers, wins))
+        below = acc | robot
+    rounds = [len(layers) for layers, _ in per_layer]
+    return Attractor(_join(arena, [l for l, _ in per_layer]), _join(arena, [w for _, w in per_layer]),
+                     not stopped, rounds, step.seconds)
+
+
+class _RobotStep:
+    """The rounds of one layer: the robot's step from the frontier, and the
+    conjunction with what the human cannot spoil.
+
+    The robot step works on the frontier X_i \\ X_{i-1} only: the image
+    distributes over union, so R_{i+1} = R_i \\/ pre(X_i \\ X_{i-1}) exactly,
+    and each position is carried through a relation once per budget band
+    it gains, not once per round (image time 9.8 s -> 2.4 s on the
+    benchmark family at 4 x 6)."""
+
+    def __init__(self, arena: Arena, with_costs: bool, progress: Callable[[int], None] | None):
+        bdd = self.bdd = arena.bdd
+        self.substitution = arena.robot_substitution(with_costs)
+        moved = set(arena.next_bits)
+        if with_costs:
+            self.relations = list(arena.robot.values())
+            self.hidden = moved | set(arena.c.bits)
+            self.affordable = arena.affordable()
+        else:
+            self.relations = [bdd.exist(set(arena.c.bits), rel) for rel in arena.robot.values()]
+            self.hidden = moved
+            self.affordable = bdd.true
+        self.progress = progress
+        self.done = 0  # rounds over every layer, for `progress`
+        self.seconds = {"compose": 0.0, "image": 0.0, "human": 0.0}
+
+    def layer(self, acc: Function, wf: Function, safe: Function,
+              stop: Callable[[Function], bool] | None) -> tuple[list[Function], list[Function], Function, bool]:
+        """The iterates R_i and X_i of a layer, its R, and whether `stop` ended it."""
+        bdd, seconds = self.bdd, self.seconds
         layers: list[Function] = []
         wins: list[Function] = []
         robot = bdd.false
@@ -186,13 +206,13 @@ def attractor(arena: Arena, *, with_costs: bool,
             wins.append(x)
             clock = time.perf_counter()
             # X(v', D(q, v'), e - c) /\ c <= e, on the frontier
-            shifted = bdd.let(robot_sub, frontier) & affordable
+            shifted = bdd.let(self.substitution, frontier) & self.affordable
             seconds["compose"] += time.perf_counter() - clock
             clock = time.perf_counter()
             # \E v', c: T_fam(v, v', c) /\ shifted, one family at a time
             gained = bdd.false
-            for rel in relations:
-                gained |= and_exists(bdd, rel, shifted, hidden)
+            for rel in self.relations:
+                gained |= and_exists(bdd, rel, shifted, self.hidden)
             gained &= wf
             # R \/ what the frontier gained
             robot |= gained
@@ -202,18 +222,13 @@ def attractor(arena: Arena, *, with_costs: bool,
             x = old | (gained & safe)
             seconds["human"] += time.perf_counter() - clock
             layers.append(robot)
-            done += 1
-            if progress is not None:
-                progress(done)
-            if top and stop is not None and stop(x):
+            self.done += 1
+            if self.progress is not None:
+                self.progress(self.done)
+            if stop is not None and stop(x):
                 wins.append(x)
-                stopped = True
-                break
-        per_layer.append((layers, wins))
-        below = acc | robot
-    rounds = [len(layers) for layers, _ in per_layer]
-    return Attractor(_join(arena, [l for l, _ in per_layer]), _join(arena, [w for _, w in per_layer]),
-                     not stopped, rounds, seconds)
+                return layers, wins, robot, True
+        return layers, wins, robot, False
 
 
 def _join(arena: Arena, per_layer: list[list[Function]]) -> list[Function]:
