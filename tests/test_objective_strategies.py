@@ -18,7 +18,8 @@ import pytest
 from symsynth.game.human_model import RandomModel, parse_model
 from symsynth.scene import load_scene
 from symsynth.solvers.objectives import solve_objective
-from symsynth.solvers.objectives.play import ExpectedStrategy, check_best_effort, check_expected, run
+from symsynth.solvers.objectives.play import (ExpectedStrategy, check_best_effort, check_expected, replies, run,
+                                              still_to_pay)
 from symsynth.testing.gamegen import random_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
@@ -48,6 +49,69 @@ def test_every_play_of_the_expected_strategy_wins_within_B(solver):
             with pytest.raises(RuntimeError, match="circles"):
                 check_expected(dataclasses.replace(s, waiting=None), B)
     assert waited >= 1
+
+
+def _worst_by_recursion(strategy, budget):
+    """The most the strategy may still pay from each turn it reaches, by the
+    recursion of the definition (play.py's walk is a machine-code stack):
+    {(node, budget left, count): (move, worst)}; None where a play circles."""
+    arena = strategy.arena
+    found, path = {}, set()
+
+    def robot(turn):
+        if turn in found:
+            return found[turn][1]
+        if turn in path:
+            raise RecursionError
+        path.add(turn)
+        i, b, w = turn
+        e = strategy.move(turn)
+        c, t = int(arena.r_units[e]), int(arena.r_tgt[e])
+        after = strategy.count(w + 1)
+        cost = c if t < 0 else c + max(robot((j, b - c, after)) if j >= 0 else 0 for j in replies(arena, t))
+        path.discard(turn)
+        found[turn] = (e, cost)
+        return cost
+
+    try:
+        for j in replies(arena, 0):
+            if j >= 0:
+                robot((j, budget, 0))
+    except RecursionError:
+        return None
+    return found
+
+
+def test_the_walk_pays_what_the_recursion_does():
+    """Every turn the walk reaches, its move and its worst cost, against the
+    definition's recursion on generated scenes (zero-cost moves in half of
+    them); with the waiting bound off, a strategy that circles is caught by
+    both."""
+    compared = circled = 0
+    for seed in range(100):
+        scene = random_scene(seed, contacts=seed % 3 == 0, zeros=0.3 if seed % 2 else 0.0)
+        if not _small(scene):
+            continue
+        got = solve_objective(scene, objective="expected", model=RandomModel(Fraction(1, 2)),
+                              solver="explicit", budget=None)
+        if got.expected_cost is None or got.arena is None:
+            continue
+        strategy = got.strategy()
+        variants = [strategy] + ([] if got.attained else [dataclasses.replace(strategy, waiting=None)])
+        for s in variants:
+            expected = _worst_by_recursion(s, got.budget_units)
+            if expected is None:
+                with pytest.raises(RuntimeError, match="circles"):
+                    still_to_pay(s, got.budget_units)
+                circled += 1
+                continue
+            turns = still_to_pay(s, got.budget_units)
+            walked = {(i, b, w): (e, c) for i, b, w, e, c in zip(turns.node.tolist(), turns.budget.tolist(),
+                                                                  turns.count.tolist(), turns.move.tolist(),
+                                                                  turns.worst.tolist())}
+            assert walked == expected, seed
+            compared += 1
+    assert compared >= 12 and circled >= 1
 
 
 def _mean_and_error(costs):

@@ -74,7 +74,7 @@ def run_objective_simulation(args: argparse.Namespace, problem: Problem) -> int:
 
 
 def _runs(s: ObjectiveSolution, humans: tuple[str, ...], count: int, seed: int) -> dict[str, Any]:
-    from symsynth.solvers.objectives.play import best_effort_choice, check_expected, exact, run
+    from symsynth.solvers.objectives.play import ExpectedStrategy, best_effort_choice, check_expected, exact, run
 
     out: dict[str, Any] = {}
     if s.arena is None or (s.objective == "expected" and s.expected_cost is None):
@@ -96,7 +96,9 @@ def _runs(s: ObjectiveSolution, humans: tuple[str, ...], count: int, seed: int) 
             row["above_budget"] = sum(c > budget for c, _ in plays)
         out[human] = row
     if s.objective == "expected":
-        out["every human"] = {"max_cost": check_expected(s.strategy(), budget) * r}
+        strategy = s.strategy()
+        assert isinstance(strategy, ExpectedStrategy)  # the objective is expected
+        out["every human"] = {"max_cost": check_expected(strategy, budget) * r}
         out["worst-case strategy"] = {"expected_cost": exact(arena, arena.wchoice, False) * r}
     elif s.tables is not None and "random" in out:
         rc, _, moves, _ = s.tables

@@ -47,23 +47,14 @@ def _name(arena: Arena, e: int) -> str:
 
 
 def _expected_turns(arena: Arena, strategy: ExpectedStrategy, budget: int, table: ObjectiveStrategyFile) -> None:
-    seen: set[tuple[int, int, int]] = set()
-    todo = [(j, budget, 0) for j in replies(arena, 0) if j >= 0]
-    while todo:
-        turn = todo.pop()
-        if turn in seen:
-            continue
-        seen.add(turn)
-        i, b, w = turn
-        e = strategy.move(turn)
+    turns = still_to_pay(strategy, budget)
+    switched = strategy.waiting is not None
+    for i, b, w, e in zip(turns.node.tolist(), turns.budget.tolist(), turns.count.tolist(), turns.move.tolist()):
         position: Position = arena.positions[i]
-        if strategy.waiting is not None and w >= strategy.waiting:
+        if switched and w >= strategy.waiting:
             table.worst[position] = _name(arena, e)
         else:
             table.positions[(position, b)] = _name(arena, e)
-        t, c = int(arena.r_tgt[e]), int(arena.r_units[e])
-        if t >= 0:
-            todo += [(j, b - c, strategy.count(w + 1)) for j in replies(arena, t) if j >= 0]
 
 
 def _best_effort_turns(arena: Arena, strategy: Strategy, classes: Any, table: ObjectiveStrategyFile) -> None:
@@ -108,5 +99,8 @@ def to_pay_by_position(s: ObjectiveSolution) -> dict[tuple[Position, int, int], 
     if s.arena is None or s.expected_cost is None:
         return {}
     names = s.arena.positions
-    worst = still_to_pay(s.strategy(), int(s.budget_units or 0))
-    return {(names[i], b, w): cost for (i, b, w), cost in worst.items()}
+    strategy = s.strategy()
+    assert isinstance(strategy, ExpectedStrategy)  # the objective is expected: its solution has EX
+    turns = still_to_pay(strategy, int(s.budget_units or 0))
+    return {(names[i], b, w): cost for i, b, w, cost in
+            zip(turns.node.tolist(), turns.budget.tolist(), turns.count.tolist(), turns.worst.tolist())}

@@ -26,6 +26,7 @@ import numpy as np
 
 from symsynth.solvers.objectives.arena import INF, Arena
 from symsynth.solvers.objectives.steps import Steps
+from symsynth.solvers.objectives.walk import Turns, expected_turns
 
 Turn = tuple[int, int, int]  # node, budget left (units), robot turns so far
 
@@ -76,44 +77,23 @@ def replies(arena: Arena, t: int) -> list[int]:
     return [t] + [int(j) for j in arena.h_tgt[arena.h_off[t]:arena.h_off[t + 1]]]
 
 
-def check_expected(strategy: Strategy, budget: int, switched: bool = True) -> int:
+def check_expected(strategy: ExpectedStrategy, budget: int, switched: bool = True) -> int:
     """The largest total cost (units) of a play of `strategy` from the start
     with `budget` left, over every human behaviour; a `RuntimeError` when a
     play goes in circles or reaches a turn where the strategy has no move."""
-    worst = still_to_pay(strategy, budget)
-    return max(worst[(j, budget, 0)] if j >= 0 else 0 for j in replies(strategy.arena, 0))
+    turns = still_to_pay(strategy, budget)
+    start = (turns.budget == budget) & (turns.count == 0)
+    return max((int(turns.worst[start & (turns.node == j)][0]) if j >= 0 else 0)
+               for j in replies(strategy.arena, 0))
 
 
-def still_to_pay(strategy: Strategy, budget: int) -> dict[Turn, int]:
+def still_to_pay(strategy: ExpectedStrategy, budget: int) -> Turns:
     """The most `strategy` may still pay (units) from each robot turn
     (node, budget left, its count) that a play of it from the start with
     `budget` reaches, over every human behaviour: what an adversary that
-    knows the strategy maximizes.  A `RuntimeError` as `check_expected`."""
-    arena = strategy.arena
-    worst: dict[Turn, int] = {}
-    on_path: set[Turn] = set()
-
-    def robot(turn: Turn) -> int:
-        if turn in worst:
-            return worst[turn]
-        if turn in on_path:
-            raise RuntimeError(f"a play goes in circles at node {turn[0]} with budget {turn[1]}")
-        on_path.add(turn)
-        i, b, w = turn
-        e = strategy.move(turn)
-        if e < 0:
-            raise RuntimeError(f"no move at node {i} with budget {b}")
-        c, t = int(arena.r_units[e]), int(arena.r_tgt[e])
-        w = strategy.count(w + 1)
-        cost = c if t < 0 else c + max(robot((j, b - c, w)) if j >= 0 else 0 for j in replies(arena, t))
-        on_path.discard(turn)
-        worst[turn] = cost
-        return cost
-
-    for j in replies(arena, 0):
-        if j >= 0:
-            robot((j, budget, 0))
-    return worst
+    knows the strategy maximizes (`walk.expected_turns`).  A `RuntimeError`
+    as `check_expected`."""
+    return expected_turns(strategy.arena, strategy.steps, strategy.waiting, budget)
 
 
 def check_best_effort(strategy: BestEffortStrategy, classes: np.ndarray) -> int:
