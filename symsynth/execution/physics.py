@@ -573,12 +573,13 @@ class PhysicsWorld(SimWorld):
         """As in the kinematic world, and `robot` also where the object would
         come within `CLEARANCE` of the robot: a human does not put an object
         against the hand (which would drag it along as it leaves)."""
-        before = self.poses[name]
-        self._place_body(name, pose)
-        near = bool(self.client.getClosestPoints(self.robot, self.bodies[name], CLEARANCE))
+        before, body = self.poses[name], self.bodies[name]
+        self._place_body(name, pose)  # placed once for both questions
+        hits = self._hits(body, ignore={name})
+        if self.client.getClosestPoints(self.robot, body, CLEARANCE):
+            hits.add("robot")
         self._place_body(name, before)
-        hits = super().blocked(name, pose) | ({"robot"} if near else set())
-        self.client.resetBaseVelocity(self.bodies[name], [0, 0, 0], [0, 0, 0])
+        self.client.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0])
         return hits
 
 
