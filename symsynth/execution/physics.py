@@ -230,6 +230,7 @@ class PhysicsWorld(SimWorld):
         self.steps = 0
         self.touches: set[str] = set()  # objects the robot touched while `watching`
         self.watching = False
+        self._names = {body: name for name, body in self.bodies.items()}
         self._jitter(self.randomization.pose)
         self._command(self.config)
         self.settle()
@@ -279,9 +280,10 @@ class PhysicsWorld(SimWorld):
     def step(self) -> None:
         self.client.stepSimulation()
         self.steps += 1
-        if self.watching:
-            for name, body in self.bodies.items():
-                if name != self.held and self.client.getContactPoints(self.robot, body):
+        if self.watching:  # one query for every body the robot touches
+            for contact in self.client.getContactPoints(bodyA=self.robot):
+                name = self._names.get(contact[2])
+                if name is not None and name != self.held:
                     self.touches.add(name)
         if self.watch is not None:
             self.watch(self)
