@@ -14,6 +14,7 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -158,6 +159,53 @@ def test_an_object_a_few_millimetres_off_its_place_is_approached_with_one_soluti
         assert world.ee_pose().angle_to(moved @ grasp.pose) < 0.01
     finally:
         world.close()
+
+
+def test_an_object_within_inverse_kinematics_tolerance_of_its_place_is_approached_as_planned(block):
+    """An object 0.5 mm off its place (the grasp pose within 1 mm and
+    0.01 rad, inverse kinematics' own tolerance): `Approaches.near` gives
+    the place's approach itself and solves nothing."""
+    scene, planner = block
+    g = scene.geometry
+    grasp, place = g.grasps["top"], g.places["l1"]
+    solved = []
+
+    class Counting:
+        def inverse_kinematics(self, pose, seed):
+            solved.append(pose)
+            return planner.inverse_kinematics(pose, seed)
+
+    approaches = hand_motions.Approaches(Counting())
+    home = tuple(g.robot.home)
+    nominal = approaches.path(home, place @ grasp.pre_image(), place @ grasp.pose, "down")
+    solved.clear()
+    moved = Pose((0.5004, 0.0003, 0.0), (0.0, 0.0, 0.0, 1.0))
+    assert approaches.near(home, place, moved, grasp, "down") == nominal and solved == []
+
+
+def test_a_leg_goes_at_the_full_velocity_limit_only_where_it_is_clear(block):
+    """A leg that swings the arm 1.2 rad about its base from the anchor over
+    the block: with `clear`, its pieces where the fingers are within 5 cm of
+    the block (the first ones) and its last piece go at half the velocity
+    limit, the pieces between at the full limit, so it takes fewer steps
+    than without `clear` (where a whole leg, or a path's last, went at half
+    the limit)."""
+    scene, planner = block
+    worlds = [at_anchor(scene, planner, "l1") for _ in range(2)]
+    try:
+        start = np.asarray(worlds[0].config)
+        path = [tuple(start), tuple(start + np.eye(len(start))[0] * 1.2)]
+        _, _, _, far = worlds[0]._clear_pieces(np.asarray(path), [False], [0.0])
+        assert not far[0] and any(far) and not far[-1]
+        taken = []
+        for world, clear in zip(worlds, (True, False)):
+            before = world.steps
+            world.follow(path, clear=clear)
+            taken.append(world.steps - before)
+        assert taken[0] < 0.8 * taken[1]
+    finally:
+        for world in worlds:
+            world.close()
 
 
 def test_fingers_that_close_on_nothing_make_no_constraint(block):

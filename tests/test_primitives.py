@@ -12,6 +12,7 @@ import pytest
 import yaml
 
 from symsynth.errors import InputError
+from symsynth.planning.anchors import anchor_configs
 from symsynth.planning.build import compute_costmap
 from symsynth.planning.protocol import Mode
 from symsynth.planning.registry import planner_class
@@ -110,6 +111,18 @@ def test_the_slide_path_is_checked_again_independently(scene_and_planner):
     near = scene_from_data(data, source=DATA / "push-small.yaml")
     _, touched = slide_path(near, planner_class("ompl-fcl")(near), "box", "behind", "l1", "l2", anchors)
     assert "l3" in touched
+
+
+def test_a_slide_ends_on_its_anchor_without_turning_the_arm(scene_and_planner):
+    """A contact's anchors lie on one branch of the arm's solutions
+    (`anchors.py`), the one the slide's small inverse kinematics steps stay
+    on: the slide's last leg, from where the hand's path ends to the anchor
+    at l2, turns no joint by more than MAX_JUMP.  (Each anchor seeded at
+    home, the two were on different branches, and the leg turned joints 1
+    and 3 by 2.7 rad against each other, the hand ending where it was.)"""
+    scene, planner = scene_and_planner
+    path, _ = slide_path(scene, planner, "box", "behind", "l1", "l2", anchor_configs(planner, scene))
+    assert np.abs(np.subtract(path[-1], path[-2])).max() <= MAX_JUMP
 
 
 def test_the_push_scene_is_solved_and_simulated_with_the_slide(push_sg, tmp_path, monkeypatch, capsys):

@@ -21,6 +21,7 @@ the runs come back to -- is the same path, and is computed once.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -37,6 +38,7 @@ from symsynth.planning.verify import path_length
 from symsynth.scene.geometry import Grasp, Pose, point_text, vec3
 
 APPROACH_STEPS = 6
+SAME_HAND = (1e-3, 0.01)  # metres, radians: a grasp pose this close to the planned one is that one
 WALK = 0.01  # radians between the configurations checked along the approach
 
 
@@ -78,9 +80,15 @@ class Approaches:
         solution for an object a physical world moved a few millimetres,
         where `path` would solve `APPROACH_STEPS` of them; the hand's poses
         on the way lie within a fraction of a millimetre of the straight
-        approach (the shift's square times the arm's curvature)."""
+        approach (the shift's square times the arm's curvature).  Where the
+        hand's grasp pose on `actual` is within `SAME_HAND` of the one on
+        `place` (metres, radians: inverse kinematics' own tolerance), `path`
+        as it is, with no solution solved."""
         nominal = self.path(config, place @ grasp.pre_image(), place @ grasp.pose, what)
-        end = self.planner.inverse_kinematics(actual @ grasp.pose, nominal[-1])
+        hand, planned = actual @ grasp.pose, place @ grasp.pose
+        if math.dist(hand.xyz, planned.xyz) <= SAME_HAND[0] and hand.angle_to(planned) <= SAME_HAND[1]:
+            return nominal
+        end = self.planner.inverse_kinematics(hand, nominal[-1])
         if end is None:
             return self.path(config, actual @ grasp.pre_image(), actual @ grasp.pose, what)
         shift = np.subtract(end, nominal[-1])

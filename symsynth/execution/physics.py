@@ -15,8 +15,9 @@ move only as PyBullet integrates them:
 - **The robot** follows a path by position control of its joints with the
   URDF's force limits (87 N m and 12 N m for the Panda): the target moves
   along the path, each leg in the time its fastest joint needs at
-  `SPEED_FRACTION` of its URDF velocity limit (a leg that keeps the robot
-  `CLEAR` from every object at `CLEAR_FRACTION`, but the last; a slide's
+  `SPEED_FRACTION` of its URDF velocity limit (a piece of a leg, at most
+  `CLEAR_STRIDE` long, that keeps the robot `CLEAR` from every object at
+  `CLEAR_FRACTION`, but the path's last; a slide's
   hand at most `SLIDE_SPEED` near the object), and at the path's end the robot is held on
   its last configuration until every joint is within `ARRIVED` radians of
   it (at most `CONVERGE_STEPS`).  A path's cost is the radians of the path
@@ -85,7 +86,7 @@ FINGER_FRICTION = 1.0  # the gripper's pads
 SPEED_FRACTION = 0.5  # of each joint's URDF velocity limit, along a motion
 CLEAR_FRACTION = 1.0  # ... on a transit's or transfer's legs `CLEAR` from every object
 CLEAR = 0.05  # metres
-CLEAR_STRIDE = 0.2  # radians between the configurations of a leg checked to be clear
+CLEAR_STRIDE = 0.1  # radians between the configurations of a leg checked to be clear
 DEFAULT_SPEED = 1.0  # rad/s (m/s) for a joint whose URDF gives no velocity limit
 DEFAULT_EFFORT = 100.0  # N m (N) for a joint whose URDF gives no force limit
 DEFAULT_GRIP = 20.0  # N for a gripper joint whose URDF gives none
@@ -229,6 +230,7 @@ class PhysicsWorld(SimWorld):
         self.steps = 0
         self.touches: set[str] = set()  # objects the robot touched while `watching`
         self.watching = False
+        self._names = {body: name for name, body in self.bodies.items()}
         self._jitter(self.randomization.pose)
         self._command(self.config)
         self.settle()
@@ -278,9 +280,10 @@ class PhysicsWorld(SimWorld):
     def step(self) -> None:
         self.client.stepSimulation()
         self.steps += 1
-        if self.watching:
-            for name, body in self.bodies.items():
-                if name != self.held and self.client.getContactPoints(self.robot, body):
+        if self.watching:  # one query for every body the robot touches
+            for contact in self.client.getContactPoints(bodyA=self.robot):
+                name = self._names.get(contact[2])
+                if name is not None and name != self.held:
                     self.touches.add(name)
         if self.watch is not None:
             self.watch(self)
@@ -330,24 +333,29 @@ class PhysicsWorld(SimWorld):
         """Drive the joints along `path` by position control (module doc),
         then hold the last configuration until the robot is on it.  Each
         leg takes the time its fastest joint needs at `SPEED_FRACTION` of
-        its velocity limit (with `clear`, at `CLEAR_FRACTION` where the
-        robot and what it holds stay `CLEAR` from every object along the
-        leg, `_clear_legs`, the last leg but one), or, where `careful(hand's
-        start, hand's end)` holds for the leg (every leg when `careful` is
-        None), its hand's straight-line travel at `hand_speed` (m/s) if that
-        is longer."""
+        its velocity limit (with `clear`, a leg is cut in pieces at most
+        `CLEAR_STRIDE` apart, and a piece at whose two ends the robot and
+        what it holds stand `CLEAR` from every object goes at
+        `CLEAR_FRACTION`, but the path's last piece: `_clear_pieces`), or,
+        where `careful(hand's start, hand's end)` holds for the leg (every
+        leg when `careful` is None), its hand's straight-line travel at
+        `hand_speed` (m/s) if that is longer."""
         if len(path) == 0:
             return
         hand = self._hand_points(path) if hand_speed is not None else None
         legs = np.asarray(path, float)
         slow = [hand is not None and hand_speed is not None and (careful is None or careful(hand[k], hand[k + 1]))
                 for k in range(len(legs) - 1)]
-        far = self._clear_legs(legs, slow) if clear else [False] * len(slow)
+        hand_legs = [float(np.linalg.norm(hand[k + 1] - hand[k])) if slow[k] and hand is not None else 0.0
+                     for k in range(len(slow))]
+        if clear:
+            legs, slow, hand_legs, far = self._clear_pieces(legs, slow, hand_legs)
+        else:
+            far = [False] * len(slow)
         for k, (a, b) in enumerate(zip(legs, legs[1:])):
-            fast = far[k] and k + 2 < len(legs)
-            seconds = float(np.max(np.abs(b - a) / (self._speeds * (CLEAR_FRACTION / SPEED_FRACTION if fast else 1.0))))
-            if slow[k] and hand is not None and hand_speed is not None:
-                seconds = max(seconds, float(np.linalg.norm(hand[k + 1] - hand[k])) / hand_speed)
+            seconds = float(np.max(np.abs(b - a) / (self._speeds * (CLEAR_FRACTION / SPEED_FRACTION if far[k] else 1.0))))
+            if slow[k] and hand_speed is not None:
+                seconds = max(seconds, hand_legs[k] / hand_speed)
             n = max(1, math.ceil(seconds / TIME_STEP))
             velocity = (b - a) / (n * TIME_STEP)
             for i in range(1, n + 1):
@@ -362,29 +370,40 @@ class PhysicsWorld(SimWorld):
         self.config = tuple(float(v) for v in goal)
         self.sync()
 
-    def _clear_legs(self, legs: np.ndarray, slow: Sequence[bool]) -> list[bool]:
-        """Whether each leg of `legs` (but those `slow`) keeps the robot and
+    def _clear_pieces(self, legs: np.ndarray, slow: list[bool], hand_legs: list[float]
+                      ) -> tuple[np.ndarray, list[bool], list[float], list[bool]]:
+        """`legs` with every leg but the `slow` ones cut in pieces at most
+        `CLEAR_STRIDE` radians apart (a slow leg stays whole, with its hand's
+        travel `hand_legs`), and whether each piece is clear: the robot and
         the object it holds farther than `CLEAR` from every other object,
-        and the held object from the obstacles, at configurations at most
-        `CLEAR_STRIDE` radians apart along it (set, not stepped; the robot
-        is put back where it was)."""
+        and the held object from the obstacles, at both its ends (set, not
+        stepped; the robot is put back where it was)."""
         start = self.config
         held = self.bodies.get(self.held) if self.held is not None else None
         others = [body for name, body in self.bodies.items() if name != self.held]
+        seen: dict[int, bool] = {}
 
-        def clear(config: np.ndarray) -> bool:
-            SimWorld.set_config(self, config.tolist())
-            if any(self.client.getClosestPoints(self.robot, body, CLEAR) for body in others):
-                return False
-            return held is None or not any(self.client.getClosestPoints(held, body, CLEAR)
-                                           for body in [*others, *self.obstacles])
+        def clear(index: int, config: np.ndarray) -> bool:  # each configuration checked once
+            if index not in seen:
+                SimWorld.set_config(self, config.tolist())
+                seen[index] = not any(self.client.getClosestPoints(self.robot, body, CLEAR) for body in others) \
+                    and (held is None or not any(self.client.getClosestPoints(held, body, CLEAR)
+                                                 for body in [*others, *self.obstacles]))
+            return seen[index]
 
-        found = []
+        configs, pieces, travel, far = [legs[0]], [], [], []
         for k, (a, b) in enumerate(zip(legs, legs[1:])):
-            parts = max(1, math.ceil(float(np.max(np.abs(b - a))) / CLEAR_STRIDE))
-            found.append(not slow[k] and all(clear(a + (b - a) * (i / parts)) for i in range(parts + 1)))
+            parts = 1 if slow[k] else max(1, math.ceil(float(np.max(np.abs(b - a))) / CLEAR_STRIDE))
+            for i in range(1, parts + 1):
+                configs.append(a + (b - a) * (i / parts))
+                pieces.append(slow[k])
+                travel.append(hand_legs[k])
+                n = len(configs) - 1
+                far.append(not slow[k] and clear(n - 1, configs[n - 1]) and clear(n, configs[n]))
         SimWorld.set_config(self, start)
-        return found
+        if far:
+            far[-1] = False  # the robot arrives at the path's end at the usual speed
+        return np.asarray(configs), pieces, travel, far
 
     def _hand_points(self, path: Sequence[Sequence[float]]) -> np.ndarray:
         """The end-effector's position at each configuration of `path`
@@ -556,12 +575,13 @@ class PhysicsWorld(SimWorld):
         """As in the kinematic world, and `robot` also where the object would
         come within `CLEARANCE` of the robot: a human does not put an object
         against the hand (which would drag it along as it leaves)."""
-        before = self.poses[name]
-        self._place_body(name, pose)
-        near = bool(self.client.getClosestPoints(self.robot, self.bodies[name], CLEARANCE))
+        before, body = self.poses[name], self.bodies[name]
+        self._place_body(name, pose)  # placed once for both questions
+        hits = self._hits(body, ignore={name})
+        if self.client.getClosestPoints(self.robot, body, CLEARANCE):
+            hits.add("robot")
         self._place_body(name, before)
-        hits = super().blocked(name, pose) | ({"robot"} if near else set())
-        self.client.resetBaseVelocity(self.bodies[name], [0, 0, 0], [0, 0, 0])
+        self.client.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0])
         return hits
 
 

@@ -1,7 +1,13 @@
 """Anchors (semantics §5) as robot configurations, and the motions a mode needs.
 
 `x/g` is the pre-image of grasp `g` for an object standing at `x`, found by
-the planner's inverse kinematics seeded at home.  An anchor that cannot be
+the planner's inverse kinematics seeded at home.  A contact's anchors are
+seeded instead with the same contact's anchor at the nearest place solved
+before (the first at home): a slide joins two of them by following the hand
+in small inverse kinematics steps (`slides.py`), which stays on one branch
+of the arm's solutions, so its anchors must be on one branch too; seeded at
+home each, they fell on different ones, and the slide ended with a
+joint-space turn of the whole arm that left the hand where it was.  An anchor that cannot be
 reached, or where the robot collides with a static obstacle or with the
 object standing at `x`, is an error naming it: a scene with a silently
 missing anchor would make the game unrealizable for reasons nobody sees.
@@ -41,7 +47,8 @@ def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
             if name in geometry.absent:
                 continue
             target = pose @ geometry.hand_frame(grasp).pre_image()  # world frame
-            config = planner.inverse_kinematics(target, home)
+            seed = _seed(scene, configs, place, grasp) if grasp in geometry.contacts else home
+            config = planner.inverse_kinematics(target, seed)
             if config is None:
                 problems.append(f"{name}: unreachable (no inverse kinematics solution within the joint "
                                 f"limits for the end-effector at {point_text(target.xyz)})")
@@ -60,6 +67,18 @@ def anchor_configs(planner: Planner, scene: Scene) -> dict[str, Config]:
                            + "\n(where a grasp or contact cannot be used by design, declare it: "
                            "absent_at: [PLACE] on the grasp or contact)")
     return configs
+
+
+def _seed(scene: Scene, configs: dict[str, Config], place: str, contact: str) -> Config:
+    """The configuration of `contact`'s anchor at the place nearest `place`
+    among those solved so far, or home when there is none."""
+    places = geometry_of(scene).places
+    solved = [x for x in places if f"{x}/{contact}" in configs]
+    if not solved:
+        return configs[HOME]
+    here = places[place].xyz
+    nearest = min(solved, key=lambda x: sum((a - b) ** 2 for a, b in zip(places[x].xyz, here)))
+    return configs[f"{nearest}/{contact}"]
 
 
 def mode_queries(scene: Scene, mode: Mode) -> tuple[Query, ...]:

@@ -33,9 +33,10 @@ from symsynth.scene.model import Scene, geometry_of
 
 #: Bumped whenever the way costmaps are computed changes, so that no cached
 #: costmap of an older revision is reused.
-FORMAT_REVISION = 6  # 3: the file holds its key (`KEY_FIELD`); 4: contacts, slides, grasp reach;
+FORMAT_REVISION = 7  # 3: the file holds its key (`KEY_FIELD`); 4: contacts, slides, grasp reach;
 # 5: and a checksum of its content (`SUM_FIELD`); 6: transfers and slides from under a resting place
-# require it free (`support.py`)
+# require it free (`support.py`); 7: a contact's anchors seeded with its anchor at the nearest place
+# (`anchors.py`)
 
 
 def cache_key(scene: Scene, method: str, planner: str, seed: int) -> str:
