@@ -73,3 +73,13 @@ def test_simulate_in_world_needs_a_physical_scene():
     done = symsynth("simulate", SCENES / "wait.yaml", "--objective", "expected", "--in-world")
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert "abstract scene" in done.stderr and "--in-world" in done.stderr
+
+
+@pytest.mark.parametrize("world", [[], ["--world", "kinematic"]])
+def test_simulate_in_world_chooses_the_world_as_simulate_does(world):
+    """--randomize is refused in the kinematic world, asked for or the scene's
+    default (the paper's arch: the lintel does not fit the fingers)."""
+    done = symsynth("simulate", SCENES / "arch.yaml", "--objective", "expected", "--in-world",
+                    "--randomize", "mass=0.1", *world)
+    assert done.returncode == 2 and "Traceback" not in done.stderr
+    assert "add --world physics" in done.stderr

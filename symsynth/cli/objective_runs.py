@@ -137,8 +137,6 @@ def run_objective_world(args: argparse.Namespace, problem: Problem) -> int:
     from symsynth.solvers.objectives.files import objective_table, to_pay_by_position
 
     scene = problem.scene
-    if scene.geometry is None:
-        raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world: leave out --in-world")
     wanted = ("none", "random", "adversarial") if args.objective == "expected" else ("none", "random")
     if args.human not in wanted:
         raise InputError(f"--in-world --objective {args.objective} runs against --human {', '.join(wanted)}, "
@@ -146,10 +144,6 @@ def run_objective_world(args: argparse.Namespace, problem: Problem) -> int:
     model = human_model(scene, args.human_model) or parse_model(f"random:{args.move_probability!r}")
     if not isinstance(model, RandomModel):
         raise InputError(f"--in-world: the world's random human is random(P); the model {model.name} is not")
-    if args.world is None:  # as `simulate` chooses it: physics where the fingers close on every grasp
-        from symsynth.execution.physics import default_world
-
-        args.world, _ = default_world(scene)
     planner = planner_class(simulation_planner(scene, args.planner))(scene)
     s = solve_objective(scene, problem.formula, objective=args.objective, model=model, budget=args.budget,
                         solver="explicit")

@@ -140,28 +140,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(run=run)
 
 
-
-
-def run(args: argparse.Namespace) -> int:
-    from symsynth.bullet import check_display
-    from symsynth.execution.human import HUMANS, read_script
-
-    if args.objective != "worst":  # semantics §9: the objective's strategy, in the game
-        scene = load_scene(args.scene)
-        problem = with_task(scene if args.k is None else dataclasses.replace(scene, k=args.k), None)
-        request = options.costmap_request(args, progress=not args.json)
-        problem = with_costmap(problem, request)
-        if args.in_world:
-            return objective_runs.run_objective_world(args, problem)
-        return objective_runs.run_objective_simulation(args, problem)
-    if args.record is not None:
-        check_writable(args.record, "recording")
+def choose_world(args: argparse.Namespace, scene: Scene) -> None:
+    """`args.world` as asked, else the scene's default (physics where the
+    fingers close on every grasp), with `args.kinematic_because` saying why
+    it is kinematic; --randomize needs the physical world."""
     if args.randomize is not None and args.world == "kinematic":
         raise InputError("--randomize draws the physical world's friction, masses and poses: add --world physics")
-    check_display(args.gui)
-    scene = load_scene(args.scene)
-    if scene.geometry is None:
-        raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world to simulate")
     args.kinematic_because = []
     if args.world is None:
         from symsynth.execution.physics import default_world
@@ -171,6 +155,32 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--randomize draws the physical world's friction, masses and poses, and "
                              f"{args.scene} runs in the kinematic world by default "
                              f"({'; '.join(args.kinematic_because)}): add --world physics")
+
+
+def run(args: argparse.Namespace) -> int:
+    from symsynth.bullet import check_display
+    from symsynth.execution.human import HUMANS, read_script
+
+    if args.objective != "worst":  # semantics §9: the objective's strategy, in the game
+        scene = load_scene(args.scene)
+        if args.in_world:
+            if scene.geometry is None:
+                raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world: "
+                                 "leave out --in-world")
+            choose_world(args, scene)
+        problem = with_task(scene if args.k is None else dataclasses.replace(scene, k=args.k), None)
+        request = options.costmap_request(args, progress=not args.json)
+        problem = with_costmap(problem, request)
+        if args.in_world:
+            return objective_runs.run_objective_world(args, problem)
+        return objective_runs.run_objective_simulation(args, problem)
+    if args.record is not None:
+        check_writable(args.record, "recording")
+    check_display(args.gui)
+    scene = load_scene(args.scene)
+    if scene.geometry is None:
+        raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world to simulate")
+    choose_world(args, scene)
     # Every input is read and checked before the costmap and the solve.
     planner = simulation_planner(scene, args.planner)
     planner_class(planner)
