@@ -51,9 +51,11 @@ def test_compute_verify_and_reuse(capsys, tmp_path, small_arch):
                                   "roadmap_size": 30, "check_step": 0.05}
     assert summary["rules"] == sum(len(m["rules"]) for m in written["motions"]) > 0
     assert all(rule["path"] for m in written["motions"] for rule in m["rules"])
+    assert "mode/s" not in err  # progress bars only on a terminal (stderr is captured here)
 
-    code, out, _ = run(capsys, "costmap", "verify", str(out_file), "--scene", str(small_arch))
+    code, out, err = run(capsys, "costmap", "verify", str(out_file), "--scene", str(small_arch))
     assert code == 0 and "all evidence paths hold" in out
+    assert "rule/s" not in err
 
     again = tmp_path / "again.json"
     code, out, _ = run(capsys, "costmap", str(small_arch), "-o", str(again))

@@ -140,7 +140,7 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     places = scene.locations + scene.else_samples
     result: dict[str, dict] = {method: {} for method in methods}
     bar = tqdm(total=len(groups), desc=f"costmap ({', '.join(methods)}, {name})", unit="mode",
-               disable=not progress, leave=False)
+               disable=None if progress else True, leave=False)
     jobs = []
     reached = graspable(scene, planner, configs)
     for members in groups.values():

@@ -117,8 +117,8 @@ def verify_costmap(costmap: Costmap, scene: Scene, planner: Planner, step: float
     queries: dict[str, dict[tuple[str, str], Query]] = {}  # mode -> (start, goal) -> query, as built
     checked = 0
     items = [(key, i, rule) for key, rules in costmap.motions.items() for i, rule in enumerate(rules)]
-    for (mode_name, start, goal), i, rule in tqdm(items, desc="verify", unit="rule", disable=not progress,
-                                                  leave=False):
+    shown = None if progress else True  # None: on a terminal only
+    for (mode_name, start, goal), i, rule in tqdm(items, desc="verify", unit="rule", disable=shown, leave=False):
         fail: Callable[[str], None] = lambda reason: failures.append(  # noqa: E731
             Failure(mode_name, start, goal, i, reason))
         checked += 1
