@@ -231,6 +231,7 @@ class PhysicsWorld(SimWorld):
         self.touches: set[str] = set()  # objects the robot touched while `watching`
         self.watching = False
         self._names = {body: name for name, body in self.bodies.items()}
+        self._uncentre = {name: self.geometry.shapes[name].centre_offset().inverse() for name in self.bodies}
         self._jitter(self.randomization.pose)
         self._command(self.config)
         self.settle()
@@ -278,6 +279,7 @@ class PhysicsWorld(SimWorld):
     # -- stepping -------------------------------------------------------------
 
     def step(self) -> None:
+        self._flush()
         self.client.stepSimulation()
         self.steps += 1
         if self.watching:  # one query for every body the robot touches
@@ -324,7 +326,7 @@ class PhysicsWorld(SimWorld):
         """Read every object's pose from PyBullet into `poses`."""
         for name, body in self.bodies.items():
             xyz, quat = self.client.getBasePositionAndOrientation(body)
-            self.poses[name] = Pose(tuple(xyz), tuple(quat)) @ self.geometry.shapes[name].centre_offset().inverse()
+            self.poses[name] = Pose(tuple(xyz), tuple(quat)) @ self._uncentre[name]
 
     # -- the robot ------------------------------------------------------------
 
@@ -358,8 +360,10 @@ class PhysicsWorld(SimWorld):
                 seconds = max(seconds, hand_legs[k] / hand_speed)
             n = max(1, math.ceil(seconds / TIME_STEP))
             velocity = (b - a) / (n * TIME_STEP)
-            for i in range(1, n + 1):
-                self._command(a + (b - a) * (i / n), velocity)
+            self._command(a, velocity)  # the fingers' targets, if changed (nothing is stepped)
+            speeds = velocity.tolist()
+            for target in (a + np.outer(np.arange(1, n + 1) / n, b - a)).tolist():  # a + (b - a) i / n
+                self._set(self.joints, target, speeds, self._efforts, self._gains)
                 self.step()
         goal = np.asarray(path[-1], float)
         self._command(goal)
@@ -422,9 +426,15 @@ class PhysicsWorld(SimWorld):
 
     def set_config(self, config: Sequence[float]) -> None:
         """Put the robot at `config` without stepping (a collision check);
-        the joints' targets follow."""
+        the joints' targets follow, sent before the world is stepped next
+        (`_flush`: a collision check sets many configurations in a row)."""
         super().set_config(config)
-        if hasattr(self, "_efforts"):
+        self._stale = True
+
+    def _flush(self) -> None:
+        """Send the joints' targets to the configuration last set, if it was
+        set since they were last sent."""
+        if self._stale:
             self._command(self.config)
 
     def _command(self, target: Sequence[float] | np.ndarray, velocity: np.ndarray | None = None) -> None:
@@ -433,6 +443,7 @@ class PhysicsWorld(SimWorld):
         keeps a motor's target until it is sent another)."""
         self._set(self.joints, np.asarray(target, float).tolist(),
                   self._still if velocity is None else velocity.tolist(), self._efforts, self._gains)
+        self._stale = False
         grip = [self._grip[j] for j in self._grip]
         if grip != self._sent_grip:
             self._set(list(self._grip), grip, [0.0] * len(grip), self._grip_forces, self._grip_gains)
@@ -553,6 +564,7 @@ class PhysicsWorld(SimWorld):
             self._place_body(name, before)
             if on_obstacle:
                 return True
+        self._flush()
         saved = self.client.saveState()
         bodies = [body, *others]
         start = [self.client.getBasePositionAndOrientation(b) for b in bodies]
