@@ -302,10 +302,10 @@ class PhysicsWorld(SimWorld):
         finally:
             self.watching = False
 
-    def settle(self) -> int:
-        """Step until every object rests (module doc); the poses are read
-        then.  Returns the steps taken."""
-        calm = taken = 0
+    def settle(self, calm: int = 0) -> int:
+        """Step until every object rests (module doc), `calm` steps of rest
+        already seen; the poses are read then.  Returns the steps taken."""
+        taken = 0
         while taken < SETTLE_STEPS and calm < REST_STEPS:
             self.step()
             taken += 1
@@ -331,7 +331,8 @@ class PhysicsWorld(SimWorld):
     # -- the robot ------------------------------------------------------------
 
     def follow(self, path: Sequence[Sequence[float]], hand_speed: float | None = None,
-               careful: Callable[[np.ndarray, np.ndarray], bool] | None = None, clear: bool = False) -> None:
+               careful: Callable[[np.ndarray, np.ndarray], bool] | None = None, clear: bool = False,
+               settle: bool = False) -> None:
         """Drive the joints along `path` by position control (module doc),
         then hold the last configuration until the robot is on it.  Each
         leg takes the time its fastest joint needs at `SPEED_FRACTION` of
@@ -341,7 +342,9 @@ class PhysicsWorld(SimWorld):
         `CLEAR_FRACTION`, but the path's last piece: `_clear_pieces`), or,
         where `careful(hand's start, hand's end)` holds for the leg (every
         leg when `careful` is None), its hand's straight-line travel at
-        `hand_speed` (m/s) if that is longer."""
+        `hand_speed` (m/s) if that is longer.  With `settle`, the world is
+        then stepped until the objects rest too (`settle`), their rest
+        counted while the robot is held on its last configuration."""
         if len(path) == 0:
             return
         hand = self._hand_points(path) if hand_speed is not None else None
@@ -367,12 +370,18 @@ class PhysicsWorld(SimWorld):
                 self.step()
         goal = np.asarray(path[-1], float)
         self._command(goal)
+        calm = 0
         for _ in range(CONVERGE_STEPS):
             if self.tracking_error(goal) <= ARRIVED:
                 break
             self.step()
+            if settle:
+                calm = calm + 1 if self._resting() else 0
         self.config = tuple(float(v) for v in goal)
-        self.sync()
+        if settle:
+            self.settle(calm)
+        else:
+            self.sync()
 
     def _clear_pieces(self, legs: np.ndarray, slow: list[bool], hand_legs: list[float]
                       ) -> tuple[np.ndarray, list[bool], list[float], list[bool]]:
