@@ -22,7 +22,8 @@ from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.execution import hand_motions
 from symsynth.execution.observe import POSITION
-from symsynth.execution.physics import PhysicsWorld, Randomization, default_world
+from symsynth.execution.physics import PhysicsWorld, Randomization
+from symsynth.execution.world_choice import default_world
 from symsynth.execution.simulate import MAX_VISITS
 from symsynth.execution.trial import slide_trial, slide_trials
 from symsynth.planning.anchors import anchor_configs

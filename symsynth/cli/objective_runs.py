@@ -145,7 +145,7 @@ def run_objective_world(args: argparse.Namespace, problem: Problem) -> int:
     if not isinstance(model, RandomModel):
         raise InputError(f"--in-world: the world's random human is random(P); the model {model.name} is not")
     if args.world is None:  # as `simulate` chooses it: physics where the fingers close on every grasp
-        from symsynth.execution.physics import default_world
+        from symsynth.execution.world_choice import default_world
 
         args.world, _ = default_world(scene)
     planner = planner_class(simulation_planner(scene, args.planner))(scene)

@@ -164,7 +164,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world to simulate")
     args.kinematic_because = []
     if args.world is None:
-        from symsynth.execution.physics import default_world
+        from symsynth.execution.world_choice import default_world
 
         args.world, args.kinematic_because = default_world(scene)
         if args.randomize is not None and args.world == "kinematic":

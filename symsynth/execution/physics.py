@@ -53,8 +53,7 @@ move only as PyBullet integrates them:
   in [1 - r, 1 + r]; each object's initial pose shifted on the table by up
   to `pose` metres in x and y.
 
-`default_world` is `simulate`'s world when none is asked for: physics
-unless an object is wider across the fingers than they open (`unheld`).
+`simulate`'s world when none is asked for is chosen in `world_choice`.
 
 Collision checks (`touching`, `blocked`, a motion's evidence path checked
 before it is followed) still set configurations without stepping, as in the
@@ -70,7 +69,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from symsynth import bullet
 from symsynth.bullet import pybullet
 from symsynth.errors import InputError
 from symsynth.execution.world import SimWorld
@@ -143,49 +141,6 @@ class Randomization:
 
     def __str__(self) -> str:
         return ",".join(f"{key}={getattr(self, key):g}" for key in self.KEYS)
-
-
-def gripper_opening(scene: Scene) -> float:
-    """How far the robot's fingers (its `fixed` prismatic joints, held
-    open) travel to close, in metres: 8 cm for the Panda's two 4 cm."""
-    assert scene.geometry is not None
-    client = bullet.client()
-    try:
-        loaded = bullet.load_robot(client, scene.geometry.robot)
-        return sum(value - loaded.infos[j][8] for j, value in loaded.held.items()
-                   if loaded.infos[j][2] == pybullet.JOINT_PRISMATIC)
-    finally:
-        client.disconnect()
-
-
-def unheld(scene: Scene) -> list[str]:
-    """Why the physical world cannot carry the scene's strategies: each
-    object and grasp the costmap may hold it with (`robot: {opening}` lets
-    them, or the scene gives none) that is wider across the fingers than
-    they open, e.g. `b is 14 cm across the fingers of grasp top`."""
-    geometry = scene.geometry
-    if geometry is None or not scene.objects or not geometry.grasps:
-        return []
-    opening = gripper_opening(scene)
-    found = []
-    for obj in scene.object_names:
-        for grasp in geometry.grasps:
-            width = geometry.across_fingers(obj, grasp)
-            allowed = geometry.robot.opening is None or (width is not None and width <= geometry.robot.opening)
-            if width is not None and allowed and width > opening + 1e-9:
-                found.append(f"{obj} is {100 * width:.0f} cm across the fingers of grasp {grasp}, "
-                             f"which open {100 * opening:.0f} cm")
-    return found
-
-
-def default_world(scene: Scene) -> tuple[str, list[str]]:
-    """`simulate`'s world when none is asked for: `physics` for a scene
-    with a robot and objects whose every grasp the fingers can close on,
-    else `kinematic`, with the reasons (`unheld`)."""
-    if scene.geometry is None or not scene.objects:
-        return "kinematic", ["the scene has no objects to move"]
-    why = unheld(scene)
-    return ("kinematic" if why else "physics"), why
 
 
 Watch = Callable[["PhysicsWorld"], None]
