@@ -22,7 +22,8 @@ from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.execution import hand_motions
 from symsynth.execution.observe import POSITION
-from symsynth.execution.physics import PhysicsWorld, Randomization, default_world
+from symsynth.execution.physics import PhysicsWorld, Randomization
+from symsynth.execution.world_choice import default_world
 from symsynth.execution.simulate import MAX_VISITS
 from symsynth.execution.trial import slide_trial, slide_trials
 from symsynth.planning.anchors import anchor_configs
@@ -126,6 +127,19 @@ def test_a_grasp_lifts_the_object_with_the_fingers_and_the_constraint_keeps_it_i
             world.close()
 
 
+def counted_approaches(planner):
+    """`hand_motions.Approaches` over `planner`, and the list of the poses
+    it solves inverse kinematics for."""
+    solved = []
+
+    class Counting:
+        def inverse_kinematics(self, pose, seed):
+            solved.append(pose)
+            return planner.inverse_kinematics(pose, seed)
+
+    return hand_motions.Approaches(Counting()), solved
+
+
 def test_an_object_a_few_millimetres_off_its_place_is_approached_with_one_solution(block):
     """`Approaches.near`: the place's approach (solved once) bent toward
     the grasp pose on the object where it really stands, 5 mm and 0.03 rad
@@ -137,14 +151,7 @@ def test_an_object_a_few_millimetres_off_its_place_is_approached_with_one_soluti
     g = scene.geometry
     grasp, place = g.grasps["top"], g.places["l1"]
     moved = Pose((0.503, -0.004, 0.0), (0.0, 0.0, math.sin(0.015), math.cos(0.015)))
-    solved = []
-
-    class Counting:
-        def inverse_kinematics(self, pose, seed):
-            solved.append(pose)
-            return planner.inverse_kinematics(pose, seed)
-
-    approaches = hand_motions.Approaches(Counting())
+    approaches, solved = counted_approaches(planner)
     world = at_anchor(scene, planner, "l1")
     try:
         approaches.path(world.config, place @ grasp.pre_image(), place @ grasp.pose, "down")
@@ -168,14 +175,7 @@ def test_an_object_within_inverse_kinematics_tolerance_of_its_place_is_approache
     scene, planner = block
     g = scene.geometry
     grasp, place = g.grasps["top"], g.places["l1"]
-    solved = []
-
-    class Counting:
-        def inverse_kinematics(self, pose, seed):
-            solved.append(pose)
-            return planner.inverse_kinematics(pose, seed)
-
-    approaches = hand_motions.Approaches(Counting())
+    approaches, solved = counted_approaches(planner)
     home = tuple(g.robot.home)
     nominal = approaches.path(home, place @ grasp.pre_image(), place @ grasp.pose, "down")
     solved.clear()

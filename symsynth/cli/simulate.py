@@ -148,7 +148,7 @@ def choose_world(args: argparse.Namespace, scene: Scene) -> None:
         raise InputError("--randomize draws the physical world's friction, masses and poses: add --world physics")
     args.kinematic_because = []
     if args.world is None:
-        from symsynth.execution.physics import default_world
+        from symsynth.execution.world_choice import default_world
 
         args.world, args.kinematic_because = default_world(scene)
         if args.randomize is not None and args.world == "kinematic":

@@ -53,8 +53,7 @@ move only as PyBullet integrates them:
   in [1 - r, 1 + r]; each object's initial pose shifted on the table by up
   to `pose` metres in x and y.
 
-`default_world` is `simulate`'s world when none is asked for: physics
-unless an object is wider across the fingers than they open (`unheld`).
+`simulate`'s world when none is asked for is chosen in `world_choice`.
 
 Collision checks (`touching`, `blocked`, a motion's evidence path checked
 before it is followed) still set configurations without stepping, as in the
@@ -70,7 +69,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from symsynth import bullet
 from symsynth.bullet import pybullet
 from symsynth.errors import InputError
 from symsynth.execution.world import SimWorld
@@ -145,49 +143,6 @@ class Randomization:
         return ",".join(f"{key}={getattr(self, key):g}" for key in self.KEYS)
 
 
-def gripper_opening(scene: Scene) -> float:
-    """How far the robot's fingers (its `fixed` prismatic joints, held
-    open) travel to close, in metres: 8 cm for the Panda's two 4 cm."""
-    assert scene.geometry is not None
-    client = bullet.client()
-    try:
-        loaded = bullet.load_robot(client, scene.geometry.robot)
-        return sum(value - loaded.infos[j][8] for j, value in loaded.held.items()
-                   if loaded.infos[j][2] == pybullet.JOINT_PRISMATIC)
-    finally:
-        client.disconnect()
-
-
-def unheld(scene: Scene) -> list[str]:
-    """Why the physical world cannot carry the scene's strategies: each
-    object and grasp the costmap may hold it with (`robot: {opening}` lets
-    them, or the scene gives none) that is wider across the fingers than
-    they open, e.g. `b is 14 cm across the fingers of grasp top`."""
-    geometry = scene.geometry
-    if geometry is None or not scene.objects or not geometry.grasps:
-        return []
-    opening = gripper_opening(scene)
-    found = []
-    for obj in scene.object_names:
-        for grasp in geometry.grasps:
-            width = geometry.across_fingers(obj, grasp)
-            allowed = geometry.robot.opening is None or (width is not None and width <= geometry.robot.opening)
-            if width is not None and allowed and width > opening + 1e-9:
-                found.append(f"{obj} is {100 * width:.0f} cm across the fingers of grasp {grasp}, "
-                             f"which open {100 * opening:.0f} cm")
-    return found
-
-
-def default_world(scene: Scene) -> tuple[str, list[str]]:
-    """`simulate`'s world when none is asked for: `physics` for a scene
-    with a robot and objects whose every grasp the fingers can close on,
-    else `kinematic`, with the reasons (`unheld`)."""
-    if scene.geometry is None or not scene.objects:
-        return "kinematic", ["the scene has no objects to move"]
-    why = unheld(scene)
-    return ("kinematic" if why else "physics"), why
-
-
 Watch = Callable[["PhysicsWorld"], None]
 
 
@@ -231,6 +186,7 @@ class PhysicsWorld(SimWorld):
         self.touches: set[str] = set()  # objects the robot touched while `watching`
         self.watching = False
         self._names = {body: name for name, body in self.bodies.items()}
+        self._uncentre = {name: self.geometry.shapes[name].centre_offset().inverse() for name in self.bodies}
         self._jitter(self.randomization.pose)
         self._command(self.config)
         self.settle()
@@ -278,6 +234,7 @@ class PhysicsWorld(SimWorld):
     # -- stepping -------------------------------------------------------------
 
     def step(self) -> None:
+        self._flush()
         self.client.stepSimulation()
         self.steps += 1
         if self.watching:  # one query for every body the robot touches
@@ -300,10 +257,10 @@ class PhysicsWorld(SimWorld):
         finally:
             self.watching = False
 
-    def settle(self) -> int:
-        """Step until every object rests (module doc); the poses are read
-        then.  Returns the steps taken."""
-        calm = taken = 0
+    def settle(self, calm: int = 0) -> int:
+        """Step until every object rests (module doc), `calm` steps of rest
+        already seen; the poses are read then.  Returns the steps taken."""
+        taken = 0
         while taken < SETTLE_STEPS and calm < REST_STEPS:
             self.step()
             taken += 1
@@ -324,12 +281,13 @@ class PhysicsWorld(SimWorld):
         """Read every object's pose from PyBullet into `poses`."""
         for name, body in self.bodies.items():
             xyz, quat = self.client.getBasePositionAndOrientation(body)
-            self.poses[name] = Pose(tuple(xyz), tuple(quat)) @ self.geometry.shapes[name].centre_offset().inverse()
+            self.poses[name] = Pose(tuple(xyz), tuple(quat)) @ self._uncentre[name]
 
     # -- the robot ------------------------------------------------------------
 
     def follow(self, path: Sequence[Sequence[float]], hand_speed: float | None = None,
-               careful: Callable[[np.ndarray, np.ndarray], bool] | None = None, clear: bool = False) -> None:
+               careful: Callable[[np.ndarray, np.ndarray], bool] | None = None, clear: bool = False,
+               settle: bool = False) -> None:
         """Drive the joints along `path` by position control (module doc),
         then hold the last configuration until the robot is on it.  Each
         leg takes the time its fastest joint needs at `SPEED_FRACTION` of
@@ -339,7 +297,9 @@ class PhysicsWorld(SimWorld):
         `CLEAR_FRACTION`, but the path's last piece: `_clear_pieces`), or,
         where `careful(hand's start, hand's end)` holds for the leg (every
         leg when `careful` is None), its hand's straight-line travel at
-        `hand_speed` (m/s) if that is longer."""
+        `hand_speed` (m/s) if that is longer.  With `settle`, the world is
+        then stepped until the objects rest too (`settle`), their rest
+        counted while the robot is held on its last configuration."""
         if len(path) == 0:
             return
         hand = self._hand_points(path) if hand_speed is not None else None
@@ -358,17 +318,25 @@ class PhysicsWorld(SimWorld):
                 seconds = max(seconds, hand_legs[k] / hand_speed)
             n = max(1, math.ceil(seconds / TIME_STEP))
             velocity = (b - a) / (n * TIME_STEP)
-            for i in range(1, n + 1):
-                self._command(a + (b - a) * (i / n), velocity)
+            self._command(a, velocity)  # the fingers' targets, if changed (nothing is stepped)
+            speeds = velocity.tolist()
+            for target in (a + np.outer(np.arange(1, n + 1) / n, b - a)).tolist():  # a + (b - a) i / n
+                self._set(self.joints, target, speeds, self._efforts, self._gains)
                 self.step()
         goal = np.asarray(path[-1], float)
         self._command(goal)
+        calm = 0
         for _ in range(CONVERGE_STEPS):
             if self.tracking_error(goal) <= ARRIVED:
                 break
             self.step()
+            if settle:
+                calm = calm + 1 if self._resting() else 0
         self.config = tuple(float(v) for v in goal)
-        self.sync()
+        if settle:
+            self.settle(calm)
+        else:
+            self.sync()
 
     def _clear_pieces(self, legs: np.ndarray, slow: list[bool], hand_legs: list[float]
                       ) -> tuple[np.ndarray, list[bool], list[float], list[bool]]:
@@ -422,9 +390,15 @@ class PhysicsWorld(SimWorld):
 
     def set_config(self, config: Sequence[float]) -> None:
         """Put the robot at `config` without stepping (a collision check);
-        the joints' targets follow."""
+        the joints' targets follow, sent before the world is stepped next
+        (`_flush`: a collision check sets many configurations in a row)."""
         super().set_config(config)
-        if hasattr(self, "_efforts"):
+        self._stale = True
+
+    def _flush(self) -> None:
+        """Send the joints' targets to the configuration last set, if it was
+        set since they were last sent."""
+        if self._stale:
             self._command(self.config)
 
     def _command(self, target: Sequence[float] | np.ndarray, velocity: np.ndarray | None = None) -> None:
@@ -433,6 +407,7 @@ class PhysicsWorld(SimWorld):
         keeps a motor's target until it is sent another)."""
         self._set(self.joints, np.asarray(target, float).tolist(),
                   self._still if velocity is None else velocity.tolist(), self._efforts, self._gains)
+        self._stale = False
         grip = [self._grip[j] for j in self._grip]
         if grip != self._sent_grip:
             self._set(list(self._grip), grip, [0.0] * len(grip), self._grip_forces, self._grip_gains)
@@ -553,6 +528,7 @@ class PhysicsWorld(SimWorld):
             self._place_body(name, before)
             if on_obstacle:
                 return True
+        self._flush()
         saved = self.client.saveState()
         bodies = [body, *others]
         start = [self.client.getBasePositionAndOrientation(b) for b in bodies]
