@@ -204,17 +204,7 @@ class Search:
         questions with a smaller budget or fewer human moves, which never
         come back here.  Positions left out of the fixpoint have val > b."""
         self.closures += 1
-        robots, humans = [start], []
-        seen_r, seen_h = {start}, set()
-        for x in robots:  # grows while iterated
-            for units, _, j in self.robot_options(x):
-                if units == 0 and j >= 0 and j not in seen_h:
-                    seen_h.add(j)
-                    humans.append(j)
-                    p = self.human_options(j)[0]  # the pass
-                    if p not in seen_r:
-                        seen_r.add(p)
-                        robots.append(p)
+        robots, humans = self._zero_cost_region(start)
         lo_r, lo_h, hi_r, hi_h = self.lo_r, self.lo_h, self.hi_r, self.hi_h
         won_r = {x for x in robots if x in hi_r and hi_r[x][0] <= b}
         won_h = {y for y in humans if y in hi_h and hi_h[y] <= b}
@@ -226,24 +216,7 @@ class Search:
             for x in robots:
                 if x in won_r or lo_r[x] > b:
                     continue
-                proven = False
-                for f, units, action, j in self._ranked(x):
-                    if f > b:
-                        break
-                    if units == 0 and j >= 0:
-                        if j in won_h:
-                            self._prove_robot(x, hi_h[j], action)
-                            proven = True
-                            break
-                    elif x not in exits_tried:
-                        if j < 0:
-                            self._prove_robot(x, units, action)
-                            proven = True
-                            break
-                        if self.human(j, b - units):
-                            self._prove_robot(x, units + hi_h[j], action)
-                            proven = True
-                            break
+                proven = self._closure_robot(x, b, won_h, x not in exits_tried)
                 exits_tried.add(x)
                 if proven:
                     won_r.add(x)
@@ -271,6 +244,43 @@ class Search:
             if x not in won_r:
                 self._bellman_robot(x)
         return start in won_r
+
+    def _zero_cost_region(self, start: int) -> tuple[list[int], list[int]]:
+        """The robot positions reachable from `start` by zero-cost actions
+        and passes, and the human positions between them."""
+        robots, humans = [start], []
+        seen_r, seen_h = {start}, set()
+        for x in robots:  # grows while iterated
+            for units, _, j in self.robot_options(x):
+                if units == 0 and j >= 0 and j not in seen_h:
+                    seen_h.add(j)
+                    humans.append(j)
+                    p = self.human_options(j)[0]  # the pass
+                    if p not in seen_r:
+                        seen_r.add(p)
+                        robots.append(p)
+        return robots, humans
+
+    def _closure_robot(self, x: int, b: int, won_h: set[int], exits: bool) -> bool:
+        """One robot position of a closure: proven within b by a zero-cost
+        action into a human position won already, or (`exits`: not tried
+        before, whose answers do not change within the closure) by an
+        action that costs, asked with the budget left."""
+        for f, units, action, j in self._ranked(x):
+            if f > b:
+                break
+            if units == 0 and j >= 0:
+                if j in won_h:
+                    self._prove_robot(x, self.hi_h[j], action)
+                    return True
+            elif exits:
+                if j < 0:
+                    self._prove_robot(x, units, action)
+                    return True
+                if self.human(j, b - units):
+                    self._prove_robot(x, units + self.hi_h[j], action)
+                    return True
+        return False
 
     # -- values ---------------------------------------------------------------------------
     def value_human(self, key: Key) -> int | None:
