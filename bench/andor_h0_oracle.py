@@ -6,8 +6,9 @@
 On the pattern family's N x M x k = K scene: the layered solver explores and solves the game
 (`compiled.explore_packed`), every position of its h = 0 layer becomes a search node with its
 exact value V0, then the search's rounds run (`andor._search`).  MODE 0: no oracle (the
-search as it is); 1: lo = V0 at h = 0 (a perfect lower bound); 2: lo = hi = V0 (both bounds;
-no strategy stands behind hi, so only the counts and the value mean anything).  Prints one
+search as it is); 1: lo = V0 at h = 0 (a perfect lower bound); 2: lo = hi = V0 (both bounds);
+3: hi = V0 (a perfect upper bound, the lower bound today's).  No strategy stands behind an
+oracle's hi, so only the counts and the value mean anything.  Prints one
 JSON line: the search's seconds, the nodes expanded by h, the moves generated, peak MB.
 Measured in bench/results/game-notes.md (issue 32, exact h = 0 values).
 """
@@ -35,14 +36,15 @@ from symsynth.solvers.packed.lower import BoundTables  # noqa: E402
 
 
 @njit
-def _fill(keys, rval, lo, hi, hb, both, P, B, M, S):
-    """The layered nodes lo..hi (h = 0) as search nodes, lo (and hi) their value."""
+def _fill(keys, rval, lo, hi, hb, mode, P, B, M, S):
+    """The layered nodes lo..hi (h = 0) as search nodes, their value as lo, hi or both (MODE)."""
     rec = M[1]
     for i in range(lo, hi):
         j = sk._node(keys[i] << hb, P, B, M, S)
-        rec[j, sk.LO_R] = rval[i]
-        rec[j, sk.LO_H] = rval[i]
-        if both:
+        if mode != 3:
+            rec[j, sk.LO_R] = rval[i]
+            rec[j, sk.LO_H] = rval[i]
+        if mode >= 2:
             rec[j, sk.HI_R] = rval[i]
 
 
@@ -59,7 +61,7 @@ def main(n: int, m: int, k: int, mode: int) -> dict:
         while 2 * (hi0 - lo0 + memo.room) > len(memo.table) or hi0 - lo0 + memo.room > len(memo.rec):
             memo.rec = andor._grown(memo.rec, 2 * len(memo.rec))
             memo._grow()
-        _fill(keys, packed.rval, lo0, hi0, np.int64(memo.hb), mode == 2, memo.P, memo.B, memo.M(), memo.S())
+        _fill(keys, packed.rval, lo0, hi0, np.int64(memo.hb), mode, memo.P, memo.B, memo.M(), memo.S())
     filled = memo.count
     del packed
     v0 = initial_state(scene)
