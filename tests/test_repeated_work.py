@@ -50,7 +50,8 @@ def test_the_costmap_options_are_one_declaration():
     spelled --seed in two and --costmap-seed in one."""
     from symsynth.cli import build_parser
 
-    subcommands = next(a for a in build_parser()._actions if a.dest == "command").choices
+    subcommands = {command: next(a for a in build_parser(command)._actions if a.dest == "command").choices[command]
+                   for command in ("solve", "costmap", "simulate")}  # each parser in full
 
     def options(command):
         return {o: (a.dest, a.choices, a.default, a.help if o != "--planner" else None)
