@@ -1,34 +1,59 @@
 """The LTLf abstract syntax: frozen, hashable dataclasses, one per operator.
 
 Nodes compare by value, so two parses of the same text are equal and can be
-used as dictionary keys.  Passes over the tree are small functions elsewhere
-(`printer`, `semantics`, `normal`), not methods here.
+used as dictionary keys.  A node's hash is computed once and kept (the
+compiler keys dictionaries by subformulas: hashing a large formula anew at
+every lookup walked all of it, a third of Syft syft_1/001's compilation).
+Passes over the tree are small functions elsewhere (`printer`, `semantics`,
+`normal`), not methods here.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TypeVar
+
+_Node = TypeVar("_Node", bound=type)
 
 
 class Formula:
     """Base class of every LTLf node."""
 
-    __slots__ = ()
+    __slots__ = ("_hash",)
+
+    def __hash__(self) -> int:
+        """The hash a dataclass gives (of its fields' tuple), computed once:
+        the fields' own hashes are kept too, so it costs one tuple."""
+        try:
+            return self._hash  # type: ignore[has-type]
+        except AttributeError:
+            value = hash(tuple(getattr(self, name) for name in self.__match_args__))  # type: ignore[attr-defined]
+            object.__setattr__(self, "_hash", value)  # (frozen: not through the node's __setattr__)
+            return value
 
 
-@dataclass(frozen=True, slots=True)
+def node(cls: _Node) -> _Node:
+    """A frozen dataclass with slots that keeps `Formula.__hash__` (a frozen
+    dataclass would make its own, which walks the whole subtree).  Pickles
+    and copies carry the fields only (the dataclass's `__getstate__`): the
+    hash of a string differs between processes."""
+    cls.__hash__ = Formula.__hash__  # type: ignore[method-assign]  # (before: dataclass keeps it)
+    return dataclass(frozen=True, slots=True)(cls)
+
+
+@node
 class Const(Formula):
     """`true` or `false`."""
 
     value: bool
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class Last(Formula):
     """`last`: true exactly at the final position of the trace."""
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class Atom(Formula):
     """An atomic proposition `p`, or a predicate atom `name(arg, ...)`.
 
@@ -47,72 +72,72 @@ class Atom(Formula):
         return f"{self.name}({', '.join(self.args)})"
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class Not(Formula):
     arg: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class Next(Formula):
     """Strong next `X[!] f`: a next position exists and satisfies `f`."""
 
     arg: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class WeakNext(Formula):
     """Weak next `WX f`: no next position, or it satisfies `f`."""
 
     arg: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class Eventually(Formula):
     arg: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class Always(Formula):
     arg: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class Until(Formula):
     left: Formula
     right: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class Release(Formula):
     left: Formula
     right: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class WeakUntil(Formula):
     left: Formula
     right: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class And(Formula):
     left: Formula
     right: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class Or(Formula):
     left: Formula
     right: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class Implies(Formula):
     left: Formula
     right: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@node
 class Equiv(Formula):
     left: Formula
     right: Formula
