@@ -308,7 +308,11 @@ class Progression:
         With `max_edges`, `TooLarge` is raised once the DFA has more edges
         (pairs of a state and a successor) than that; with `max_degree`
         `(states, degree)`, `TooDense` when the first `states` states have
-        more than `degree` successors each on average."""
+        more than `degree` successors each on average: as soon as fewer
+        states have more than `states * degree` (the count only grows, so
+        the verdict is the same, found sooner: Syft syft_1/001's first
+        states have 512 successors each, and its first two already decide,
+        where 16 took 0.14 s)."""
         self._learn_implications(formula)
         start = self._canonical(self.obligation(True, formula))
         index = {start: 0}
@@ -324,7 +328,7 @@ class Progression:
             count += len(edges[-1]) if edges else 0
             if max_edges is not None and count > max_edges:
                 raise TooLarge(f"more than {max_edges} edges")
-            if max_degree is not None and len(edges) == max_degree[0] and count > max_degree[1] * len(edges):
+            if max_degree is not None and len(edges) <= max_degree[0] and count > max_degree[0] * max_degree[1]:
                 raise TooDense(f"more than {max_degree[1]} successors per state")
             for succ, guard in self._successors(state, below).items():
                 if succ not in index:
