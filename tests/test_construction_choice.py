@@ -93,13 +93,28 @@ def test_dense_first_states_are_found_as_soon_as_their_edges_pass_the_budget(mon
     progression = Progression([a.key for a in atoms(formula)])
     expanded = []
     original = progression._successors
-    monkeypatch.setattr(progression, "_successors", lambda state, below: expanded.append(state) or
-                        original(state, below))
+    monkeypatch.setattr(progression, "_successors", lambda state, *rest: expanded.append(state) or
+                        original(state, *rest))
     assert progression.dfa(nnf(formula)).num_states > 16
     expanded.clear()
     with pytest.raises(TooDense):
         progression.dfa(nnf(formula), None, (16, 2))
     assert len(expanded) == 2
+
+
+def test_a_state_past_the_budget_alone_is_found_before_its_guards_are_made(monkeypatch):
+    """The same DFA within 16 states of 1 successor on average: the first
+    state's 32 successors are past the budget (16) and more than 16, so
+    the 16th state would fail the check: it stops before any guard."""
+    from symsynth.automata import progression
+    from symsynth.automata.normal import nnf
+    formula = parse_ltlf(" & ".join(f"G(p{i} -> X[!] q{i})" for i in range(5)))
+    splits = []
+    original = progression.split_letters
+    monkeypatch.setattr(progression, "split_letters", lambda *args: splits.append(args) or original(*args))
+    with pytest.raises(progression.TooDense):
+        progression.Progression([a.key for a in atoms(formula)]).dfa(nnf(formula), None, (16, 1))
+    assert splits == []
 
 
 def test_limits_and_the_named_constructions_are_kept(composed):

@@ -218,6 +218,28 @@ def split_letters(bdd: BDD, u: Function, num_atoms: int,
     return below[u]
 
 
+def exits_more_than(bdd: BDD, u: Function, num_atoms: int, limit: int) -> bool:
+    """Whether the paths of `u` leave the atom levels at more than `limit`
+    nodes (the successors `split_letters` gives), found without their
+    guards: one visit per node, stopping at the `limit + 1`-th."""
+    true, false = bdd.true, bdd.false
+    seen: set[Function] = set()
+    exits: set[Function] = set()
+    stack = [u]
+    while stack:
+        node = stack.pop()
+        if node in seen:
+            continue
+        seen.add(node)
+        if node == true or node == false or node.level >= num_atoms:
+            exits.add(node)
+            if len(exits) > limit:
+                return True
+        else:
+            stack.extend(branches(bdd, node))
+    return False
+
+
 def children_first(bdd: BDD, root: Function, done: Any) -> Iterable[tuple[Function, Function, Function]]:
     """The nodes under `root` not in `done`, each after its children, as
     `(node, low, high)` (cofactors as `branches` gives them), without
