@@ -218,13 +218,13 @@ def split_letters(bdd: BDD, u: Function, num_atoms: int,
     return below[u]
 
 
-def exits_more_than(bdd: BDD, u: Function, num_atoms: int, limit: int) -> bool:
-    """Whether the paths of `u` leave the atom levels at more than `limit`
-    nodes (the successors `split_letters` gives), found without their
-    guards: one visit per node, stopping at the `limit + 1`-th."""
+def exits(bdd: BDD, u: Function, num_atoms: int) -> Iterator[Function]:
+    """The nodes where the paths of `u` leave the atom levels (the first
+    `num_atoms` levels: the successors `split_letters` gives, without their
+    guards), each once, in the order a depth-first walk (high branch first)
+    meets them."""
     true, false = bdd.true, bdd.false
     seen: set[Function] = set()
-    exits: set[Function] = set()
     stack = [u]
     while stack:
         node = stack.pop()
@@ -232,12 +232,9 @@ def exits_more_than(bdd: BDD, u: Function, num_atoms: int, limit: int) -> bool:
             continue
         seen.add(node)
         if node == true or node == false or node.level >= num_atoms:
-            exits.add(node)
-            if len(exits) > limit:
-                return True
+            yield node
         else:
             stack.extend(branches(bdd, node))
-    return False
 
 
 def children_first(bdd: BDD, root: Function, done: Any) -> Iterable[tuple[Function, Function, Function]]:

@@ -24,9 +24,10 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from functools import singledispatchmethod
+from itertools import islice
 
 from symsynth.automata import moves as moves_
-from symsynth.automata.bdd import BDD, Function, cofactor, exits_more_than, new_manager, split_letters
+from symsynth.automata.bdd import BDD, Function, cofactor, exits, new_manager, split_letters
 from symsynth.automata.growth import grew
 from symsynth.automata.refine import refine
 from symsynth.logic import ast
@@ -228,7 +229,8 @@ class Progression:
         step = {name: self.unfold(self._obligation[name][1]) for name in self.bdd.support(state)}
         after = self.bdd.let(step, state) if step else state
         after = self._canonical(after)  # so that successors that say the same are one BDD
-        if most is not None and exits_more_than(self.bdd, after, len(self.atom_keys), most):
+        if most is not None and next(islice(exits(self.bdd, after, len(self.atom_keys)), most, None), None) is not None:
+            # (a successor past the first `most`)
             raise TooDense(f"a state with more than {most} successors")
         return split_letters(self.bdd, after, len(self.atom_keys), below)
 
