@@ -2,11 +2,12 @@
 """Benchmark: `symsynth dfa` as a process, two checkouts side by side (issue
 31's start-up), with raw MONA in the same rounds.
 
-    python bench/ltlf_startup.py --base /tmp/base-CHECKOUT [--only counter_02,...]
-                                 [--reps 7] [--out bench/results/ltlf-startup.md]
+    python bench/ltlf_startup.py --base /tmp/base-CHECKOUT [--now /tmp/CHECKOUT]
+                                 [--only counter_02,...] [--reps 7] [--out bench/results/ltlf-startup.md]
 
-Each round runs, for each formula, `symsynth dfa -f FILE` of the working
-copy, of `--base` (a checkout of an earlier commit, imported through
+Each round runs, for each formula, `symsynth dfa -f FILE` of `--now` (a
+checkout, default the installed symsynth: then leave its files alone while
+it runs), of `--base` (a checkout of an earlier commit, imported through
 PYTHONPATH) with its bytecode compiled, of `--base` without bytecode
 (PYTHONDONTWRITEBYTECODE=1 and its __pycache__ folders removed first: every
 module compiled from source in every process, as the runs of
@@ -36,7 +37,6 @@ from ltlf_bench import MONA_FLAGS  # noqa: E402
 from ltlf_families import MIRROR, mona_program, peer_text  # noqa: E402
 from ltlf_generated import generated  # noqa: E402
 from ltlf_process import DATASETS, dataset_formulas  # noqa: E402
-from provenance import commit  # noqa: E402
 
 MISSED = ("urright08,counter_02,counter_03,counter_06,nim_02_01,syft_1/001,syft_2/003,syft_3/003,syft_3/004")
 FAMILIES = {"urright": "URright", "counter": "Single-Counter", "nim": "Nim", "syft": "Syft"}
@@ -53,6 +53,7 @@ def formulas(names: list[str]) -> list[tuple[str, str]]:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--base", type=Path, required=True, help="a checkout of the earlier commit")
+    parser.add_argument("--now", type=Path, help="a checkout of the later commit (default: the installed one)")
     parser.add_argument("--only", default="a_U_b," + MISSED)
     parser.add_argument("--reps", type=int, default=7)
     parser.add_argument("--out", type=Path, default=Path("bench/results/ltlf-startup.md"))
@@ -61,15 +62,18 @@ def main(argv=None) -> int:
     base_commit = subprocess.run(["git", "-C", str(base), "rev-parse", "--short", "HEAD"], capture_output=True,
                                  text=True, check=True).stdout.strip()
     import symsynth
-    compileall.compile_dir(str(Path(symsynth.__file__).parent), quiet=1)
+    now = args.now.resolve() if args.now else Path(symsynth.__file__).resolve().parents[1]
+    compileall.compile_dir(str(now / "symsynth"), quiet=1)
     env = dict(os.environ)
     env.pop("PYTHONDONTWRITEBYTECODE", None)
+    now_commit = subprocess.run(["git", "-C", str(now), "rev-parse", "--short", "HEAD"], capture_output=True,
+                                text=True, check=True).stdout.strip()
     cold_base = Path(tempfile.mkdtemp(prefix="ltlf_startup_cold_")) / "base"
     shutil.copytree(base, cold_base, ignore=shutil.ignore_patterns("__pycache__", ".git"))
     compileall.compile_dir(str(base / "symsynth"), quiet=1)
     dfa = [sys.executable, "-m", "symsynth.cli", "dfa", "--max-states", "0", "-f"]
     setups = {
-        "now": (dfa, env),
+        "now": (dfa, {**env, "PYTHONPATH": str(now)} if args.now else env),
         "base": (dfa, {**env, "PYTHONPATH": str(base)}),
         "base, no bytecode": (dfa, {**env, "PYTHONPATH": str(cold_base), "PYTHONDONTWRITEBYTECODE": "1"}),
     }
@@ -98,7 +102,7 @@ def main(argv=None) -> int:
     labels = [*setups, "MONA"]
     lines = ["# `symsynth dfa` start-up: this commit against an earlier one, as processes", "",
              f"Command: `python bench/ltlf_startup.py --base CHECKOUT --only {args.only} --reps {args.reps}`; "
-             f"now = {commit()}, base = {base_commit}; {os.cpu_count()} cores shared with other jobs (load "
+             f"now = {now_commit}, base = {base_commit}; {os.cpu_count()} cores shared with other jobs (load "
              f"average {min(loads):.1f} to {max(loads):.1f}). Medians over {args.reps} interleaved rounds of CPU "
              "seconds (user + system of the process) / wall seconds. `now` and `base` with their bytecode compiled "
              "and the parser's tables cached where that commit caches them; `base, no bytecode`: every module "
