@@ -12,7 +12,9 @@ FROM-TO of each when given.  Per formula and construction, in a fresh
 process each: the CPU seconds of `compile_ltlf` (plain X weak), the minimal
 DFA's states, and which construction ran (`auto`: the rule's reason, and
 whether the compositional construction was called).  One line of JSON per
-formula on stdout.  To compare two commits, run it from each checkout.
+formula on stdout.  The children import the installed symsynth (an editable
+install: the working copy): to compare two commits, run it with
+PYTHONPATH=CHECKOUT for each (running it from a checkout is not enough).
 """
 
 from __future__ import annotations

@@ -24,12 +24,20 @@ six heaps), Syft, Lydia.  Per formula:
              its size bound) and the state counts (MONA's minimal automaton
              without its dummy initial state).
 
+Before the runs symsynth is set up as an installed copy is after its first
+run: its modules compiled to bytecode (`compileall`, as `pip install` does;
+an environment with PYTHONDONTWRITEBYTECODE=1 would otherwise compile every
+module from source in every process, 40 ms) and the LTLf parser's tables in
+the cache directory (one `symsynth dfa` run; the first run of an install
+builds them, 35 ms).  `--cold` leaves both out.
+
 Target (issue 31): every formula within max(0.3 s, 2 x MONA) as processes.
 """
 
 from __future__ import annotations
 
 import argparse
+import compileall
 import csv
 import io
 import os
@@ -144,8 +152,12 @@ def main(argv=None) -> int:
     parser.add_argument("--only", default="", help="instances to run (names, comma-separated; default all)")
     parser.add_argument("--no-check", action="store_true",
                         help="skip the comparison with MONA's automaton (it runs MONA and symsynth once more)")
+    parser.add_argument("--cold", action="store_true",
+                        help="no bytecode compiled and no parser tables cached before the runs (module docstring)")
     args = parser.parse_args(argv)
     args.commit = commit()
+    if not args.cold:
+        warm_up()
     chosen = args.families.split(",")
     ours = generated([f for f in chosen if f not in DATASETS])
     rows: list[dict] = []
@@ -174,6 +186,13 @@ def main(argv=None) -> int:
     return 0
 
 
+def warm_up() -> None:
+    """symsynth as an installed copy is after its first run (module docstring)."""
+    import symsynth
+    compileall.compile_dir(str(Path(symsynth.__file__).parent), quiet=1)
+    subprocess.run([*SYMSYNTH, "dfa", "a U b"], capture_output=True, check=True)
+
+
 def target(row: dict) -> str:
     """The issue's target, on CPU seconds of the processes: the machine is
     shared, and wall time counts the other jobs' turns."""
@@ -198,13 +217,18 @@ def write(rows: list[dict], args, loads: list[float]) -> None:
     lines = ["# `symsynth dfa` against raw MONA as processes", "",
              f"Command: `python bench/ltlf_process.py --families {args.families} --timeout {args.timeout:g} "
              f"--reps {args.reps}" + (f" --only {args.only}" if args.only else "") +
-             (" --no-check" if args.no_check else "") + f"`; symsynth at {args.commit}; machine: {platform.machine()}, "
+             (" --no-check" if args.no_check else "") + (" --cold" if args.cold else "") +
+             f"`; symsynth at {args.commit}; machine: {platform.machine()}, "
              f"{os.cpu_count()} cores, Python {platform.python_version()}, shared with other jobs (load "
              f"average {min(loads):.1f} to {max(loads):.1f} during the run). Wall seconds of the whole "
              "command and its CPU seconds (user + system), medians of the runs (one run past 1 s); "
              "in-process: the compile time symsynth prints. MONA: `mona -q -u -w` on ltlf2dfa 2.0's "
              "program. Target: symsynth within max(0.3 s, 2 x MONA), judged on CPU seconds (on a loaded "
-             "machine the wall clock counts the other jobs' turns). Rows: [" + csv_path.name + "](" + csv_path.name + ").", "",
+             "machine the wall clock counts the other jobs' turns). " +
+             ("Cold: no bytecode compiled and no parser tables cached beforehand (PYTHONDONTWRITEBYTECODE="
+              f"{os.environ.get('PYTHONDONTWRITEBYTECODE', 'unset')}). " if args.cold else
+              "symsynth's bytecode compiled and its parser tables cached before the runs, as after an "
+              "installed copy's first run. ") + "Rows: [" + csv_path.name + "](" + csv_path.name + ").", "",
              "| family | instance | atoms | states | symsynth wall / CPU s | in-process s | MONA wall / CPU s "
              "| target (CPU) | check |",
              "|---|---|---:|---:|---:|---:|---:|---|---|"]

@@ -12,9 +12,11 @@ import pytest
 
 #: What `dfa` and `synth` must never import: the game's solvers and their
 #: numba kernels, the scene and motion planning, plots, the benchmarks, and
-#: the libraries only those use (networkx and tqdm too: 70 and 40 ms).
+#: the libraries only those use (networkx and tqdm too: 70 and 40 ms;
+#: decimal, for budgets, and importlib.resources with zipfile, which found
+#: the grammar files: 1-3 ms each).
 FORBIDDEN = ("numba", "scipy", "pybullet", "ompl", "matplotlib", "fcl", "trimesh", "yaml",
-             "networkx", "tqdm", "symsynth.solvers", "symsynth.bench", "symsynth.game",
+             "networkx", "tqdm", "decimal", "zipfile", "importlib.resources", "symsynth.solvers", "symsynth.bench", "symsynth.game",
              "symsynth.scene", "symsynth.planning", "symsynth.execution", "symsynth.problem",
              "symsynth.cli.solve", "symsynth.cli.bench", "symsynth.cli.costmap")
 

@@ -82,6 +82,41 @@ def test_dense_first_states_send_it_to_the_compositional_construction(monkeypatc
     assert not composed
 
 
+def test_dense_first_states_are_found_as_soon_as_their_edges_pass_the_budget(monkeypatch):
+    """Five pending obligations: 32 states, the first with 32 successors.
+    Within 16 states of 2 successors on average (32 edges), the first two
+    states' edges are past the budget: the work stops there, not at the
+    16th state (the verdict is the same, the count only grows)."""
+    from symsynth.automata.normal import nnf
+    from symsynth.automata.progression import Progression, TooDense
+    formula = parse_ltlf(" & ".join(f"G(p{i} -> X[!] q{i})" for i in range(5)))
+    progression = Progression([a.key for a in atoms(formula)])
+    expanded = []
+    original = progression._successors
+    monkeypatch.setattr(progression, "_successors", lambda state, *rest: expanded.append(state) or
+                        original(state, *rest))
+    assert progression.dfa(nnf(formula)).num_states > 16
+    expanded.clear()
+    with pytest.raises(TooDense):
+        progression.dfa(nnf(formula), None, (16, 2))
+    assert len(expanded) == 2
+
+
+def test_a_state_past_the_budget_alone_is_found_before_its_guards_are_made(monkeypatch):
+    """The same DFA within 16 states of 1 successor on average: the first
+    state's 32 successors are past the budget (16) and more than 16, so
+    the 16th state would fail the check: it stops before any guard."""
+    from symsynth.automata import progression
+    from symsynth.automata.normal import nnf
+    formula = parse_ltlf(" & ".join(f"G(p{i} -> X[!] q{i})" for i in range(5)))
+    splits = []
+    original = progression.split_letters
+    monkeypatch.setattr(progression, "split_letters", lambda *args: splits.append(args) or original(*args))
+    with pytest.raises(progression.TooDense):
+        progression.Progression([a.key for a in atoms(formula)]).dfa(nnf(formula), None, (16, 1))
+    assert splits == []
+
+
 def test_limits_and_the_named_constructions_are_kept(composed):
     text = "a & (G(a -> X b) -> G(b -> X a) & F(a & b))"
     compile_ltlf(text, construction="progression")

@@ -160,9 +160,13 @@ def test_a_spoilt_parser_cache_is_rebuilt(tmp_path, monkeypatch):
     from symsynth.synthesis import tlsf
     monkeypatch.setenv("SYMSYNTH_CACHE", str(tmp_path))
     tlsf._parser.cache_clear()
-    (tmp_path / Path(tlsf._cache_file()).name).write_bytes(b"not a pickle\n")
     try:
+        spec("GUARANTEE { G y; }")
+        [table] = tmp_path.glob("tlsf-*")
+        table.write_bytes(b"not a pickle\n")
+        tlsf._parser.cache_clear()
         assert spec("GUARANTEE { F y; }").formula == ast.Eventually(ast.Atom("y"))
+        assert table.read_bytes() != b"not a pickle\n"
     finally:
         tlsf._parser.cache_clear()
 

@@ -218,6 +218,25 @@ def split_letters(bdd: BDD, u: Function, num_atoms: int,
     return below[u]
 
 
+def exits(bdd: BDD, u: Function, num_atoms: int) -> Iterator[Function]:
+    """The nodes where the paths of `u` leave the atom levels (the first
+    `num_atoms` levels: the successors `split_letters` gives, without their
+    guards), each once, in the order a depth-first walk (high branch first)
+    meets them."""
+    true, false = bdd.true, bdd.false
+    seen: set[Function] = set()
+    stack = [u]
+    while stack:
+        node = stack.pop()
+        if node in seen:
+            continue
+        seen.add(node)
+        if node == true or node == false or node.level >= num_atoms:
+            yield node
+        else:
+            stack.extend(branches(bdd, node))
+
+
 def children_first(bdd: BDD, root: Function, done: Any) -> Iterable[tuple[Function, Function, Function]]:
     """The nodes under `root` not in `done`, each after its children, as
     `(node, low, high)` (cofactors as `branches` gives them), without

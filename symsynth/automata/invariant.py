@@ -32,7 +32,7 @@ initial state, the prefix and the sink (the caller minimizes).
 from __future__ import annotations
 
 from symsynth.automata import moves as moves_
-from symsynth.automata.bdd import Function, branches, cofactor, split_letters
+from symsynth.automata.bdd import Function, branches, cofactor, exits, split_letters
 from symsynth.automata.growth import grew
 from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge
 from symsynth.logic import ast
@@ -196,21 +196,7 @@ class Invariants:
     def _cofactors(self, h: Function) -> list[Function]:
         """The nodes where the paths of `h` leave the atom levels, in the
         order a depth-first walk (high branch first) meets them."""
-        bdd, top = self.bdd, self.num_atoms
-        found: dict[Function, None] = {}
-        seen: set[Function] = set()
-        stack = [h]
-        while stack:
-            node = stack.pop()
-            if node in seen:
-                continue
-            seen.add(node)
-            if node == bdd.true or node == bdd.false or node.level >= top:
-                found[node] = None
-                continue
-            low, high = branches(bdd, node)
-            stack += [low, high]
-        return list(found)
+        return list(exits(self.bdd, h, self.num_atoms))
 
     def _relabel(self, h: Function, label: dict[Function, Function]) -> Function:
         """`h` with each node where its paths leave the atom levels replaced

@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 import math
 import os
-from decimal import Decimal, InvalidOperation
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -14,6 +13,7 @@ from symsynth.errors import InputError
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the costmap options' modules are imported only by the commands that declare them
+    from decimal import Decimal
     from symsynth.problem import CostmapRequest
 
 
@@ -48,7 +48,9 @@ def amount(text: str) -> float:
 
 def exact_amount(text: str) -> Decimal:
     """A finite number >= 0 as the decimal it is written as, exactly (a budget:
-    49.99999999999999999999 is below 50, which the float it rounds to is not)."""
+    49.99999999999999999999 is below 50, which the float it rounds to is not).
+    (decimal is imported here: `dfa` and `synth` read no amount.)"""
+    from decimal import Decimal, InvalidOperation
     try:
         value = Decimal(text.strip())
     except InvalidOperation:

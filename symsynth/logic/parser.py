@@ -1,8 +1,9 @@
 """Parse LTLf text into the AST of `symsynth.logic.ast`.
 
-The grammar is `grammars/ltlf.lark`, shipped as package data.  A lark
-Transformer builds the frozen AST; lark's exceptions are turned into one
-`LTLfSyntaxError` that names the source, line and column.
+The grammar is `grammars/ltlf.lark`, shipped as package data (its LALR
+tables kept between runs: `lalr.py`).  A lark Transformer builds the frozen
+AST; lark's exceptions are turned into one `LTLfSyntaxError` that names the
+source, line and column.
 """
 
 from __future__ import annotations
@@ -10,14 +11,13 @@ from __future__ import annotations
 import functools
 import re
 from collections.abc import Callable
-from pathlib import Path
-from importlib import resources
 from typing import Literal
 
 import lark
 
 from symsynth.errors import InputError, LTLfSyntaxError
 from symsynth.logic import ast
+from symsynth.logic.lalr import lalr_parser
 
 NextSemantics = Literal["strong", "weak"]
 
@@ -35,18 +35,6 @@ _TERMINAL_NAMES = {
 _FORMULA_START = {"NOT"}  # only a place for a formula accepts "!"
 _BINARY = {"EQUIV", "IMPLIES", "OR", "AND", "UNTIL", "RELEASE", "RELEASE_V", "WEAK_UNTIL"}
 
-
-@functools.cache
-def _grammar_text() -> str:
-    """`ltlf.lark` from the installed package data, or from the source tree's
-    `grammars/` when symsynth is imported from a checkout without installing."""
-    try:
-        folder = resources.files("symsynth.grammars")
-    except ModuleNotFoundError:
-        folder = Path(__file__).resolve().parents[2] / "grammars"
-    return folder.joinpath("ltlf.lark").read_text(encoding="utf-8")
-
-
 #: Formulas nested deeper than this (operators inside operators, after long
 #: `&` and `|` chains are balanced) are refused: every pass over a formula
 #: recurses once per level.
@@ -60,8 +48,8 @@ BALANCE_FROM = 32
 def _parser(next_semantics: NextSemantics) -> lark.Lark:
     """The LALR parser with the AST built as it parses (lark's inline
     transformer): no parse tree, and no recursion however deep the input."""
-    return lark.Lark(_grammar_text(), parser="lalr", lexer="basic", propagate_positions=False,
-                     maybe_placeholders=False, transformer=_ToAst(next_semantics))
+    return lalr_parser("ltlf.lark", lexer="basic", propagate_positions=False, maybe_placeholders=False,
+                       transformer=_ToAst(next_semantics))
 
 
 class _Chain:

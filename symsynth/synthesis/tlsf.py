@@ -21,13 +21,12 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
-from importlib import resources
 from pathlib import Path
 
 import lark
 
-from symsynth.files import cache_dir
 from symsynth.logic import ast
+from symsynth.logic.lalr import lalr_parser
 from symsynth.synthesis.partition import Partition
 from symsynth.synthesis.tlsf_eval import (Bus, Evaluator, Function, Signal, TLSFError, Unevaluated, conjunction,
                                           implication, position)
@@ -53,28 +52,8 @@ class Spec:
 def _parser() -> lark.Lark:
     """The LALR parser.  Its tables take lark about 0.3 s to build (1 s on a
     loaded machine; TLSF has some twenty levels of binding), so they are kept
-    in the user's cache directory (lark checks the grammar's hash when it
-    loads them, and rebuilds if the file is stale or unreadable)."""
-    try:
-        folder = resources.files("symsynth.grammars")
-    except ModuleNotFoundError:
-        folder = Path(__file__).resolve().parents[2] / "grammars"
-    text = folder.joinpath("tlsf.lark").read_text(encoding="utf-8")
-    return lark.Lark(text, parser="lalr", lexer="basic", propagate_positions=True, maybe_placeholders=False,
-                     cache=_cache_file())
-
-
-def _cache_file() -> str | bool:
-    """`tlsf-lark-VERSION.cache` in symsynth's cache directory
-    (`files.cache_dir`, the user's own: not a shared /tmp, where another
-    user could plant the pickle lark reads); False (no cache) when it
-    cannot be made."""
-    base = cache_dir()
-    try:
-        base.mkdir(parents=True, exist_ok=True, mode=0o700)
-    except OSError:
-        return False
-    return str(base / f"tlsf-lark-{lark.__version__}.cache")
+    between runs (`lalr.py`)."""
+    return lalr_parser("tlsf.lark", lexer="basic", propagate_positions=True, maybe_placeholders=False)
 
 
 def parse_tlsf(text: str, *, source: str = "<tlsf>", parameters: dict[str, int] | None = None) -> Spec:
