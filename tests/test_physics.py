@@ -20,7 +20,7 @@ import yaml
 
 from symsynth.cli import main
 from symsynth.errors import InputError
-from symsynth.execution import hand_motions, physics
+from symsynth.execution import hand_motions
 from symsynth.execution.observe import POSITION
 from symsynth.execution.physics import PhysicsWorld, Randomization
 from symsynth.execution.world_choice import default_world
@@ -206,27 +206,6 @@ def test_a_leg_goes_at_the_full_velocity_limit_only_where_it_is_clear(block):
     finally:
         for world in worlds:
             world.close()
-
-
-def test_the_robot_arrives_at_a_path_s_end_at_rest(block):
-    """A 0.3 rad leg: its target velocity falls to 0 over its last steps
-    (`ARRIVE_STEPS`), and the robot, held on the end, is within `ARRIVED`
-    of it and slower than `STILL` at most 12 steps after the leg (asked to
-    be at the end at the leg's speed, it overshot and took 21)."""
-    scene, planner = block
-    world = at_anchor(scene, planner, "l2")
-    try:
-        a = np.asarray(world.config)
-        b = a + np.array([0.3, -0.15, 0.0, 0.15, 0.0, 0.1, 0.0])
-        leg = math.ceil(float(np.max(np.abs(b - a) / world._speeds)) / physics.TIME_STEP)
-        before = world.steps
-        world.follow([tuple(a), tuple(b)])
-        states = world.client.getJointStates(world.robot, world.joints)
-        assert max(abs(s[0] - q) for s, q in zip(states, b)) <= physics.ARRIVED
-        assert max(abs(s[1]) for s in states) <= physics.STILL
-        assert world.steps - before - leg <= 12
-    finally:
-        world.close()
 
 
 def test_fingers_that_close_on_nothing_make_no_constraint(block):

@@ -18,11 +18,9 @@ move only as PyBullet integrates them:
   `SPEED_FRACTION` of its URDF velocity limit (a piece of a leg, at most
   `CLEAR_STRIDE` long, that keeps the robot `CLEAR` from every object at
   `CLEAR_FRACTION`, but the path's last; a slide's
-  hand at most `SLIDE_SPEED` near the object); the joints' target velocity
-  falls to 0 over the path's last `ARRIVE_STEPS` steps, and the robot is
-  then held on its last configuration until every joint is within
-  `ARRIVED` radians of it and slower than `STILL` (at most
-  `CONVERGE_STEPS`).  A path's cost is the radians of the path
+  hand at most `SLIDE_SPEED` near the object), and at the path's end the robot is held on
+  its last configuration until every joint is within `ARRIVED` radians of
+  it (at most `CONVERGE_STEPS`).  A path's cost is the radians of the path
   commanded, as the costmap measures it.
 - **The gripper** is the robot's `fixed` joints (the Panda's fingers, held
   open at 4 cm): `close_hand` drives them to their lower limit with their
@@ -94,8 +92,6 @@ SLIDE_SPEED = 0.05  # m/s: the hand's speed along a slide, at most (the object i
 POSITION_GAIN = 0.1  # PyBullet's position control gains (its defaults: 0.1, 1.0)
 VELOCITY_GAIN = 1.0
 ARRIVED = 2e-3  # radians: every joint this close to the end of its path
-STILL = 0.1  # rad/s: ... and slower than this (arriving at the speed of its path, it overshot)
-ARRIVE_STEPS = 4  # the joints' target velocity falls to 0 over a path's last steps
 CONVERGE_STEPS = 240
 GRIP_STEPS = 60  # steps the fingers take at most to close or open (4 cm at 0.2 m/s is 48)
 FINGER_REST = 0.01  # m/s: the opening changing slower than this has stopped (free fingers close at 0.8)
@@ -324,17 +320,14 @@ class PhysicsWorld(SimWorld):
             velocity = (b - a) / (n * TIME_STEP)
             self._command(a, velocity)  # the fingers' targets, if changed (nothing is stepped)
             speeds = velocity.tolist()
-            arriving = n - ARRIVE_STEPS if k == len(legs) - 2 else n  # the path's last steps
-            for i, target in enumerate((a + np.outer(np.arange(1, n + 1) / n, b - a)).tolist(), 1):
-                if i > arriving:  # a + (b - a) i / n at a target velocity falling to 0 at the path's end
-                    speeds = (velocity * ((n - i) / ARRIVE_STEPS)).tolist()
+            for target in (a + np.outer(np.arange(1, n + 1) / n, b - a)).tolist():  # a + (b - a) i / n
                 self._set(self.joints, target, speeds, self._efforts, self._gains)
                 self.step()
         goal = np.asarray(path[-1], float)
         self._command(goal)
         calm = 0
         for _ in range(CONVERGE_STEPS):
-            if self.arrived(goal):
+            if self.tracking_error(goal) <= ARRIVED:
                 break
             self.step()
             if settle:
@@ -391,11 +384,9 @@ class PhysicsWorld(SimWorld):
         SimWorld.set_config(self, start)
         return np.asarray(points, float)
 
-    def arrived(self, goal: Sequence[float] | np.ndarray) -> bool:
-        """Every joint within `ARRIVED` of `goal` and slower than `STILL`."""
-        states = self.client.getJointStates(self.robot, self.joints)
-        return (max(abs(s[0] - g) for s, g in zip(states, goal)) <= ARRIVED
-                and max(abs(s[1]) for s in states) <= STILL)
+    def tracking_error(self, goal: Sequence[float] | np.ndarray) -> float:
+        actual = [s[0] for s in self.client.getJointStates(self.robot, self.joints)]
+        return float(np.max(np.abs(np.subtract(actual, goal))))
 
     def set_config(self, config: Sequence[float]) -> None:
         """Put the robot at `config` without stepping (a collision check);
