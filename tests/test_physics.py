@@ -168,10 +168,10 @@ def test_an_object_a_few_millimetres_off_its_place_is_approached_with_one_soluti
         world.close()
 
 
-def test_an_object_within_inverse_kinematics_tolerance_of_its_place_is_approached_as_planned(block):
-    """An object 0.5 mm off its place (the grasp pose within 1 mm and
-    0.01 rad, inverse kinematics' own tolerance): `Approaches.near` gives
-    the place's approach itself and solves nothing."""
+def test_an_object_that_has_not_moved_from_its_place_is_approached_as_planned(block):
+    """An object 0.05 mm off its place (the grasp pose within `SAME_HAND`,
+    0.1 mm and 1 mrad): `Approaches.near` gives the place's approach itself
+    and solves nothing."""
     scene, planner = block
     g = scene.geometry
     grasp, place = g.grasps["top"], g.places["l1"]
@@ -179,7 +179,7 @@ def test_an_object_within_inverse_kinematics_tolerance_of_its_place_is_approache
     home = tuple(g.robot.home)
     nominal = approaches.path(home, place @ grasp.pre_image(), place @ grasp.pose, "down")
     solved.clear()
-    moved = Pose((0.5004, 0.0003, 0.0), (0.0, 0.0, 0.0, 1.0))
+    moved = Pose((0.50004, 0.00003, 0.0), (0.0, 0.0, 0.0, 1.0))
     assert approaches.near(home, place, moved, grasp, "down") == nominal and solved == []
 
 
