@@ -22,7 +22,7 @@ from symsynth.cli import main
 from symsynth.errors import InputError
 from symsynth.execution import hand_motions
 from symsynth.execution.observe import POSITION
-from symsynth.execution.physics import PhysicsWorld, Randomization
+from symsynth.execution.physics import ARRIVED, PASSING, PhysicsWorld, Randomization
 from symsynth.execution.world_choice import default_world
 from symsynth.execution.simulate import MAX_VISITS
 from symsynth.execution.trial import slide_trial, slide_trials
@@ -203,6 +203,38 @@ def test_a_leg_goes_at_the_full_velocity_limit_only_where_it_is_clear(block):
             world.follow(path, clear=clear)
             taken.append(world.steps - before)
         assert taken[0] < 0.8 * taken[1]
+    finally:
+        for world in worlds:
+            world.close()
+
+
+def test_a_path_s_end_is_held_loosely_only_with_the_hand_empty_and_touching_nothing(block):
+    """With `passing`, an empty hand's path ends with every joint within
+    `PASSING` of its end (the hold cut short: fewer steps than without, the
+    joints not yet within `ARRIVED`); the hand holding the block is still
+    held until every joint is within `ARRIVED` (what a drop depends on)."""
+    scene, planner = block
+    g = scene.geometry
+    worlds = [at_anchor(scene, planner, "l2") for _ in range(2)]
+    try:
+        start = np.asarray(worlds[0].config)
+        path = [tuple(start), tuple(start + np.eye(len(start))[0] * 0.6)]
+        taken = []
+        for world, passing in zip(worlds, (True, False)):
+            before = world.steps
+            world.follow(path, passing=passing)
+            taken.append(world.steps - before)
+        assert ARRIVED < worlds[0].tracking_error(path[-1]) <= PASSING
+        assert worlds[1].tracking_error(path[-1]) <= ARRIVED
+        assert taken[0] < taken[1]
+        world = at_anchor(scene, planner, "l1")
+        worlds.append(world)
+        approaches = hand_motions.Approaches(planner)
+        hand_motions.grab(world, approaches, "b", "top")
+        assert world.held == "b"
+        carry = approaches.path(world.config, world.ee_pose(), g.places["l2"] @ g.grasps["top"].pre_image(), "carry")
+        world.follow(carry, passing=True)
+        assert world.tracking_error(carry[-1]) <= ARRIVED
     finally:
         for world in worlds:
             world.close()

@@ -210,7 +210,7 @@ def _physical(world: PhysicsWorld, down: tuple[Config, ...], act, allowed: set[s
         world.follow(down)
         act()
         up = down[::-1]
-        world.follow(up, settle=True)  # the objects' rest watched while the robot arrives
+        world.follow(up, settle=True, passing=True)  # the objects' rest watched while the robot arrives
     return Primitive(down + up[1:], frozenset(touched - allowed))
 
 

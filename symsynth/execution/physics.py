@@ -20,8 +20,10 @@ move only as PyBullet integrates them:
   `CLEAR_FRACTION`, but the path's last; a slide's
   hand at most `SLIDE_SPEED` near the object), and at the path's end the robot is held on
   its last configuration until every joint is within `ARRIVED` radians of
-  it (at most `CONVERGE_STEPS`).  A path's cost is the radians of the path
-  commanded, as the costmap measures it.
+  it (at most `CONVERGE_STEPS`; within `PASSING` at a transit's end or on
+  the way up from a drop, where the hand is empty and touches nothing).
+  A path's cost is the radians of the path commanded, as the costmap
+  measures it.
 - **The gripper** is the robot's `fixed` joints (the Panda's fingers, held
   open at 4 cm): `close_hand` drives them to their lower limit with their
   force limit (20 N), and when *both* fingers then touch the object
@@ -92,6 +94,7 @@ SLIDE_SPEED = 0.05  # m/s: the hand's speed along a slide, at most (the object i
 POSITION_GAIN = 0.1  # PyBullet's position control gains (its defaults: 0.1, 1.0)
 VELOCITY_GAIN = 1.0
 ARRIVED = 2e-3  # radians: every joint this close to the end of its path
+PASSING = 2e-2  # ... and where nothing is at stake there (the hand empty, touching nothing)
 CONVERGE_STEPS = 240
 GRIP_STEPS = 60  # steps the fingers take at most to close or open (4 cm at 0.2 m/s is 48)
 FINGER_REST = 0.01  # m/s: the opening changing slower than this has stopped (free fingers close at 0.8)
@@ -287,7 +290,7 @@ class PhysicsWorld(SimWorld):
 
     def follow(self, path: Sequence[Sequence[float]], hand_speed: float | None = None,
                careful: Callable[[np.ndarray, np.ndarray], bool] | None = None, clear: bool = False,
-               settle: bool = False) -> None:
+               settle: bool = False, passing: bool = False) -> None:
         """Drive the joints along `path` by position control (module doc),
         then hold the last configuration until the robot is on it.  Each
         leg takes the time its fastest joint needs at `SPEED_FRACTION` of
@@ -299,7 +302,10 @@ class PhysicsWorld(SimWorld):
         leg when `careful` is None), its hand's straight-line travel at
         `hand_speed` (m/s) if that is longer.  With `settle`, the world is
         then stepped until the objects rest too (`settle`), their rest
-        counted while the robot is held on its last configuration."""
+        counted while the robot is held on its last configuration.  The
+        hold ends with every joint within `ARRIVED` radians, or with
+        `passing` within `PASSING` where the hand is then empty and touches
+        nothing (`_tolerance`)."""
         if len(path) == 0:
             return
         hand = self._hand_points(path) if hand_speed is not None else None
@@ -325,9 +331,9 @@ class PhysicsWorld(SimWorld):
                 self.step()
         goal = np.asarray(path[-1], float)
         self._command(goal)
-        calm = 0
+        calm, arrived = 0, self._tolerance(passing)
         for _ in range(CONVERGE_STEPS):
-            if self.tracking_error(goal) <= ARRIVED:
+            if self.tracking_error(goal) <= arrived:
                 break
             self.step()
             if settle:
@@ -383,6 +389,15 @@ class PhysicsWorld(SimWorld):
             points.append(self.ee_pose().xyz)
         SimWorld.set_config(self, start)
         return np.asarray(points, float)
+
+    def _tolerance(self, passing: bool) -> float:
+        """The tolerance a path's end is held to: with `passing`, `PASSING`
+        where the hand is empty and touches nothing (a transit's end, the
+        way up from a drop: the next path starts where this one was
+        commanded to, and its own end is held), `ARRIVED` else."""
+        if passing and self.held is None and not self.client.getContactPoints(bodyA=self.robot):
+            return PASSING
+        return ARRIVED
 
     def tracking_error(self, goal: Sequence[float] | np.ndarray) -> float:
         actual = [s[0] for s in self.client.getJointStates(self.robot, self.joints)]
