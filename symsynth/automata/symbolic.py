@@ -24,7 +24,7 @@ from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from contextlib import AbstractContextManager, nullcontext
 
 from symsynth.automata.bdd import (BDD, Function, and_exists, children_first, cofactor, exists, fixed_order,
-                                   format_cubes, is_constant, isop, lexmin, restrict)
+                                   format_cubes, is_constant, isop, lexmin, restrict, shared_size)
 from symsynth.automata import moves as moves_
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.progression import GuardedDFA
@@ -118,7 +118,7 @@ class SymbolicDFA:
     def num_nodes(self) -> int:
         """BDD nodes of the transition functions and acceptance, shared."""
         roots = list(self.delta.values()) + [self.accepting, self.reachable]
-        return _dag_size(self.bdd, roots)
+        return shared_size(self.bdd, roots)
 
     # -- symbolic operations ---------------------------------------------------
     def state_cube(self, state: State | Mapping[str, bool]) -> Function:
@@ -394,21 +394,6 @@ def _least_member_by_bits(bdd: BDD, relation: Function, targets: Sequence[str]) 
         zero_exists = bdd.exist(rest, relation & ~bdd.var(bit))
         relation = relation & (~zero_exists | ~bdd.var(bit))
     return relation
-
-
-def _dag_size(bdd: BDD, roots: Sequence[Function]) -> int:
-    seen = set()
-    stack = [r for r in roots]
-    while stack:
-        u = stack.pop()
-        key = int(u) if not getattr(u, "negated", False) else int(~u)
-        if key in seen:
-            continue
-        seen.add(key)
-        if u == bdd.true or u == bdd.false:
-            continue
-        stack.extend((u.low, u.high))
-    return len(seen)
 
 
 #: A product of at least this many components over pairwise disjoint atoms
