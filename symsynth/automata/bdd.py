@@ -171,6 +171,26 @@ def peak_nodes(bdd: BDD) -> int:
         return int(bdd.statistics()["peak_nodes"])
 
 
+def shared_size(bdd: BDD, roots: Sequence[Function]) -> int:
+    """The BDD nodes of `roots` together, shared nodes once (the constant
+    too).  CUDD counts them in C: the walk below, one Python step a node,
+    took 4.9 s of nim_06_01's 35.9 s as a process (`symsynth dfa` prints
+    the count, 2,356,145 nodes; 0.7 s in C; load 3)."""
+    if BACKEND == "cudd":
+        return int(_backend.count_nodes(list(roots)))
+    seen = set()  # pragma: no cover - only without CUDD
+    stack = list(roots)
+    while stack:
+        u = stack.pop()
+        key = int(u) if not getattr(u, "negated", False) else int(~u)
+        if key in seen:
+            continue
+        seen.add(key)
+        if u != bdd.true and u != bdd.false:
+            stack.extend((u.low, u.high))
+    return len(seen)
+
+
 def branches(bdd: BDD, u: Function) -> tuple[Function, Function]:
     """The (low, high) cofactors of `u` with respect to its top variable.
 
