@@ -448,7 +448,6 @@ class Search:
     def principal_play(self, start: Key, units: int) -> tuple[Step, ...]:
         """The strategy against the human's worst replies (the first reply of
         largest value, the pass first), the rule the explicit solver plays by."""
-        r = self.game.resolution
         play: list[Step] = []
         i, left = self.id(start), units
         while True:
@@ -462,18 +461,23 @@ class Search:
                 play.append(Step("human", action, 0.0, state))
             if j < 0:
                 return tuple(play)
-            _, chosen = self.hi_r[j]
-            (units_a, state, i), = [(u, w, nxt) for a, u, w, nxt in self.steps(j, robot=True) if a == chosen]
-            play.append(Step("robot", chosen, in_costmap_units(units_a, r), state))
+            units_a, i = self._play_entry(j, play)
             if i < 0:
                 return tuple(play)
             left -= units_a
+
+    def _play_entry(self, j: int, play: list[Step]) -> tuple[int, int]:
+        """The proven action at robot position j appended to `play`: its
+        units and the position it leads to (-1: a win)."""
+        _, chosen = self.hi_r[j]
+        (units, state, i), = [(u, w, nxt) for a, u, w, nxt in self.steps(j, robot=True) if a == chosen]
+        play.append(Step("robot", chosen, in_costmap_units(units, self.game.resolution), state))
+        return units, i
 
     def proven_play(self, start: Key) -> tuple[Step, ...]:
         """The proven entries' strategy against the replies of largest proven
         hi (the pass first on ties), without further search: the play of an
         anytime answer."""
-        r = self.game.resolution
         play: list[Step] = []
         i = self.id(start)
         while True:
@@ -483,9 +487,7 @@ class Search:
                 play.append(Step("human", action, 0.0, state))
             if j < 0:
                 return tuple(play)
-            _, chosen = self.hi_r[j]
-            (units, state, i), = [(u, w, nxt) for a, u, w, nxt in self.steps(j, robot=True) if a == chosen]
-            play.append(Step("robot", chosen, in_costmap_units(units, r), state))
+            _, i = self._play_entry(j, play)
             if i < 0:
                 return tuple(play)
 

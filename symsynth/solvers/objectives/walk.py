@@ -73,6 +73,13 @@ def _grow(a, size):
 
 
 @njit(cache=True)
+def _room(node, left, count, move, worst, state, n):
+    """The turns' arrays, grown when turn n does not fit."""
+    return (_grow(node, n), _grow(left, n), _grow(count, n), _grow(move, n), _grow(worst, n),
+            _grow(state, n))
+
+
+@njit(cache=True)
 def _choice(xo, xlev, xch, i, b):
     """`Steps.choice`: the move of the last breakpoint at or below b (-1: none)."""
     lo, hi = xo[i], xo[i + 1]
@@ -107,12 +114,7 @@ def _walk(r_units, r_tgt, h_off, h_tgt, xo, xlev, xch, wchoice, waiting, budget)
         if key in index:
             continue
         index[key] = n
-        node = _grow(node, n)
-        left = _grow(left, n)
-        count = _grow(count, n)
-        move = _grow(move, n)
-        worst = _grow(worst, n)
-        state = _grow(state, n)
+        node, left, count, move, worst, state = _room(node, left, count, move, worst, state, n)
         node[n], left[n], count[n], worst[n], state[n] = start, budget, 0, 0, 0
         n += 1
         sp = 0
@@ -129,18 +131,11 @@ def _walk(r_units, r_tgt, h_off, h_tgt, xo, xlev, xch, wchoice, waiting, budget)
                     return NEGATIVE, x, node[:n], left[:n], count[:n], move[:n], worst[:n]
                 state[x] = 1
                 cursor[sp] = -1
-                if r_tgt[e] < 0:  # the move wins
-                    worst[x] = r_units[e]
-                    state[x] = 2
-                    sp -= 1
-                    if sp >= 0:
-                        parent = stack[sp]
-                        worst[parent] = max(worst[parent], worst[x])
                 continue
             e = move[x]
             t = r_tgt[e]
             k = cursor[sp]
-            if k >= h_off[t + 1] - h_off[t]:  # every reply looked at
+            if t < 0 or k >= h_off[t + 1] - h_off[t]:  # the move wins, or every reply looked at
                 worst[x] += r_units[e]
                 state[x] = 2
                 sp -= 1
@@ -160,12 +155,7 @@ def _walk(r_units, r_tgt, h_off, h_tgt, xo, xlev, xch, wchoice, waiting, budget)
             else:
                 y = n
                 index[key] = y
-                node = _grow(node, n)
-                left = _grow(left, n)
-                count = _grow(count, n)
-                move = _grow(move, n)
-                worst = _grow(worst, n)
-                state = _grow(state, n)
+                node, left, count, move, worst, state = _room(node, left, count, move, worst, state, n)
                 node[y], left[y], count[y], worst[y], state[y] = j, b, w, 0, 0
                 n += 1
             if state[y] == 2:
