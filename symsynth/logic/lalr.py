@@ -51,7 +51,7 @@ def lalr_parser(name: str, **options: Any) -> lark.Lark:
     `transformer` among them is applied as it parses)."""
     text = grammar_text(name)
     path = table_file(name, text, options)
-    payload = None if path is None else _read(path)
+    payload = None if path is None else read_tables(path)
     if payload is not None:
         # what lark's own cache= does with the tables it reads back: the
         # transformer is not in the file, it is given here
@@ -82,7 +82,7 @@ def table_file(name: str, text: str, options: dict[str, Any]) -> Path | None:
     return folder / f"{Path(name).stem}-lalr-{hashlib.sha256(key.encode('utf-8')).hexdigest()[:20]}.cache"
 
 
-def _read(path: Path) -> bytes | None:
+def read_tables(path: Path) -> bytes | None:
     """The saved parser in `path`, None when there is none whole."""
     try:
         digest, _, payload = path.read_bytes().partition(b"\n")
