@@ -84,3 +84,21 @@ def test_a_best_effort_file_that_drops_the_class_fails(tmp_path):
     path.write_text(json.dumps(data))
     with pytest.raises(InputError, match="cooperative play|can only|not available"):
         certify_objective(scene, read_objective_strategy(path))
+
+
+def test_the_table_and_the_adversary_read_one_walk(monkeypatch):
+    """`simulate --in-world --human adversarial` needs the strategy table and
+    what the strategy may still pay at each turn: the same turns, walked once
+    (twice before, 1 s each on the line at k = 5), and both agree on them."""
+    from symsynth.solvers.objectives import play
+    from symsynth.solvers.objectives.files import to_pay_by_position
+
+    scene = load_scene(SCENES / "wait.yaml")
+    got = solve_objective(scene, objective="expected", model=RandomModel(Fraction(3, 10)), solver="explicit")
+    walks = []
+    walk = play.expected_turns
+    monkeypatch.setattr(play, "expected_turns", lambda *a: walks.append(a) or walk(*a))
+    table = objective_table(scene, scene.task, parse_ltlf(scene.task), got)
+    to_pay = to_pay_by_position(got)
+    assert len(walks) == 1
+    assert {(position, b) for position, b, w in to_pay if got.attained or w < got.waiting} == set(table.positions)

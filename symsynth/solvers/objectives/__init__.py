@@ -33,7 +33,8 @@ from symsynth.game.solution import OutOfReach, check_parameters, json_number, ta
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.objectives.arena import INF, Arena, budget_units, from_compiled, from_explicit
-from symsynth.solvers.objectives.play import BestEffortStrategy, ExpectedStrategy, Strategy
+from symsynth.solvers.objectives.play import BestEffortStrategy, ExpectedStrategy, Strategy, still_to_pay
+from symsynth.solvers.objectives.walk import Turns
 
 OBJECTIVES = ("worst", "expected", "best-effort")
 #: the solvers that compute the objectives of §9 (the others: worst only)
@@ -81,6 +82,8 @@ class ObjectiveSolution:
     #: expected: the `Steps`; best effort: (rc, hc, cooperative move, vh), or None until `tables` is asked
     #: for (the start winning: its strategy is the worst-case one, and C(p0) was found without them)
     solved: Any = field(default=None, repr=False, compare=False)
+    #: expected: the turns its strategy reaches from the start (`reached`), once asked for
+    walked: Turns | None = field(default=None, repr=False, compare=False)
 
     @property
     def tables(self) -> Any:
@@ -100,6 +103,18 @@ class ObjectiveSolution:
         if self.objective == "best-effort":
             return BestEffortStrategy(self.arena, self.tables[2])
         return ExpectedStrategy(self.arena, self.tables, None if self.attained else self.waiting)
+
+    def reached(self) -> Turns:
+        """The turns the expected-cost strategy reaches from the start with
+        the budget, its move and the most it may still pay at each
+        (`play.still_to_pay`), walked once: the strategy table and the
+        world's adversary both read them."""
+        if self.walked is None:
+            strategy = self.strategy()
+            assert isinstance(strategy, ExpectedStrategy), "only the expected-cost strategy keeps a budget"
+            object.__setattr__(self, "walked", still_to_pay(strategy, int(self.budget_units or 0)))
+        assert self.walked is not None
+        return self.walked
 
     def classes(self) -> np.ndarray:
         """Best effort: the class (0 winning, 1 cooperative, 2 losing) of each

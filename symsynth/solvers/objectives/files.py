@@ -14,7 +14,8 @@ from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.objectives import ObjectiveSolution
 from symsynth.solvers.objectives.arena import INF, Arena
-from symsynth.solvers.objectives.play import ExpectedStrategy, Strategy, replies, still_to_pay
+from symsynth.solvers.objectives.play import ExpectedStrategy, Strategy, replies
+from symsynth.solvers.objectives.walk import Turns
 
 
 def objective_table(scene: Scene, task: str, formula: ast.Formula, s: ObjectiveSolution) -> ObjectiveStrategyFile:
@@ -36,7 +37,7 @@ def objective_table(scene: Scene, task: str, formula: ast.Formula, s: ObjectiveS
         raise ValueError("a strategy table needs the explicit solver's arena, whose turns have names")
     strategy = s.strategy()
     if isinstance(strategy, ExpectedStrategy):
-        _expected_turns(arena, strategy, int(s.budget_units or 0), table)
+        _expected_turns(arena, strategy, s.reached(), table)
     else:
         _best_effort_turns(arena, strategy, s.classes(), table)
     return table
@@ -46,8 +47,7 @@ def _name(arena: Arena, e: int) -> str:
     return arena.names[int(arena.r_name[e])]
 
 
-def _expected_turns(arena: Arena, strategy: ExpectedStrategy, budget: int, table: ObjectiveStrategyFile) -> None:
-    turns = still_to_pay(strategy, budget)
+def _expected_turns(arena: Arena, strategy: ExpectedStrategy, turns: Turns, table: ObjectiveStrategyFile) -> None:
     switched = strategy.waiting is not None
     for i, b, w, e in zip(turns.node.tolist(), turns.budget.tolist(), turns.count.tolist(), turns.move.tolist()):
         position: Position = arena.positions[i]
@@ -99,8 +99,6 @@ def to_pay_by_position(s: ObjectiveSolution) -> dict[tuple[Position, int, int], 
     if s.arena is None or s.expected_cost is None:
         return {}
     names = s.arena.positions
-    strategy = s.strategy()
-    assert isinstance(strategy, ExpectedStrategy)  # the objective is expected: its solution has EX
-    turns = still_to_pay(strategy, int(s.budget_units or 0))
+    turns = s.reached()
     return {(names[i], b, w): cost for i, b, w, cost in
             zip(turns.node.tolist(), turns.budget.tolist(), turns.count.tolist(), turns.worst.tolist())}

@@ -77,7 +77,7 @@ def replies(arena: Arena, t: int) -> list[int]:
     return [t] + [int(j) for j in arena.h_tgt[arena.h_off[t]:arena.h_off[t + 1]]]
 
 
-def check_expected(strategy: ExpectedStrategy, budget: int, switched: bool = True) -> int:
+def check_expected(strategy: ExpectedStrategy, budget: int) -> int:
     """The largest total cost (units) of a play of `strategy` from the start
     with `budget` left, over every human behaviour; a `RuntimeError` when a
     play goes in circles or reaches a turn where the strategy has no move."""
