@@ -144,17 +144,16 @@ def choose_world(args: argparse.Namespace, scene: Scene) -> None:
     """`args.world` as asked, else the scene's default (physics where the
     fingers close on every grasp), with `args.kinematic_because` saying why
     it is kinematic; --randomize needs the physical world."""
-    if args.randomize is not None and args.world == "kinematic":
-        raise InputError("--randomize draws the physical world's friction, masses and poses: add --world physics")
     args.kinematic_because = []
     if args.world is None:
         from symsynth.execution.world_choice import default_world
 
         args.world, args.kinematic_because = default_world(scene)
-        if args.randomize is not None and args.world == "kinematic":
-            raise InputError(f"--randomize draws the physical world's friction, masses and poses, and "
-                             f"{args.scene} runs in the kinematic world by default "
-                             f"({'; '.join(args.kinematic_because)}): add --world physics")
+    if args.randomize is not None and args.world == "kinematic":
+        why = (f", and {args.scene} runs in the kinematic world by default ({'; '.join(args.kinematic_because)})"
+               if args.kinematic_because else "")
+        raise InputError(f"--randomize draws the physical world's friction, masses and poses{why}: "
+                         "add --world physics")
 
 
 def run(args: argparse.Namespace) -> int:
