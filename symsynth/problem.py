@@ -18,9 +18,9 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, NamedTuple
 from pathlib import Path
 
 from tqdm import tqdm
@@ -215,7 +215,7 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
     if isinstance(human, str) and human not in HUMANS:
         raise InputError(f"unknown human {human!r}; installed humans: {', '.join(HUMANS)}")
     needs = frozenset() if isinstance(human, ScriptedHuman) else human_needs(human)
-    solution, (bound, units, resolution, actions, budgets, positions) = _played(problem, solver, budget, needs)
+    solution, bound, units, resolution, actions, budgets, positions = _played(problem, solver, budget, needs)
     guarantee = bound is not None and (budget is None or verdict(units, resolution, budget) is True)
     task = problem.task.strip()
     if not guarantee and not best_effort:
@@ -258,13 +258,23 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
     return Simulation(task, bound, positions, guarantee, budget, tuple(done), frames)
 
 
-def _played(problem: Problem, solver: str, budget: float | None,
-            needs: frozenset[str]) -> tuple[Solution | None, tuple[Any, ...]]:
+class _Played(NamedTuple):
+    """The strategy the runs play, and what it guarantees."""
+
+    solution: Solution | None  # None: a strategy file
+    bound: float | None  # E_p
+    units: int | None
+    resolution: float
+    actions: Mapping  # position -> action (or (position, budget) -> action)
+    budgets: Mapping  # position -> budget, where a human needs them
+    positions: int | None  # positions tabled (None: looked up as the runs go)
+
+
+def _played(problem: Problem, solver: str, budget: float | None, needs: frozenset[str]) -> _Played:
     """The strategy the runs play: the problem's strategy file, certified
     against the scene now that the costmap gives the costs, or the one
     `solver` finds (as a table when the human `needs` every position's
-    budget).  Returns the solution (None for a file) and (E_p, its units,
-    the resolution, the actions, the budgets, the positions tabled)."""
+    budget)."""
     given, table, solution = problem.strategy, None, None
     scene = problem.scene
     if given is not None:  # what it claims is checked now that the costmap gives the costs
@@ -278,16 +288,16 @@ def _played(problem: Problem, solver: str, budget: float | None,
         if "budgets" in needs:  # e.g. the adversary weighs its moves by the budgets of every position reached
             table = strategy_table(scene, problem.task, solution, formula=problem.formula)
     if table is not None:
-        return solution, (table.cost_bound, table.units, table.resolution, table.positions, table.budgets,
-                          len(table.positions))
+        return _Played(solution, table.cost_bound, table.units, table.resolution, table.positions, table.budgets,
+                       len(table.positions))
     assert solution is not None  # solved above: no strategy file was given
     # The solver's strategy, looked up only where a run goes (none when
     # none wins).  Unlike strategy_table's exploration, this does not
     # check up front that every reachable position has an available
     # action: a strategy that lacks one ends that run with the reason.
     bound = solution.cost_bound
-    return solution, (bound, solution.units, solution.resolution, {} if bound is None else solution.strategy,
-                      {}, None)
+    return _Played(solution, bound, solution.units, solution.resolution, {} if bound is None else solution.strategy,
+                   {}, None)
 
 
 def simulation_planner(scene: Scene, given: str | None) -> str:
