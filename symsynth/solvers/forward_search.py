@@ -448,48 +448,42 @@ class Search:
     def principal_play(self, start: Key, units: int) -> tuple[Step, ...]:
         """The strategy against the human's worst replies (the first reply of
         largest value, the pass first), the rule the explicit solver plays by."""
-        play: list[Step] = []
-        i, left = self.id(start), units
-        while True:
+        def worst(i: int, left: int) -> tuple[str, State, int]:
             # the human's turn at i, of value `left`: the first reply of that value
             for action, _, state, j in self.steps(i, robot=False):
                 if (left == 0) if j < 0 else not self.robot(j, left - 1):
-                    break  # replies are within `left` (proven): this one is `left`
-            else:
-                raise RuntimeError("internal error: no reply of the value")
-            if action != PASS:
-                play.append(Step("human", action, 0.0, state))
-            if j < 0:
-                return tuple(play)
-            units_a, i = self._play_entry(j, play)
-            if i < 0:
-                return tuple(play)
-            left -= units_a
-
-    def _play_entry(self, j: int, play: list[Step]) -> tuple[int, int]:
-        """The proven action at robot position j appended to `play`: its
-        units and the position it leads to (-1: a win)."""
-        _, chosen = self.hi_r[j]
-        (units, state, i), = [(u, w, nxt) for a, u, w, nxt in self.steps(j, robot=True) if a == chosen]
-        play.append(Step("robot", chosen, in_costmap_units(units, self.game.resolution), state))
-        return units, i
+                    return action, state, j  # replies are within `left` (proven): this one is `left`
+            raise RuntimeError("internal error: no reply of the value")
+        return self._play(start, units, worst)
 
     def proven_play(self, start: Key) -> tuple[Step, ...]:
         """The proven entries' strategy against the replies of largest proven
         hi (the pass first on ties), without further search: the play of an
         anytime answer."""
+        def largest(i: int, _: int) -> tuple[str, State, int]:
+            action, _, state, j = max(self.steps(i, robot=False),
+                                      key=lambda x: -1 if x[3] < 0 else self.hi_r[x[3]][0])
+            return action, state, j
+        return self._play(start, 0, largest)
+
+    def _play(self, start: Key, units: int, reply: Callable[[int, int], tuple[str, State, int]]
+              ) -> tuple[Step, ...]:
+        """The play from `start` of the proven entries' actions against the
+        human's `reply(position, units left of `units`)`, until a win."""
         play: list[Step] = []
-        i = self.id(start)
+        i, left = self.id(start), units
         while True:
-            steps = self.steps(i, robot=False)
-            action, _, state, j = max(steps, key=lambda x: -1 if x[3] < 0 else self.hi_r[x[3]][0])
+            action, state, j = reply(i, left)
             if action != PASS:
                 play.append(Step("human", action, 0.0, state))
             if j < 0:
                 return tuple(play)
-            _, i = self._play_entry(j, play)
+            _, chosen = self.hi_r[j]
+            (cost, state, i), = [(u, w, nxt) for a, u, w, nxt in self.steps(j, robot=True) if a == chosen]
+            play.append(Step("robot", chosen, in_costmap_units(cost, self.game.resolution), state))
             if i < 0:
                 return tuple(play)
+            left -= cost
 
     def counter_play(self, start: Key) -> tuple[Step, ...]:
         """The explicit solver's counter play (`explicit._counter_play`),
