@@ -102,3 +102,15 @@ def test_the_table_and_the_adversary_read_one_walk(monkeypatch):
     to_pay = to_pay_by_position(got)
     assert len(walks) == 1
     assert {(position, b) for position, b, w in to_pay if got.attained or w < got.waiting} == set(table.positions)
+
+
+def test_a_replaced_solution_walks_its_own_strategy():
+    """The walk is kept on the solution, not carried into a copy whose
+    strategy differs (the waiting bound off: its plays circle)."""
+    import dataclasses
+
+    scene = load_scene(SCENES / "wait.yaml")
+    got = solve_objective(scene, objective="expected", model=RandomModel(Fraction(3, 10)), solver="explicit")
+    assert got.attained is False and len(got.reached().node) > 0
+    with pytest.raises(RuntimeError, match="circles"):
+        dataclasses.replace(got, waiting=None, attained=True).reached()

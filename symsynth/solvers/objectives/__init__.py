@@ -82,8 +82,9 @@ class ObjectiveSolution:
     #: expected: the `Steps`; best effort: (rc, hc, cooperative move, vh), or None until `tables` is asked
     #: for (the start winning: its strategy is the worst-case one, and C(p0) was found without them)
     solved: Any = field(default=None, repr=False, compare=False)
-    #: expected: the turns its strategy reaches from the start (`reached`), once asked for
-    walked: Turns | None = field(default=None, repr=False, compare=False)
+    #: expected: the turns its strategy reaches from the start (`reached`), once asked for; not
+    #: an argument, so that `dataclasses.replace` (another waiting bound, say) walks again
+    walked: Turns | None = field(default=None, init=False, repr=False, compare=False)
 
     @property
     def tables(self) -> Any:
