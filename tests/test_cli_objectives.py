@@ -5,6 +5,7 @@ keys, the runs next to EX, and clear errors."""
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -83,3 +84,20 @@ def test_simulate_in_world_chooses_the_world_as_simulate_does(world):
                     "--randomize", "mass=0.1", *world)
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert "add --world physics" in done.stderr
+
+
+@pytest.mark.parametrize("options, expected", [
+    (["--objective", "best-effort", "--human", "adversarial"], "runs against --human none, random"),
+    (["--objective", "expected", "--human-model", "nosuchmodel:1"], "unknown human model"),
+])
+def test_simulate_in_world_checks_the_humans_before_the_costmap(tmp_path, options, expected):
+    """A wrong --human or --human-model with --in-world is refused before any
+    planning: the costmap cache stays empty (it held the arch's costmap when
+    the check came after it)."""
+    env = dict(os.environ, SYMSYNTH_CACHE=str(tmp_path / "cache"))
+    done = subprocess.run([sys.executable, "-m", "symsynth.cli", "simulate", str(SCENES / "arch.yaml"),
+                           "--in-world", "--world", "kinematic", *options], capture_output=True, text=True, env=env)
+    assert done.returncode == 2 and "Traceback" not in done.stderr
+    assert expected in done.stderr
+    written = [p.name for p in (tmp_path / "cache").rglob("*") if p.is_file()]
+    assert [name for name in written if name.startswith("arch-")] == []  # a costmap is named after its scene

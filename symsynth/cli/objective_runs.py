@@ -30,7 +30,9 @@ from symsynth.cli.objective import OBJECTIVES, human_model
 from symsynth.errors import InputError
 
 if TYPE_CHECKING:  # the solvers load numba: imported when an objective is solved, not at start-up
+    from symsynth.game.human_model import HumanModel
     from symsynth.problem import Problem
+    from symsynth.scene import Scene
     from symsynth.solvers.objectives import ObjectiveSolution
 
 Z95 = 1.959963984540054  # the normal quantile of a two-sided 95% interval
@@ -50,17 +52,35 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "else random:--move-probability)")
 
 
-def run_objective_simulation(args: argparse.Namespace, problem: Problem) -> int:
-    from symsynth.game.human_model import parse_model
-    from symsynth.solvers.objectives import solve_objective
+def objective_humans(args: argparse.Namespace, scene: Scene) -> HumanModel:
+    """The model of the random human, after checking that `--human` (and,
+    in the world, the model) fits the objective: read before any costmap
+    is computed, so that a wrong option costs no planning."""
+    from symsynth.game.human_model import RandomModel, parse_model
 
-    scene = problem.scene
     model = human_model(scene, args.human_model) or parse_model(f"random:{args.move_probability!r}")
+    if args.in_world:
+        wanted = ("none", "random", "adversarial") if args.objective == "expected" else ("none", "random")
+        if args.human not in wanted:
+            raise InputError(f"--in-world --objective {args.objective} runs against --human {', '.join(wanted)}, "
+                             f"not {args.human!r}")
+        if not isinstance(model, RandomModel):
+            raise InputError(f"--in-world: the world's random human is random(P); the model {model.name} is not")
+        return model
     humans = {"expected": ("random", "adversarial"), "best-effort": ("random", "adversarial", "cooperative")}
     wanted = humans[args.objective]
     if args.human not in (*wanted, "none"):
         raise InputError(f"--objective {args.objective} runs against {', '.join(wanted)} (or none: all of them), "
                          f"not {args.human!r}")
+    return model
+
+
+def run_objective_simulation(args: argparse.Namespace, problem: Problem, model: HumanModel) -> int:
+    from symsynth.solvers.objectives import solve_objective
+
+    scene = problem.scene
+    wanted = {"expected": ("random", "adversarial"),
+              "best-effort": ("random", "adversarial", "cooperative")}[args.objective]
     solution = solve_objective(scene, problem.formula, objective=args.objective, model=model,
                                budget=args.budget, solver=args.solver if args.solver in ("explicit", "compiled")
                                else "auto")
@@ -123,27 +143,21 @@ def _print(s: ObjectiveSolution, out: dict[str, Any]) -> None:
         print(f"{human + ':':<21}{', '.join(parts)}")
 
 
-def run_objective_world(args: argparse.Namespace, problem: Problem) -> int:
+def run_objective_world(args: argparse.Namespace, problem: Problem, model: HumanModel) -> int:
     """`simulate --objective ... --in-world`: the objective's strategy in
     the world against no human or the model's random human."""
     from symsynth.execution.human import HUMANS, HumanContext
     from symsynth.execution.objective_policy import BudgetPolicy
     from symsynth.execution.simulate import Policy, Simulator
     from symsynth.game.graph import GameGraph
-    from symsynth.game.human_model import RandomModel, parse_model
+    from symsynth.game.human_model import RandomModel
     from symsynth.planning.registry import planner_class
     from symsynth.problem import simulation_planner
     from symsynth.solvers.objectives import solve_objective
     from symsynth.solvers.objectives.files import objective_table, to_pay_by_position
 
     scene = problem.scene
-    wanted = ("none", "random", "adversarial") if args.objective == "expected" else ("none", "random")
-    if args.human not in wanted:
-        raise InputError(f"--in-world --objective {args.objective} runs against --human {', '.join(wanted)}, "
-                         f"not {args.human!r}")
-    model = human_model(scene, args.human_model) or parse_model(f"random:{args.move_probability!r}")
-    if not isinstance(model, RandomModel):
-        raise InputError(f"--in-world: the world's random human is random(P); the model {model.name} is not")
+    assert isinstance(model, RandomModel)  # objective_humans checked it
     planner = planner_class(simulation_planner(scene, args.planner))(scene)
     s = solve_objective(scene, problem.formula, objective=args.objective, model=model, budget=args.budget,
                         solver="explicit")

@@ -167,12 +167,13 @@ def run(args: argparse.Namespace) -> int:
                 raise InputError(f"{args.scene}: an abstract scene (no 'robot' key) has no world: "
                                  "leave out --in-world")
             choose_world(args, scene)
+        model = objective_runs.objective_humans(args, scene)  # before the costmap: a wrong option costs nothing
         problem = with_task(scene if args.k is None else dataclasses.replace(scene, k=args.k), None)
         request = options.costmap_request(args, progress=not args.json)
         problem = with_costmap(problem, request)
         if args.in_world:
-            return objective_runs.run_objective_world(args, problem)
-        return objective_runs.run_objective_simulation(args, problem)
+            return objective_runs.run_objective_world(args, problem, model)
+        return objective_runs.run_objective_simulation(args, problem, model)
     if args.record is not None:
         check_writable(args.record, "recording")
     check_display(args.gui)
