@@ -36,6 +36,9 @@ if TYPE_CHECKING:  # the solvers load numba: imported when an objective is solve
     from symsynth.solvers.objectives import ObjectiveSolution
 
 Z95 = 1.959963984540054  # the normal quantile of a two-sided 95% interval
+#: The humans an objective's strategy is run against in the abstraction.
+OBJECTIVE_HUMANS: dict[str, tuple[str, ...]] = {"expected": ("random", "adversarial"),
+                                                "best-effort": ("random", "adversarial", "cooperative")}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -59,6 +62,7 @@ def objective_humans(args: argparse.Namespace, scene: Scene) -> HumanModel:
     from symsynth.game.human_model import RandomModel, parse_model
 
     model = human_model(scene, args.human_model) or parse_model(f"random:{args.move_probability!r}")
+    wanted: tuple[str, ...]
     if args.in_world:
         wanted = ("none", "random", "adversarial") if args.objective == "expected" else ("none", "random")
         if args.human not in wanted:
@@ -67,8 +71,7 @@ def objective_humans(args: argparse.Namespace, scene: Scene) -> HumanModel:
         if not isinstance(model, RandomModel):
             raise InputError(f"--in-world: the world's random human is random(P); the model {model.name} is not")
         return model
-    humans = {"expected": ("random", "adversarial"), "best-effort": ("random", "adversarial", "cooperative")}
-    wanted = humans[args.objective]
+    wanted = OBJECTIVE_HUMANS[args.objective]
     if args.human not in (*wanted, "none"):
         raise InputError(f"--objective {args.objective} runs against {', '.join(wanted)} (or none: all of them), "
                          f"not {args.human!r}")
@@ -79,8 +82,7 @@ def run_objective_simulation(args: argparse.Namespace, problem: Problem, model: 
     from symsynth.solvers.objectives import solve_objective
 
     scene = problem.scene
-    wanted = {"expected": ("random", "adversarial"),
-              "best-effort": ("random", "adversarial", "cooperative")}[args.objective]
+    wanted = OBJECTIVE_HUMANS[args.objective]
     solution = solve_objective(scene, problem.formula, objective=args.objective, model=model,
                                budget=args.budget, solver=args.solver if args.solver in ("explicit", "compiled")
                                else "auto")
