@@ -7,7 +7,7 @@ import dataclasses
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from symsynth.cli import COMMANDS
 from symsynth.cli import objective_runs, options
@@ -16,7 +16,7 @@ from symsynth.cli.solve import costmap_json, costmap_report
 from symsynth.errors import InputError
 from symsynth.game.strategy import format_state
 from symsynth.planning.registry import planner_class
-from symsynth.problem import (no_guarantee, simulate, simulation_planner, with_costmap,
+from symsynth.problem import (Problem, Simulation, no_guarantee, simulate, simulation_planner, with_costmap,
                               with_strategy, with_task)
 from symsynth.scene import Scene, load_scene
 from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
@@ -205,26 +205,31 @@ def run(args: argparse.Namespace) -> int:
     if simulation.stopped is not None:
         print(simulation.stopped + "; add --best-effort to run anyway")
         return 1
-    scene, obtained, runs = problem.scene, problem.obtained, simulation.runs
     if args.json:
-        print(json.dumps({
-            "scene": scene.name, "task": simulation.task, "k": scene.k, "cost_bound": simulation.bound,
-            "budget": args.budget, "guarantee": simulation.guarantee, "human": args.human, "world": args.world,
-            "kinematic_because": args.kinematic_because,
-            "randomize": None if args.randomize is None else str(args.randomize),
-            "strategy": {"file": None if args.strategy is None else str(args.strategy),
-                         "positions": simulation.positions, "solver": None if args.strategy else args.solver},
-            "costmap": None if obtained is None else costmap_json(obtained),
-            "recording": None if args.record is None else str(args.record),
-            "runs": [r.to_json(scene.object_names) for r in runs],
-        }, indent=2))
+        print(json.dumps(_json(args, problem, simulation), indent=2))
     else:
-        if obtained is not None:
-            costmap_report(obtained)
-        _report(scene, args, simulation.positions, simulation.bound, simulation.guarantee, runs)
+        if problem.obtained is not None:
+            costmap_report(problem.obtained)
+        _report(problem.scene, args, simulation.positions, simulation.bound, simulation.guarantee, simulation.runs)
         if simulation.frames:
             print(f"\nwrote {args.record} ({simulation.frames} frames, run 1)")
     return 0 if simulation.ok else 1
+
+
+def _json(args: argparse.Namespace, problem: Problem, simulation: Simulation) -> dict[str, Any]:
+    """`simulate --json`: the run's settings, the strategy, the costmap and every run."""
+    scene, obtained = problem.scene, problem.obtained
+    return {
+        "scene": scene.name, "task": simulation.task, "k": scene.k, "cost_bound": simulation.bound,
+        "budget": args.budget, "guarantee": simulation.guarantee, "human": args.human, "world": args.world,
+        "kinematic_because": args.kinematic_because,
+        "randomize": None if args.randomize is None else str(args.randomize),
+        "strategy": {"file": None if args.strategy is None else str(args.strategy),
+                     "positions": simulation.positions, "solver": None if args.strategy else args.solver},
+        "costmap": None if obtained is None else costmap_json(obtained),
+        "recording": None if args.record is None else str(args.record),
+        "runs": [r.to_json(scene.object_names) for r in simulation.runs],
+    }
 
 
 def _report(scene: Scene, args: argparse.Namespace, positions: int | None, bound: float | None,
