@@ -137,10 +137,35 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
     groups: dict[tuple, list[Mode]] = {}
     for mode in modes:
         groups.setdefault(_geometric_key(scene, mode), []).append(mode)
-    places = scene.locations + scene.else_samples
     result: dict[str, dict] = {method: {} for method in methods}
     bar = tqdm(total=len(groups), desc=f"costmap ({', '.join(methods)}, {name})", unit="mode",
                disable=None if progress else True, leave=False)
+    jobs = _jobs(scene, planner, configs, groups, bar)
+    if planner_factory is not None:  # a factory given in this process: the jobs run here
+        executor = None
+    workers = 1 if planner_factory is not None else min(len(jobs), os.cpu_count() or 1)
+    stats.workers = max(workers if executor is None else executor.workers, 1)
+    built = _roadmaps(scene, name, planner, jobs, settings, seed, workers, bar, executor)
+    clock = time.perf_counter()
+    support = resting(scene)
+    for job, done in zip(jobs, built):
+        _search(scene, job, done, methods, support, result, stats)
+    clock = stats.add("searches", clock)
+    slides = slide_rules(scene, planner, configs, support)
+    stats.add("slides", clock)
+    bar.close()
+    stats.rules = sum(len(r) for found in result.values() for r in found.values())
+    stats.wall = time.perf_counter() - begin
+    return {method: Costmap(dict(sorted(found.items())), provenance(scene, method, name, seed), slides,
+                            scene.geometry.absent)
+            for method, found in result.items()}, stats
+
+
+def _jobs(scene: Scene, planner: Planner, configs: dict[str, Config], groups: dict[tuple, list[Mode]],
+          bar: tqdm) -> list[tuple[list[Mode], dict]]:
+    """One roadmap job per group of geometrically equal modes: the modes and
+    their anchors (an object's mode keeps the anchors where it can be
+    grasped); a group with no anchor has nothing to build."""
     jobs = []
     reached = graspable(scene, planner, configs)
     for members in groups.values():
@@ -151,37 +176,29 @@ def compute_costmaps(scene: Scene, methods: tuple[str, ...], planner_name: str |
             jobs.append((members, anchors))
         else:
             bar.update()
-    if planner_factory is not None:  # a factory given in this process: the jobs run here
-        executor = None
-    workers = 1 if planner_factory is not None else min(len(jobs), os.cpu_count() or 1)
-    stats.workers = max(workers if executor is None else executor.workers, 1)
-    built = _roadmaps(scene, name, planner, jobs, settings, seed, workers, bar, executor)
-    clock = time.perf_counter()
-    support = resting(scene)
-    for (members, anchors), (roadmap, blocked, seconds) in zip(jobs, built):
-        stats.seconds["roadmaps"] += seconds[0]
-        stats.seconds["edge checks"] += seconds[1]
-        stats.roadmaps += 1
-        stats.vertices += len(roadmap.configs)
-        stats.edges += len(roadmap.edges)
-        for member in members:
-            queries = physical_queries(scene, member, {n: touched for n, (_, touched) in anchors.items()})
-            for method in methods:
-                rules = costmap_for_mode(member, roadmap, blocked, queries, method, places,
-                                                  scene.geometry.per_radian)
-                if member.object is not None:  # lifting an object from under another (support.py)
-                    rules = lifted(rules, support)
-                result[method].update({key: value for key, value in rules.items() if value})
-            stats.motions += len(queries)
-    clock = stats.add("searches", clock)
-    slides = slide_rules(scene, planner, configs, support)
-    stats.add("slides", clock)
-    bar.close()
-    stats.rules = sum(len(r) for found in result.values() for r in found.values())
-    stats.wall = time.perf_counter() - begin
-    return {method: Costmap(dict(sorted(found.items())), provenance(scene, method, name, seed), slides,
-                            scene.geometry.absent)
-            for method, found in result.items()}, stats
+    return jobs
+
+
+def _search(scene: Scene, job: tuple[list[Mode], dict], done: tuple, methods: tuple[str, ...],
+            support: Mapping[str, frozenset[str]], result: dict[str, dict], stats: Stats) -> None:
+    """The graph searches of one built roadmap, for every mode of its group
+    and every method, added into `result`."""
+    assert scene.geometry is not None  # compute_costmaps refuses an abstract scene
+    (members, anchors), (roadmap, blocked, seconds) = job, done
+    stats.seconds["roadmaps"] += seconds[0]
+    stats.seconds["edge checks"] += seconds[1]
+    stats.roadmaps += 1
+    stats.vertices += len(roadmap.configs)
+    stats.edges += len(roadmap.edges)
+    places = scene.locations + scene.else_samples
+    for member in members:
+        queries = physical_queries(scene, member, {n: touched for n, (_, touched) in anchors.items()})
+        for method in methods:
+            rules = costmap_for_mode(member, roadmap, blocked, queries, method, places, scene.geometry.per_radian)
+            if member.object is not None:  # lifting an object from under another (support.py)
+                rules = lifted(rules, support)
+            result[method].update({key: value for key, value in rules.items() if value})
+        stats.motions += len(queries)
 
 
 def slide_rules(scene: Scene, planner: Planner, configs: dict[str, Config],
