@@ -17,6 +17,10 @@ a family is large, so that the whole run takes about half an hour here):
   Random/Syft         syft_1..syft_5, instances 001..004 of each
   Random/Lydia        case_03..case_10, instances 01..02 of each
 
+and, named in `--families`, the generated families of `bench/ltlf_generated.py`
+(ours, not a published set: Rright, URright, Uconj, AG, Dwyer, TV), whose
+formulas are given as text rather than read from the datasets.
+
 For each instance, each tool gets `--timeout` seconds of CPU time (and three
 times that of wall time: the machine may be shared; killed at either limit):
 
@@ -61,6 +65,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ltlf_bench import MONA_FLAGS, WALL_FACTOR, Worker, parse_mona, read_mona  # noqa: E402
+from ltlf_generated import generated  # noqa: E402
 from provenance import commit  # noqa: E402
 
 MIRROR = Path("/work/.mirror/whitemech+finite-synthesis-datasets/repo")
@@ -88,7 +93,8 @@ def instances(data: Path) -> dict[str, list[str]]:
     }
 
 
-SCALING = {"Uright", "GFand", "Single-Counter", "Double-Counter", "Nim"}
+SCALING = {"Uright", "GFand", "Single-Counter", "Double-Counter", "Nim", "Rright", "URright", "Uconj", "AG"}
+GENERATED = {"Rright", "URright", "Uconj", "AG", "Dwyer", "TV"}  # bench/ltlf_generated.py: ours
 
 
 def _list(data: Path) -> set[str]:
@@ -240,17 +246,23 @@ def main(argv=None) -> int:
     sym, l2d = Worker("sym-weak", args.timeout, args.wall), Worker("l2d", args.timeout, args.wall)
     work = Path(tempfile.mkdtemp(prefix="ltlf_families_"))
     rows = []
+    chosen = args.families.split(",")
+    ours = generated([f for f in chosen if f in GENERATED])
+    ours_text = {family: dict(items) for family, items in ours.items()}
+    families = {**(instances(args.data) if set(chosen) - GENERATED else {}),
+                **{family: list(texts) for family, texts in ours_text.items()}}
     try:
-        for family, paths in instances(args.data).items():
-            if family not in args.families.split(","):
+        for family, paths in families.items():
+            if family not in chosen:
                 continue
             dead: dict[str, str] = {}
             series = None
             for path in paths:
                 if family == "Nim" and Path(path).stem[:6] != series:  # nim_03, nim_04, ...
                     series, dead = Path(path).stem[:6], {}
-                text = read(args.data, path)
-                name = Path(path).stem if family in SCALING else f"{Path(path).parent.name}/{Path(path).stem}"
+                text = ours_text[family][path] if family in ours_text else read(args.data, path)
+                name = Path(path).stem if family in SCALING | GENERATED else \
+                    f"{Path(path).parent.name}/{Path(path).stem}"
                 row = {"family": family, "instance": name, "atoms": None, "commit": measured}
                 formula = parse_ltlf(text, next_semantics="weak")
                 atoms = sorted({a.key for a in ast.atoms(formula)})

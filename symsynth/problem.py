@@ -18,7 +18,7 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple
 from pathlib import Path
@@ -29,7 +29,7 @@ from symsynth.errors import InputError
 from symsynth.game.horizon import solve_game
 from symsynth.game.strategy import StrategyFile, certify, check_header, read_strategy, strategy_table
 from symsynth.scene.propositions import interpret_all
-from symsynth.game.solution import Solution, task_formula, verdict
+from symsynth.game.solution import Position, Solution, task_formula, verdict
 from symsynth.logic import ast, parse_ltlf
 from symsynth.planning.build import Obtained, obtain_costmap
 from symsynth.planning.registry import planner_class
@@ -39,7 +39,6 @@ from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 
 if TYPE_CHECKING:  # the simulator (pybullet, the renderer) is imported only when simulating
     from symsynth.execution.human import ScriptedHuman
-    from symsynth.execution.record import Recorder
     from symsynth.execution.physics import Randomization
     from symsynth.execution.simulate import Run
     from symsynth.execution.world import SimWorld
@@ -224,28 +223,19 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
         raise InputError(f"--human {human}: no strategy wins against every human (E_p is infinite), so "
                          f"there are no budgets for this human to choose its moves by; run best effort "
                          f"against a human that needs none (none, random) or a script")
-    fallback = None
-    if bound is None:  # a finite E_p over the budget still has its strategy everywhere it leads
-        # The explicit solver's strategy covers every reachable position of
-        # finite value, also when the initial one has none (the symbolic
-        # solver stops early then).
-        if solution is not None and solver == "explicit":
-            fallback = solution.strategy  # solved just now, with the same task, k and resolution
-        else:
-            fallback = solve(problem, "explicit").strategy
+    # a finite E_p over the budget still has its strategy everywhere it leads
+    fallback = None if bound is not None else _fallback(problem, solver, solution)
     policy = Policy(actions, budgets, bound, fallback)
     simulator = Simulator(scene, problem.formula, policy, planner_type(scene), resolution=resolution,
                           world=world, randomization=randomization)
 
     made: list[Recorder] = []
 
-    def recorder_to(path: Path) -> Callable[[SimWorld], Recorder]:
-        def recorder(world: SimWorld) -> Recorder:
-            made.append(Recorder(world, path, width=size[0], height=size[1]))
-            return made[-1]
-        return recorder
+    def recorder(world: SimWorld) -> Recorder:  # of the first run, when asked
+        assert record is not None
+        made.append(Recorder(world, record, width=size[0], height=size[1]))
+        return made[-1]
 
-    first = None if record is None else recorder_to(record)
     done = []
     with tqdm(range(runs), desc="runs", unit=" run", disable=None if progress and runs > 1 else True) as bar:
         for i in bar:
@@ -253,9 +243,18 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
                 player = ScriptedHuman(human.entries)  # from its first entry
             else:
                 player = HUMANS[human](HumanContext(seed + i, move_probability, policy.budget, scene))
-            done.append(simulator.run(player, seed + i, recorder=first if i == 0 else None, gui=gui))
+            done.append(simulator.run(player, seed + i, recorder=recorder if i == 0 and record else None, gui=gui))
     frames = made[0].save() if made else 0
     return Simulation(task, bound, positions, guarantee, budget, tuple(done), frames)
+
+
+def _fallback(problem: Problem, solver: str, solution: Solution | None) -> Mapping[Position, str]:
+    """The explicit solver's strategy, played where the strategy has no
+    action: it covers every reachable position of finite value, also when
+    the initial one has none (the symbolic solver stops early then)."""
+    if solution is not None and solver == "explicit":
+        return solution.strategy  # solved just now, with the same task, k and resolution
+    return solve(problem, "explicit").strategy
 
 
 class _Played(NamedTuple):
