@@ -40,16 +40,21 @@ def check(text: str) -> None:
     ("G a & F b & F c", "disjoint"),          # GFand
     ("(a U b) & (c U d)", "disjoint"),        # Uconj
     ("G(a -> X b) | F c", "disjoint"),
+    # assume-guarantee with two pairs plus a guarantee (bench/ltlf_generated.py's AG): 8 parts sharing atoms
+    ("(G(r1 -> F !r1) & G(r2 -> F !r2) & F r1) -> (G(r1 -> F g1) & G(r2 -> F g2) & G !(g1 & g2) & F g1 & F g2)",
+     "parts"),
 ])
 def test_the_rule_sends_these_shapes_to_the_compositional_construction(text, why, composed):
     reason = choice.rule(parse_ltlf(text))
-    assert reason is not None and ("next" in reason if why == "next" else "disjoint" in reason), reason
+    assert reason is not None and {"next": "next", "disjoint": "disjoint", "parts": "8 temporal parts"}[why] in reason, \
+        reason
     check(text)
     assert composed, text
 
 
 @pytest.mark.parametrize("text", [
     "a & (G(a -> X b) -> G(b -> X a) & F(a & b))",   # chomp's shape, one connected part
+    "G(a -> F b) & G(b -> F c) & G(c -> F d) & G(d -> F a) & F(a & c) & F(b & d) & G !(a & b)",  # 7 parts
     "G(a <-> b) & F(a & X b)",                         # an equivalence, no next in it
     "G(a -> X(a <-> b))",                              # a next on both sides of nothing: inside X
     "F last & G a",                                    # a part without atoms joins no group
