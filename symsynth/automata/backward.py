@@ -67,11 +67,13 @@ class Backward:
     manager: its obligations, their one-step functions H and the vectors
     reachable from END."""
 
-    def __init__(self, progression: Progression, formula: ast.Formula):
+    def __init__(self, progression: Progression, formula: ast.Formula, max_obligations: int | None = None):
         self.progression = progression
         self.bdd = bdd = progression.bdd
         self.start = progression.obligation(True, formula)  # X phi (false when phi is false)
         self.step = self._closure()
+        if max_obligations is not None and len(self.step) > max_obligations:
+            raise TooLarge(f"more than {max_obligations} obligations")
         self.end = {name: not progression.meaning(name)[0] for name in self.step}  # X f false, WX f true
         self.reach = self._reachable()
         self._composed: dict[Function, Function] = {bdd.true: self.reach, bdd.false: bdd.false}  # S -> Reach & S(H)
@@ -135,10 +137,12 @@ class Backward:
         return cofactor(self.bdd, self.end, state) == self.bdd.true
 
 
-def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int | None = None) -> GuardedDFA:
+def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int | None = None,
+                 max_obligations: int | None = None) -> GuardedDFA:
     """The minimal complete DFA of the NNF `formula` (module docstring),
     states numbered in BFS order from the initial one, given by its moves
-    (moves.py); `TooLarge` past `max_states` states.
+    (moves.py); `TooLarge` past `max_states` states or, before any state is
+    made, past `max_obligations` obligations.
 
     The successors of a state are numbered as a depth-first walk (high
     branch first) of T meets them; nodes at atom levels met for an earlier
@@ -147,7 +151,7 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
     each successor's node replaced by the cube of its number, one `ite` per
     node at atom levels, all states sharing one memo.  No guard is made:
     urright12 has 1.45 million edges, 8,898 states and 63,148 such nodes."""
-    automaton = Backward(progression, formula)
+    automaton = Backward(progression, formula, max_obligations)
     bdd = progression.bdd
     num_atoms = len(progression.atom_keys)
     start = automaton.initial()

@@ -136,7 +136,7 @@ def _compile(formula: str | ast.Formula, next_semantics: NextSemantics, source: 
     elif construction == "backward":
         whole = backward_dfa(progression, nnf(formula))  # minimal as built
     elif construction == "auto":
-        whole = _progressed_within_budget(formula, progression)
+        whole = _backward_by_rule(formula, progression) or _progressed_within_budget(formula, progression)
         if whole is None:
             progression = Progression(atom_keys)  # (the attempt's obligations and nodes left behind)
     if whole is not None:
@@ -180,6 +180,21 @@ def _compile(formula: str | ast.Formula, next_semantics: NextSemantics, source: 
     if own:
         manager.configure(reordering=False)  # a stable order for whoever uses the DFA
     return dfa
+
+
+def _backward_by_rule(formula: ast.Formula, progression: Progression) -> GuardedDFA | None:
+    """`construction="auto"`: the minimal DFA by the backward construction
+    when `choice` says so (deep until / release alternation, few
+    obligations), else None."""
+    if choice.rule(formula) is not None:
+        return None
+    normal = nnf(formula)
+    if choice.alternation(normal) < choice.AUTO_ALTERNATION:
+        return None
+    try:
+        return backward_dfa(progression, normal, max_obligations=choice.AUTO_OBLIGATIONS)
+    except TooLarge:
+        return None
 
 
 def _progressed_within_budget(formula: ast.Formula, progression: Progression) -> GuardedDFA | None:
