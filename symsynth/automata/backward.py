@@ -71,17 +71,17 @@ class Backward:
         self.progression = progression
         self.bdd = bdd = progression.bdd
         self.start = progression.obligation(True, formula)  # X phi (false when phi is false)
-        self.step = self._closure()
+        self.step, self.end = self._closure()  # (END: X f false, WX f true)
         if max_obligations is not None and len(self.step) > max_obligations:
             raise TooLarge(f"more than {max_obligations} obligations")
-        self.end = {name: not progression.meaning(name)[0] for name in self.step}  # X f false, WX f true
         self.reach = self._reachable()
         self._composed: dict[Function, Function] = {bdd.true: self.reach, bdd.false: bdd.false}  # S -> Reach & S(H)
 
-    def _closure(self) -> dict[str, Function]:
+    def _closure(self) -> tuple[dict[str, Function], dict[str, bool]]:
         """obligation variable -> its H (unfold of its operand), for every
-        obligation reached from `X phi`."""
+        obligation reached from `X phi`; and its value at END."""
         step: dict[str, Function] = {}
+        end: dict[str, bool] = {}
         todo = [name for name in self.bdd.support(self.start)]
         while todo:
             name = todo.pop()
@@ -90,9 +90,11 @@ class Backward:
             meaning = self.progression.meaning(name)
             if meaning is None:  # (an atom: not an obligation)
                 continue
-            step[name] = self.progression.unfold(meaning[1])
+            strong, operand = meaning
+            step[name] = self.progression.unfold(operand)
+            end[name] = not strong
             todo.extend(v for v in self.bdd.support(step[name]) if v not in step)
-        return step
+        return step, end
 
     def _reachable(self) -> Function:
         """Reach = mu R. END | image(R), image(R)(u') = \\E a, u: R(u) & /\\_o u'_o <-> H_o(a, u)."""
