@@ -41,10 +41,18 @@ def counted(self, f):
     used.append(1)
     return original(self, f)
 compose.Composer.compose = counted
+backward = []
+built_backward = compose.backward_dfa
+def counted_backward(*args, **kwargs):
+    found = built_backward(*args, **kwargs)
+    backward.append(1)
+    return found
+compose.backward_dfa = counted_backward
 start = time.process_time()
 dfa = compose.compile_ltlf(formula, construction=sys.argv[1])
 print(json.dumps({"states": dfa.num_states, "cpu": round(time.process_time() - start, 3),
-                  "ran": "compositional" if used else "progression", "rule": reason}))
+                  "ran": "compositional" if used else "backward" if backward else "progression",
+                  "rule": reason}))
 '''
 
 

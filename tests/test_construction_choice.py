@@ -130,3 +130,55 @@ def test_limits_and_the_named_constructions_are_kept(composed):
     assert len(composed) == 1
     compile_ltlf(text, limits={"single": 10**9})  # limits are the compositional construction's
     assert len(composed) == 2
+
+
+@pytest.fixture
+def went_backward(monkeypatch):
+    """The formulas the backward construction built."""
+    calls = []
+    original = compose.backward_dfa
+
+    def counted(progression, formula, *args, **kwargs):
+        calls.append(formula)
+        return original(progression, formula, *args, **kwargs)
+
+    monkeypatch.setattr(compose, "backward_dfa", counted)
+    return calls
+
+
+@pytest.mark.parametrize(("text", "count"), [
+    ("p1 U (p2 R (p3 U p4))", 3),
+    ("a U (b U c)", 1),                 # one kind: no alternation
+    ("G F a", 2),
+    ("!(a U !(b U c))", 2),            # NNF: !a R (b U c)
+    ("G(a -> F b) & (c U (d R e))", 2),  # the longest path counts, not the sum
+    ("X[!] (a U X (b R c))", 2),       # nexts are skipped
+])
+def test_alternation_counts_the_longest_alternating_path(text, count):
+    from symsynth.automata.normal import nnf
+    assert choice.alternation(nnf(parse_ltlf(text))) == count
+
+
+def test_deep_until_release_alternation_goes_backward(went_backward, composed):
+    """urright06 (five alternating operators, a tie) is progressed; urright08
+    (seven) is built backward; with fewer obligations allowed than it has,
+    progression again."""
+    six = "p1 U (p2 R (p3 U (p4 R (p5 U (p6)))))"
+    eight = "p1 U (p2 R (p3 U (p4 R (p5 U (p6 R (p7 U (p8)))))))"
+    assert compile_ltlf(six).num_states == 25 and not went_backward
+    assert compile_ltlf(eight).num_states == 110 and len(went_backward) == 1
+    assert not composed
+    check("p1 U (p2 R (p3 U (p4 R (p5 U (p6 R (p7))))))")
+
+
+def test_past_the_obligations_allowed_it_is_progressed(monkeypatch, went_backward, composed):
+    eight = "p1 U (p2 R (p3 U (p4 R (p5 U (p6 R (p7 U (p8)))))))"  # 7 obligations
+    progressed = []
+    original = compose.Progression.dfa
+    monkeypatch.setattr(compose.Progression, "dfa", lambda self, *a: progressed.append(1) or original(self, *a))
+    monkeypatch.setattr(choice, "AUTO_OBLIGATIONS", 6)
+    assert compile_ltlf(eight).num_states == 110
+    assert len(went_backward) == 1 and progressed and not composed  # tried, refused before any state
+    progressed.clear()
+    monkeypatch.setattr(choice, "AUTO_OBLIGATIONS", 7)
+    assert compile_ltlf(eight).num_states == 110 and not progressed

@@ -43,6 +43,7 @@ FORMULAS = [
     "a U (b U c)",
     "(G F a) -> G(b -> X c)",
     "!(a R b) | X X c",
+    "p1 U (p2 R (p3 U (p4 R (p5 U (p6 R (p7 U p8))))))",  # auto: the backward construction
 ]
 
 

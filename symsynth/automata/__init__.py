@@ -11,7 +11,8 @@ from symsynth.automata.symbolic import SymbolicDFA
 #: change to the compiler that renumbers the states of some formula's DFA
 #: (tests/test_dfa_numbering.py notices one).  1: per-conjunct progression;
 #: 2: composition over the whole Boolean structure; 3: one-step invariants
-#: built directly and explicit components encoded by a decision tree.
-NUMBERING = 3
+#: built directly and explicit components encoded by a decision tree;
+#: 4: deep until / release alternations by the backward construction.
+NUMBERING = 4
 
 __all__ = ["compile_ltlf", "ExplicitDFA", "NUMBERING", "SymbolicDFA"]

@@ -33,6 +33,21 @@ dense from the start, 228 successors each over the first 16 at five heaps,
 684 at six: progression and its minimization by guards cost 16 s at five
 heaps, the compositional construction 4 s, on moves.  Chomp's first 16
 states have 8-9 successors; a few later ones thousands, 36 on average at 4 x 3.)
+
+A third construction, backward (backward.py: the formula evaluated
+backwards, its reverse determinized, minimal as built), wins on one shape:
+deep alternation of until-like and release-like operators along a path of
+the formula (`p1 U (p2 R (p3 U ...))`, URright): 4.6x at seven alternating
+operators (urright08), 17x at nine, 100x at eleven (urright12: 4 s
+against 397 s), where progression's states before minimization grow with
+every alternation.  Every other formula of the benchmark families has at
+most three (`alternation`), and backward loses on them, badly where the
+minimal DFA is a product of parts (GFand, AG, counters: its reversed
+automaton tracks every part at once).  So `auto` takes it, before
+progression, when the formula has AUTO_ALTERNATION alternating operators
+or more and no more than AUTO_OBLIGATIONS obligations (its reversed
+automaton's state bits: past that, the image of the reachable set, over
+twice as many bits, is what costs: Nim nim_03_01's 26 took 15 s for one).
 Measurements: docs/ltlf.md, "Choosing the construction".
 """
 
@@ -54,6 +69,15 @@ AUTO_DENSE_AFTER = 16
 #: conjunctions up to 7, Nim 3); docs/ltlf.md, "Choosing the construction".
 MANY_PARTS = 8
 
+#: The backward construction under `auto`: from this many alternating
+#: until-like / release-like operators on one path (URright: n - 1 at n
+#: atoms; urright06, 5, is a tie; every other family: at most 3) ...
+AUTO_ALTERNATION = 6
+#: ... and up to this many obligations (urright at n atoms: n - 1; nim_03_01: 26).
+AUTO_OBLIGATIONS = 20
+
+_LEAST = (ast.Until, ast.Eventually)  # until-like: a least fixpoint
+_GREATEST = (ast.Release, ast.WeakUntil, ast.Always)  # release-like: a greatest one
 _NEXT = (ast.Next, ast.WeakNext)
 _TEMPORAL = (ast.Next, ast.WeakNext, ast.Eventually, ast.Always, ast.Until, ast.Release, ast.WeakUntil)
 _BOOLEAN = (ast.Not, ast.And, ast.Or, ast.Implies, ast.Equiv)
@@ -115,3 +139,30 @@ def _connected(parts: list[set[str]]) -> list[set[str]]:
         merged = set(atoms).union(*joined)
         groups = [g for g in groups if not g & atoms] + [merged]
     return groups
+
+
+def alternation(formula: ast.Formula) -> int:
+    """The most operators on one path down the NNF `formula` alternating
+    between until-like (U, F) and release-like (R, W, G), others skipped:
+    p1 U (p2 R (p3 U p4)) has 3, G F a 2, a U (b U c) 1."""
+    longest: dict[ast.Formula, tuple[int, int]] = {}  # f -> (from an until-like, from a release-like)
+    stack = [formula]
+    while stack:
+        f = stack[-1]
+        if f in longest:
+            stack.pop()
+            continue
+        kids = ast.children(f)
+        missing = [c for c in kids if c not in longest]
+        if missing:
+            stack.extend(missing)
+            continue
+        stack.pop()
+        least = max((longest[c][0] for c in kids), default=0)
+        greatest = max((longest[c][1] for c in kids), default=0)
+        if isinstance(f, _LEAST):
+            least = 1 + greatest
+        elif isinstance(f, _GREATEST):
+            greatest = 1 + least
+        longest[f] = (least, greatest)
+    return max(longest[formula])

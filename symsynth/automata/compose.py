@@ -35,9 +35,10 @@ import gc
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 from symsynth.automata import choice
+from symsynth.automata.backward import backward_dfa
 from symsynth.automata.bdd import BACKEND, BDD, Function, new_manager
 from symsynth.automata.invariant import Invariants, invariant_shape
 from symsynth.automata.normal import expose, nnf, split_conjuncts
@@ -55,7 +56,7 @@ from symsynth.logic import ast
 from symsynth.logic.parser import NextSemantics, parse_ltlf
 
 #: How `compile_ltlf` builds the DFA (its docstring).
-Construction = Literal["auto", "compositional", "progression"]
+Construction = Literal["auto", "compositional", "progression", "backward"]
 
 #: Limits past which a formula is refused with a message (each part's state
 #: bits and each atom is a BDD variable; the product's state count is
@@ -87,12 +88,15 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
     ASSERT alone tracks every subset of the board, 2^(N*M), and the whole
     the boards that legal moves reach) and loses where a part's
     progression is exponential (the counters' `counter_i <-> X carry_i`).
+    `construction="backward"` evaluates the formula backwards and
+    determinizes the reverse (backward.py): the minimal DFA with no
+    minimization step, and no guard per edge.
     `"auto"` (the default) chooses between the two by `choice.py`'s rule
     and budget; `limits` or `compositional=False` make it compositional
     (they are about that construction).
     """
-    if construction not in ("auto", "compositional", "progression"):
-        raise ValueError(f"construction must be 'auto', 'compositional' or 'progression', not {construction!r}")
+    if construction not in get_args(Construction):
+        raise ValueError(f"construction must be one of {', '.join(get_args(Construction))}, not {construction!r}")
     if construction == "auto" and (limits is not None or not compositional):
         construction = "compositional"
     with _without_cyclic_gc():
@@ -129,8 +133,10 @@ def _compile(formula: str | ast.Formula, next_semantics: NextSemantics, source: 
     whole = None
     if construction == "progression":
         whole = minimize(progression.dfa(nnf(formula)))
+    elif construction == "backward":
+        whole = backward_dfa(progression, nnf(formula))  # minimal as built
     elif construction == "auto":
-        whole = _progressed_within_budget(formula, progression)
+        whole = _backward_by_rule(formula, progression) or _progressed_within_budget(formula, progression)
         if whole is None:
             progression = Progression(atom_keys)  # (the attempt's obligations and nodes left behind)
     if whole is not None:
@@ -174,6 +180,21 @@ def _compile(formula: str | ast.Formula, next_semantics: NextSemantics, source: 
     if own:
         manager.configure(reordering=False)  # a stable order for whoever uses the DFA
     return dfa
+
+
+def _backward_by_rule(formula: ast.Formula, progression: Progression) -> GuardedDFA | None:
+    """`construction="auto"`: the minimal DFA by the backward construction
+    when `choice` says so (deep until / release alternation, few
+    obligations), else None."""
+    if choice.rule(formula) is not None:
+        return None
+    normal = nnf(formula)
+    if choice.alternation(normal) < choice.AUTO_ALTERNATION:
+        return None
+    try:
+        return backward_dfa(progression, normal, max_obligations=choice.AUTO_OBLIGATIONS)
+    except TooLarge:
+        return None
 
 
 def _progressed_within_budget(formula: ast.Formula, progression: Progression) -> GuardedDFA | None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import get_args
 
 from symsynth.automata import SymbolicDFA, compile_ltlf
 from symsynth.automata.compose import Construction
@@ -27,10 +28,12 @@ MAX_STATES = 1_000_000
 
 def add_limits(parser: argparse.ArgumentParser) -> None:
     """--max-bytes, --max-states and --construction."""
-    parser.add_argument("--construction", choices=("auto", "compositional", "progression"), default="auto",
+    parser.add_argument("--construction", choices=get_args(Construction), default="auto",
                         help="how the DFA is built: compositional (a minimal DFA per part, combined), progression "
                              "of the whole formula from its start (only the states reachable there: faster when the "
                              "parts are large alone and small together, as in SYNTCOMP's chomp; slower on counters), "
+                             "backward (the formula evaluated backwards, its reverse determinized: minimal as built, "
+                             "no minimization; fastest on alternating until/release chains), "
                              "or auto (default): compositional for an equivalence with a next operand or temporal "
                              "parts over disjoint atoms, else progression while it stays under 200,000 edges "
                              "(and 64 successors per state over its first 16), compositional past that (docs/ltlf.md)")

@@ -1,0 +1,193 @@
+"""The minimal DFA of an LTLf formula with no minimization step: evaluate
+the formula backwards, then determinize the reverse (Brzozowski).
+
+**Backwards evaluation is deterministic.**  Take the obligations of
+progression.py, `X f` (a next position exists and satisfies `f`) and
+`WX f` (none does, or it satisfies `f`), closed under unfolding from
+`X phi`: the obligations named by `unfold(f)` for every obligation on
+`f`.  On a trace w_0 ... w_{n-1} let `u_i` be the vector of their values
+at position i.  At the last position every `X f` is false and every `WX f`
+true: `u_{n-1} = END`.  For i >= 1, `X f` and `WX f` at i-1 both say `f`
+at i, and the expansion laws of LTLf (`f U g = g | f & X(f U g)`, ...)
+give `f` at i as `unfold(f)` of the letter w_i and of the obligations
+at i.  So `u_{i-1} = H(w_i, u_i)` with `H_o = unfold(f_o)`, a BDD over the
+atoms and the obligation variables.  Reading the trace from its end,
+
+    A:  states: vectors u;  start END;  u --a--> H(a, u);  accepting: u[X phi]
+
+is a complete deterministic automaton of the reversed language (after
+w_{n-1} ... w_0 it is in `u_{-1}`, whose bit `X phi` is phi at position 0;
+the empty trace leaves it in END, where `X phi` is false: traces are
+non-empty, as everywhere here).  Restrict A to `Reach`, the vectors it
+reaches from END (a symbolic fixpoint below); every state is then reachable.
+
+**The subset construction of A's reverse is the minimal DFA** (Brzozowski,
+1962).  Forward, after reading x = x_0 ... x_{k-1}, the set is
+
+    S_x = {u in Reach : A goes from u to an accepting state on x_{k-1} ... x_0},
+
+so `S_eps = Reach & X phi` and `S_xa(u) = Reach(u) & S_x(H(a, u))`: a
+simultaneous substitution of the vector H into S_x (dd's `let`).  It
+accepts iff END is in S_x.  Correct: END in S_xy iff A goes from END to an
+accepting state on (xy) reversed iff xy satisfies phi.  Minimal: if u is
+in S_x and not in S_x', take z leading A from END to u (u is in Reach)
+and y = z reversed: xy is in the language and x'y is not, so different
+sets are different residuals; and every state made is reachable.  The
+empty set (a rejecting sink) and Reach itself (an accepting one: H maps
+Reach into Reach) are states like the others.
+
+**Explicit states, symbolic guards.**  The atoms sit above the obligation
+variables in the order, so `T(a, u) = Reach(u) & S(H(a, u))`, one BDD for
+all letters at once, leaves the atom levels at one node per successor set,
+reached on exactly that successor's letters (`split_letters`, as in
+progression).  Sets are BDDs, so equal sets are one node: every node found
+is a new state of the minimal DFA or one already numbered, with no
+canonical form to compute and no minimization after.
+
+Cost: one substitution per state, over as many bits as obligations, where
+progression makes states that are Boolean combinations of obligations
+(more of them than the minimal DFA's states on alternating chains
+p1 U (p2 R (p3 U ...)), whose minimization then costs the most), and the
+image of `Reach` under H (a relation over two copies of the obligations).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from symsynth.automata import moves as moves_
+from symsynth.automata.bdd import BDD, Function, and_exists, branches, children_first, cofactor, swap
+from symsynth.automata.growth import grew
+from symsynth.automata.progression import GuardedDFA, Progression, TooLarge
+from symsynth.logic import ast
+
+
+class Backward:
+    """The backward automaton A of one NNF formula in `progression`'s
+    manager: its obligations, their one-step functions H and the vectors
+    reachable from END."""
+
+    def __init__(self, progression: Progression, formula: ast.Formula, max_obligations: int | None = None):
+        self.progression = progression
+        self.bdd = bdd = progression.bdd
+        self.start = progression.obligation(True, formula)  # X phi (false when phi is false)
+        self.step, self.end = self._closure()  # (END: X f false, WX f true)
+        if max_obligations is not None and len(self.step) > max_obligations:
+            raise TooLarge(f"more than {max_obligations} obligations")
+        self.reach = self._reachable()
+        self._composed: dict[Function, Function] = {bdd.true: self.reach, bdd.false: bdd.false}  # S -> Reach & S(H)
+
+    def _closure(self) -> tuple[dict[str, Function], dict[str, bool]]:
+        """obligation variable -> its H (unfold of its operand), for every
+        obligation reached from `X phi`; and its value at END."""
+        step: dict[str, Function] = {}
+        end: dict[str, bool] = {}
+        todo = [name for name in self.bdd.support(self.start)]
+        while todo:
+            name = todo.pop()
+            if name in step:
+                continue
+            meaning = self.progression.meaning(name)
+            if meaning is None:  # (an atom: not an obligation)
+                continue
+            strong, operand = meaning
+            step[name] = self.progression.unfold(operand)
+            end[name] = not strong
+            todo.extend(v for v in self.bdd.support(step[name]) if v not in step)
+        return step, end
+
+    def _reachable(self) -> Function:
+        """Reach = mu R. END | image(R), image(R)(u') = \\E a, u: R(u) & /\\_o u'_o <-> H_o(a, u)."""
+        bdd = self.bdd
+        names = sorted(self.step, key=lambda name: bdd.level_of_var(name))
+        primed = {name: f"{name}'" for name in names}
+        for name in names:  # below every obligation: H reads none of them
+            if primed[name] not in bdd.vars:
+                bdd.declare(primed[name])
+        relation = bdd.true
+        for name in reversed(names):
+            relation &= bdd.var(primed[name]).equiv(self.step[name])  # u'_o <-> H_o(a, u)
+        qvars = list(self.progression.atom_keys) + names
+        reach = bdd.cube(self.end)
+        old = None
+        while reach != old:
+            old = reach
+            image = and_exists(bdd, reach, relation, qvars)  # \E a, u: R(u) & u' = H(a, u)
+            reach = reach | swap(bdd, image, primed)  # R | image(R)[u' := u]
+        return reach
+
+    def initial(self) -> Function:
+        """S_eps = Reach & X phi."""
+        return self.reach & self.start
+
+    def successors(self, state: Function) -> Function:
+        """T(a, u) = Reach(u) & S(H(a, u)): a BDD over the letter and the
+        obligations whose nodes below the atom levels are the successors.
+
+        By Shannon expansion on S's top variable v, Reach & S(H) is
+        ite(H_v, Reach & S_high(H), Reach & S_low(H)), with Reach for S =
+        true: one `ite` per node of S, remembered across states (successive
+        sets share most nodes), where dd's `let` (CUDD's vector compose)
+        starts afresh at every call (3x the time on urright12)."""
+        bdd, done, step = self.bdd, self._composed, self.step
+        for node, low, high in children_first(bdd, state, done):
+            done[node] = bdd.ite(step[node.var], done[high], done[low])
+        return done[state]
+
+    def accepts(self, state: Function) -> bool:
+        """END in S."""
+        return cofactor(self.bdd, self.end, state) == self.bdd.true
+
+
+def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int | None = None,
+                 max_obligations: int | None = None) -> GuardedDFA:
+    """The minimal complete DFA of the NNF `formula` (module docstring),
+    states numbered in BFS order from the initial one, given by its moves
+    (moves.py); `TooLarge` past `max_states` states or, before any state is
+    made, past `max_obligations` obligations.
+
+    The successors of a state are numbered as a depth-first walk (high
+    branch first) of T meets them; nodes at atom levels met for an earlier
+    state are not walked again (every successor below them has its number).
+    The moves are made at the end, when the number of bits is known: T with
+    each successor's node replaced by the cube of its number, one `ite` per
+    node at atom levels, all states sharing one memo.  No guard is made:
+    urright12 has 1.45 million edges, 8,898 states and 63,148 such nodes."""
+    automaton = Backward(progression, formula, max_obligations)
+    bdd = progression.bdd
+    num_atoms = len(progression.atom_keys)
+    start = automaton.initial()
+    index = {start: 0}
+    order = [start]
+    tops: list[Function] = []  # T of each state
+    walked: set[Function] = set()
+    for state in order:  # `order` grows while we walk it: BFS
+        grew(len(order))
+        top = automaton.successors(state)
+        tops.append(top)
+        stack = [top]
+        while stack:
+            node = stack.pop()
+            if node in walked:
+                continue
+            walked.add(node)
+            if node == bdd.true or node == bdd.false or node.level >= num_atoms:  # a successor
+                if node not in index:
+                    if max_states is not None and len(order) >= max_states:
+                        raise TooLarge(f"more than {max_states} states")
+                    index[node] = len(order)
+                    order.append(node)
+            else:
+                stack.extend(branches(bdd, node))
+    names = moves_.bits(bdd, "z", moves_.width(len(order)))
+    written = {node: moves_.cube(bdd, names, number) for node, number in index.items()}
+    for node, low, high in _atom_nodes(bdd, tops, written):
+        written[node] = bdd.ite(bdd.var(node.var), written[high], written[low])
+    return GuardedDFA(bdd, 0, [automaton.accepts(s) for s in order], moves=[written[t] for t in tops])
+
+
+def _atom_nodes(bdd: BDD, roots: list[Function], done: dict) -> Iterator[tuple[Function, Function, Function]]:
+    """The nodes under `roots` not in `done`, children first (the caller
+    adds each to `done`)."""
+    for root in roots:
+        yield from children_first(bdd, root, done)
