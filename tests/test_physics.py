@@ -308,6 +308,33 @@ def test_a_human_puts_an_object_only_where_it_stands(block):
         world.close()
 
 
+def test_an_object_at_rest_sleeps_and_an_object_put_somewhere_wakes(block):
+    """After 2.5 s at rest the block sleeps: a velocity set on it from
+    outside (which wakes nothing) does not move it.  Put 5 cm above its
+    place, it is awake and falls back onto the table; a human's move into
+    the air is seen not to stand."""
+    scene, _ = block
+    world = PhysicsWorld(scene)
+    try:
+        body, place = world.bodies["b"], scene.geometry.places["l1"]
+        for _ in range(600):
+            world.step()
+        before = base_xyz(world, "b")
+        world.client.resetBaseVelocity(body, [0.1, 0.0, 0.0], [0.0, 0.0, 0.0])
+        for _ in range(24):
+            world.step()
+        assert math.dist(base_xyz(world, "b"), before) < 1e-4
+        for _ in range(600):
+            world.step()
+        assert not world.stands("b", place @ Pose((0.0, 0.0, 0.05)))
+        for _ in range(600):
+            world.step()
+        world.place("b", place @ Pose((0.0, 0.0, 0.05)))
+        assert abs(base_xyz(world, "b")[2]) < 1e-3
+    finally:
+        world.close()
+
+
 @pytest.fixture(scope="module")
 def push_rule():
     data = yaml.safe_load((DATA / "push-small.yaml").read_text())

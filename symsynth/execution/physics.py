@@ -44,6 +44,14 @@ move only as PyBullet integrates them:
   `REST_SPIN` (rad/s) for `REST_STEPS` steps in a row, at most
   `SETTLE_STEPS`; only then are the poses read (`poses`, what `observe`
   reads).
+- **Sleep.**  An object whose velocities' squares sum below `REST_SPEED`²
+  (slower than 5 mm/s and 5 mrad/s) for PyBullet's 2 s sleeps: it is not
+  integrated, and what rests on the table alone costs the step nothing.
+  A contact with anything awake (the fingers, a block put on it) wakes it
+  in the step it happens; a pose or velocity set from outside does not,
+  so an object put somewhere before the world is stepped (a human's move,
+  a stand check's) is woken (`_wake`); one put somewhere and back
+  (`blocked`) is not.
 - **Human moves** are kinematic (no human body is simulated): the object
   is put at rest on its new pose (not within `CLEARANCE` of the robot) and
   settles.  A human puts an object only where it stands (`stands`): not in
@@ -166,7 +174,8 @@ class PhysicsWorld(SimWorld):
             client.changeDynamics(body, -1, lateralFriction=self._friction(name))
         for name, body in self.bodies.items():
             client.changeDynamics(body, -1, lateralFriction=self._friction(name), spinningFriction=0.001,
-                                  rollingFriction=0.0)
+                                  rollingFriction=0.0, sleepThreshold=REST_SPEED ** 2,
+                                  activationState=pybullet.ACTIVATION_STATE_ENABLE_SLEEPING)
         self.fingers = tuple(sorted(self._held_joints()))
         for j in self.fingers:
             client.changeDynamics(self.robot, j, lateralFriction=FINGER_FRICTION)
@@ -285,6 +294,11 @@ class PhysicsWorld(SimWorld):
         for name, body in self.bodies.items():
             xyz, quat = self.client.getBasePositionAndOrientation(body)
             self.poses[name] = Pose(tuple(xyz), tuple(quat)) @ self._uncentre[name]
+
+    def _wake(self, name: str) -> None:
+        """Object `name`, put somewhere from outside, is integrated again
+        (module doc: Sleep)."""
+        self.client.changeDynamics(self.bodies[name], -1, activationState=pybullet.ACTIVATION_STATE_WAKE_UP)
 
     # -- the robot ------------------------------------------------------------
 
@@ -516,6 +530,7 @@ class PhysicsWorld(SimWorld):
         """Put object `name` at `pose` at rest (a human's hand: kinematic),
         then let it settle."""
         super().place(name, pose)
+        self._wake(name)
         self.client.resetBaseVelocity(self.bodies[name], [0, 0, 0], [0, 0, 0])
         self.settle()
 
@@ -549,6 +564,7 @@ class PhysicsWorld(SimWorld):
         start = [self.client.getBasePositionAndOrientation(b) for b in bodies]
         try:
             self._place_body(name, pose)
+            self._wake(name)
             self.client.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0])
             start[0] = self.client.getBasePositionAndOrientation(body)
             for _ in range(STAND_STEPS):
