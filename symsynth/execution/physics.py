@@ -20,7 +20,9 @@ move only as PyBullet integrates them:
   `CLEAR_FRACTION`, but the path's last; a slide's
   hand at most `SLIDE_SPEED` near the object), and at the path's end the robot is held on
   its last configuration until every joint is within `ARRIVED` radians of
-  it (at most `CONVERGE_STEPS`; within `PASSING` at a transit's end or on
+  it (at most `CONVERGE_STEPS`; the path's last leg slows to rest over
+  `STOP_STEPS`, without which the arm, stopped at once, overshot its end by up
+  to 24 mrad and took 20 steps to come back; within `PASSING` at a transit's end or on
   the way up from a drop, where the hand is empty and touches nothing).
   A path's cost is the radians of the path commanded, as the costmap
   measures it.
@@ -104,6 +106,7 @@ VELOCITY_GAIN = 1.0
 ARRIVED = 2e-3  # radians: every joint this close to the end of its path
 PASSING = 2e-2  # ... and where nothing is at stake there (the hand empty, touching nothing)
 CONVERGE_STEPS = 240
+STOP_STEPS = 8  # a path's last leg slows to rest over these steps (1/30 s; stopped at once, the arm overshot by 24 mrad)
 GRIP_STEPS = 60  # steps the fingers take at most to close or open (4 cm at 0.2 m/s is 48)
 FINGER_REST = 0.01  # m/s: the opening changing slower than this has stopped (free fingers close at 0.8)
 OPEN_ENOUGH = 3e-3  # metres: a finger this close to its target is there (the last mm are a slow tail)
@@ -314,7 +317,8 @@ class PhysicsWorld(SimWorld):
         `CLEAR_FRACTION`, but the path's last piece: `_clear_pieces`), or,
         where `careful(hand's start, hand's end)` holds for the leg (every
         leg when `careful` is None), its hand's straight-line travel at
-        `hand_speed` (m/s) if that is longer.  With `settle`, the world is
+        `hand_speed` (m/s) if that is longer; the last leg's target slows
+        to rest over `STOP_STEPS` (`_stopping`).  With `settle`, the world is
         then stepped until the objects rest too (`settle`), their rest
         counted while the robot is held on its last configuration.  The
         hold ends with every joint within `ARRIVED` radians, or with
@@ -339,8 +343,8 @@ class PhysicsWorld(SimWorld):
             n = max(1, math.ceil(seconds / TIME_STEP))
             velocity = (b - a) / (n * TIME_STEP)
             self._command(a, velocity)  # the fingers' targets, if changed (nothing is stepped)
-            speeds = velocity.tolist()
-            for target in (a + np.outer(np.arange(1, n + 1) / n, b - a)).tolist():  # a + (b - a) i / n
+            fractions, rates = _stopping(n) if k == len(legs) - 2 else _steady(n)
+            for target, speeds in zip((a + np.outer(fractions, b - a)).tolist(), np.outer(rates, velocity).tolist()):
                 self._set(self.joints, target, speeds, self._efforts, self._gains)
                 self.step()
         goal = np.asarray(path[-1], float)
@@ -590,6 +594,24 @@ class PhysicsWorld(SimWorld):
         self._place_body(name, before)
         self.client.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0])
         return hits
+
+
+def _steady(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """A leg of `n` steps at one speed: the fraction of the leg the target
+    has gone after each step, and its speed (as a fraction of the leg's)."""
+    return np.arange(1, n + 1) / n, np.ones(n)
+
+
+def _stopping(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """A path's last leg, of `n` steps at one speed, slowing to rest at
+    its end: the speed falls evenly to 0 over its last `STOP_STEPS` (at
+    most 2n) steps, which go half as far as at the leg's speed, so the leg
+    takes half as many steps longer.  Fractions and speeds as `_steady`'s."""
+    ramp = min(STOP_STEPS, 2 * n)
+    cruise = n - ramp / 2  # steps at the leg's speed
+    t = np.minimum(np.arange(1, math.ceil(n + ramp / 2) + 1), n + ramp / 2)
+    slowed = np.clip(t - cruise, 0.0, None)  # steps into the ramp
+    return (t - slowed ** 2 / (2 * ramp)) / n, 1.0 - slowed / ramp
 
 
 def _rounded(pose: Pose) -> tuple[float, ...]:
