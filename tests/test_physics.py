@@ -23,6 +23,7 @@ from symsynth.errors import InputError
 from symsynth.execution import hand_motions, physics
 from symsynth.execution.observe import POSITION
 from symsynth.execution.physics import ARRIVED, PASSING, PhysicsWorld, Randomization
+from symsynth.execution.reach import reach
 from symsynth.execution.world_choice import default_world
 from symsynth.execution.simulate import MAX_VISITS
 from symsynth.execution.trial import slide_trial, slide_trials
@@ -165,6 +166,50 @@ def test_an_object_a_few_millimetres_off_its_place_is_approached_with_one_soluti
             t = i / (len(down) - 1)
             assert math.dist(world.ee_pose().xyz, [a + (b - a) * t for a, b in zip(start, end)]) < 1e-3
         assert world.ee_pose().angle_to(moved @ grasp.pose) < 0.01
+    finally:
+        world.close()
+
+
+def test_newton_steps_reach_a_grasp_pose_a_few_millimetres_off(block):
+    """`reach` from the place's approach's end to the grasp pose on the block
+    moved 5 mm and turned 0.03 rad: the hand (PyBullet's forward
+    kinematics) on the pose to 1e-6 m, the joints within 1 mrad of the
+    planner's own solution from the same seed; a pose 2 m off is not
+    reached (None), and the robot stands where it stood."""
+    scene, planner = block
+    g = scene.geometry
+    grasp, place = g.grasps["top"], g.places["l1"]
+    world = at_anchor(scene, planner, "l1")
+    try:
+        end = hand_motions.Approaches(planner).path(world.config, place @ grasp.pre_image(), place @ grasp.pose,
+                                                    "down")[-1]
+        hand = Pose((0.503, -0.004, 0.0), (0.0, 0.0, math.sin(0.015), math.cos(0.015))) @ grasp.pose
+        stood = world.config
+        found = reach(world, end, hand)
+        assert found is not None and world.config == stood
+        assert np.max(np.abs(np.subtract(found, planner.inverse_kinematics(hand, end)))) < 1e-3
+        world.set_config(found)
+        assert math.dist(world.ee_pose().xyz, hand.xyz) < 1e-6 and world.ee_pose().angle_to(hand) < 1e-5
+        assert reach(world, end, Pose((2.5, 0.0, 0.1)) @ grasp.pose) is None
+    finally:
+        world.close()
+
+
+def test_a_physical_grab_of_a_moved_object_solves_no_inverse_kinematics(block):
+    """The block put 4 mm off its place: the grab bends the place's approach
+    by `reach`, not by the planner's inverse kinematics (no pose solved
+    once the place's approach is), and the fingers hold it."""
+    scene, planner = block
+    g = scene.geometry
+    grasp, place = g.grasps["top"], g.places["l1"]
+    approaches, solved = counted_approaches(planner)
+    world = at_anchor(scene, planner, "l1")
+    try:
+        world.place("b", Pose((0.503, -0.003, 0.0)))
+        approaches.path(world.config, place @ grasp.pre_image(), place @ grasp.pose, "down")
+        solved.clear()
+        hand_motions.grab(world, approaches, "b", "top")
+        assert solved == [] and world.held == "b"
     finally:
         world.close()
 
