@@ -171,6 +171,9 @@ class PhysicsWorld(SimWorld):
         self._scale = {o.name: self._draw("mass") for o in scene.objects}
         super().__init__(scene, gui=gui)
         client = self.client
+        # the calls made every step, looked up once (the client's own lookup costs as much as the call)
+        self._step_simulation, self._motors = client.stepSimulation, client.setJointMotorControlArray
+        self._contacts = client.getContactPoints
         client.setGravity(0, 0, -GRAVITY)
         client.setTimeStep(TIME_STEP)
         for body, name in self.obstacles.items():
@@ -250,10 +253,10 @@ class PhysicsWorld(SimWorld):
 
     def step(self) -> None:
         self._flush()
-        self.client.stepSimulation()
+        self._step_simulation()
         self.steps += 1
         if self.watching:  # one query for every body the robot touches
-            for contact in self.client.getContactPoints(bodyA=self.robot):
+            for contact in self._contacts(bodyA=self.robot):
                 name = self._names.get(contact[2])
                 if name is not None and name != self.held:
                     self.touches.add(name)
@@ -448,7 +451,7 @@ class PhysicsWorld(SimWorld):
 
     def _set(self, joints: list[int], targets: list[float], velocities: list[float], forces: list[float],
              gains: tuple[list[float], list[float]]) -> None:
-        self.client.setJointMotorControlArray(
+        self._motors(
             self.robot, joints, pybullet.POSITION_CONTROL, targetPositions=targets, targetVelocities=velocities,
             forces=forces, positionGains=gains[0], velocityGains=gains[1])
 
@@ -588,8 +591,8 @@ class PhysicsWorld(SimWorld):
         against the hand (which would drag it along as it leaves)."""
         before, body = self.poses[name], self.bodies[name]
         self._place_body(name, pose)  # placed once for both questions
-        hits = self._hits(body, ignore={name})
-        if self.client.getClosestPoints(self.robot, body, CLEARANCE):
+        hits = self._hits(body, ignore={name}, robot=False)
+        if self.client.getClosestPoints(self.robot, body, CLEARANCE):  # penetrating it, too
             hits.add("robot")
         self._place_body(name, before)
         self.client.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0])
