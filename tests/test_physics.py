@@ -233,7 +233,8 @@ def test_a_leg_goes_at_the_full_velocity_limit_only_where_it_is_clear(block):
     """A leg that swings the arm 1.2 rad about its base from the anchor over
     the block: with `clear`, its pieces where the fingers are within 5 cm of
     the block (the first ones) and its last piece go at half the velocity
-    limit, the pieces between at the full limit, so it takes fewer steps
+    limit, the pieces between at the full limit (joined: a piece at each
+    speed in turn, longer than `CLEAR_STRIDE`), so it takes fewer steps
     than without `clear` (where a whole leg, or a path's last, went at half
     the limit)."""
     scene, planner = block
@@ -241,8 +242,10 @@ def test_a_leg_goes_at_the_full_velocity_limit_only_where_it_is_clear(block):
     try:
         start = np.asarray(worlds[0].config)
         path = [tuple(start), tuple(start + np.eye(len(start))[0] * 1.2)]
-        _, _, _, far = worlds[0]._clear_pieces(np.asarray(path), [False], [0.0])
+        configs, _, _, far = worlds[0]._clear_pieces(np.asarray(path), [False], [0.0])
         assert not far[0] and any(far) and not far[-1]
+        assert all(a != b for a, b in zip(far, far[1:]))  # a piece at each speed, in turn
+        assert np.allclose(configs[-1], path[-1]) and 1.2 / len(far) > physics.CLEAR_STRIDE
         taken = []
         for world, clear in zip(worlds, (True, False)):
             before = world.steps

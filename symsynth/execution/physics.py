@@ -372,7 +372,8 @@ class PhysicsWorld(SimWorld):
         travel `hand_legs`), and whether each piece is clear: the robot and
         the object it holds farther than `CLEAR` from every other object,
         and the held object from the obstacles, at both its ends (set, not
-        stepped; the robot is put back where it was)."""
+        stepped; the robot is put back where it was).  Consecutive pieces
+        of one leg that are both clear, or both not, are joined again."""
         start = self.config
         held = self.bodies.get(self.held) if self.held is not None else None
         others = [body for name, body in self.bodies.items() if name != self.held]
@@ -386,19 +387,23 @@ class PhysicsWorld(SimWorld):
                                                  for body in [*others, *self.obstacles]))
             return seen[index]
 
-        configs, pieces, travel, far = [legs[0]], [], [], []
+        configs, pieces, travel, far, leg = [legs[0]], [], [], [], []
         for k, (a, b) in enumerate(zip(legs, legs[1:])):
             parts = 1 if slow[k] else max(1, math.ceil(float(np.max(np.abs(b - a))) / CLEAR_STRIDE))
             for i in range(1, parts + 1):
                 configs.append(a + (b - a) * (i / parts))
                 pieces.append(slow[k])
                 travel.append(hand_legs[k])
+                leg.append(k)
                 n = len(configs) - 1
                 far.append(not slow[k] and clear(n - 1, configs[n - 1]) and clear(n, configs[n]))
         SimWorld.set_config(self, start)
         if far:
             far[-1] = False  # the robot arrives at the path's end at the usual speed
-        return np.asarray(configs), pieces, travel, far
+        # consecutive pieces of one leg at one speed lie on one line: driven as one (each rounded its steps up)
+        ends = [0, *(j for j in range(1, len(far)) if leg[j - 1] != leg[j] or far[j - 1] != far[j]), len(far)]
+        return (np.asarray([configs[j] for j in ends]), [pieces[j] for j in ends[:-1]], [travel[j] for j in ends[:-1]],
+                [far[j] for j in ends[:-1]])
 
     def _hand_points(self, path: Sequence[Sequence[float]]) -> np.ndarray:
         """The end-effector's position at each configuration of `path`
