@@ -77,12 +77,11 @@ from __future__ import annotations
 import contextlib
 import math
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
 from symsynth.bullet import pybullet
-from symsynth.errors import InputError
+from symsynth.execution.randomization import Randomization
 from symsynth.execution.world import SimWorld
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import Scene
@@ -121,40 +120,6 @@ STAND_STEPS = 24  # 0.1 s: an object let go where nothing holds it falls 5 cm in
 STAND_SHIFT = 2e-3  # metres, and radians: an object that moved more did not stand
 FRAME_STEPS = 96  # 0.4 s of the world between two frames of a recording (a motion: 0.4 rad or so) ...
 SLIDE_FRAME_STEPS = 48  # ... and 0.2 s along a slide (the object 1 cm further at 5 cm/s)
-
-
-@dataclass(frozen=True)
-class Randomization:
-    """Relative ranges for friction and mass, metres for initial poses."""
-
-    friction: float = 0.0
-    mass: float = 0.0
-    pose: float = 0.0
-
-    KEYS = ("friction", "mass", "pose")
-
-    @staticmethod
-    def parse(text: str) -> Randomization:
-        """`friction=0.2,mass=0.2,pose=0.005` (any of the three)."""
-        values: dict[str, float] = {}
-        for part in filter(None, (p.strip() for p in text.split(","))):
-            key, _, value = part.partition("=")
-            key = key.strip()
-            if key not in Randomization.KEYS or not value:
-                raise InputError(f"--randomize: expected KEY=VALUE with KEY one of {', '.join(Randomization.KEYS)}"
-                                 f" (e.g. friction=0.2,mass=0.2,pose=0.005), found {part!r}")
-            try:
-                number = float(value)
-            except ValueError:
-                raise InputError(f"--randomize: {key} must be a number, found {value!r}") from None
-            if not math.isfinite(number) or number < 0 or (key != "pose" and number >= 1):
-                raise InputError(f"--randomize: {key} must be " + ("a distance >= 0 in metres" if key == "pose"
-                                 else "a relative range in [0, 1)") + f", found {value}")
-            values[key] = number
-        return Randomization(**values)
-
-    def __str__(self) -> str:
-        return ",".join(f"{key}={getattr(self, key):g}" for key in self.KEYS)
 
 
 Watch = Callable[["PhysicsWorld"], None]
