@@ -22,7 +22,7 @@ the runs come back to -- is the same path, and is computed once.
 from __future__ import annotations
 
 import math
-from collections.abc import Collection, Sequence
+from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -32,6 +32,7 @@ from symsynth.errors import SymsynthError
 from symsynth.execution.motion import steps
 from symsynth.execution.observe import close, place_at
 from symsynth.execution.physics import SLIDE_SPEED, PhysicsWorld
+from symsynth.execution.reach import reach
 from symsynth.execution.world import SimWorld
 from symsynth.planning.protocol import Config, Planner
 from symsynth.planning.verify import path_length
@@ -73,7 +74,8 @@ class Approaches:
         return self._paths[key]
 
 
-    def near(self, config: Config, place: Pose, actual: Pose, grasp: Grasp, what: str) -> tuple[Config, ...]:
+    def near(self, config: Config, place: Pose, actual: Pose, grasp: Grasp, what: str,
+             solve: Callable[[Pose, Config], Config | None] | None = None) -> tuple[Config, ...]:
         """The approach of `grasp` to an object at `actual`, close to
         `place` (within the observation's tolerance): the approach to
         `place` (`path`, solved once) bent toward the one solution at the
@@ -85,12 +87,16 @@ class Approaches:
         approach (the shift's square times the arm's curvature).  Where the
         hand's grasp pose on `actual` is within `SAME_HAND` of the one on
         `place` (metres, radians: an object that has not moved from where
-        it was put), `path` as it is, with no solution solved."""
+        it was put), `path` as it is, with no solution solved.  `solve(pose,
+        seed)` finds that one solution (default: the planner's inverse
+        kinematics; the physical world's grab: `reach`, Newton steps from the
+        approach's end); where it finds none, `path` solves the approach to
+        `actual` whole."""
         nominal = self.path(config, place @ grasp.pre_image(), place @ grasp.pose, what)
         hand, planned = actual @ grasp.pose, place @ grasp.pose
         if math.dist(hand.xyz, planned.xyz) <= SAME_HAND[0] and hand.angle_to(planned) <= SAME_HAND[1]:
             return nominal
-        end = self.planner.inverse_kinematics(hand, nominal[-1])
+        end = (solve or self.planner.inverse_kinematics)(hand, nominal[-1])
         if end is None:
             return self.path(config, actual @ grasp.pre_image(), actual @ grasp.pose, what)
         shift = np.subtract(end, nominal[-1])
@@ -108,7 +114,8 @@ def grab(world: SimWorld, approaches: Approaches, name: str, grasp: str) -> Prim
     if isinstance(world, PhysicsWorld):
         place = place_at(world.scene, target)
         if place is not None and close(world.geometry.places[place], target):
-            down = approaches.near(world.config, world.geometry.places[place], target, g, f"grab({name})")
+            down = approaches.near(world.config, world.geometry.places[place], target, g, f"grab({name})",
+                                   solve=lambda pose, seed: reach(world, seed, pose))
         else:
             down = approaches.path(world.config, target @ g.pre_image(), target @ g.pose, f"grab({name})")
         return _physical(world, down, lambda: world.close_hand(name, grasp), {name})

@@ -20,7 +20,9 @@ move only as PyBullet integrates them:
   `CLEAR_FRACTION`, but the path's last; a slide's
   hand at most `SLIDE_SPEED` near the object), and at the path's end the robot is held on
   its last configuration until every joint is within `ARRIVED` radians of
-  it (at most `CONVERGE_STEPS`; within `PASSING` at a transit's end or on
+  it (at most `CONVERGE_STEPS`; the path's last leg slows to rest over
+  `STOP_STEPS`, without which the arm, stopped at once, overshot its end by up
+  to 24 mrad and took 20 steps to come back; within `PASSING` at a transit's end or on
   the way up from a drop, where the hand is empty and touches nothing).
   A path's cost is the radians of the path commanded, as the costmap
   measures it.
@@ -44,6 +46,14 @@ move only as PyBullet integrates them:
   `REST_SPIN` (rad/s) for `REST_STEPS` steps in a row, at most
   `SETTLE_STEPS`; only then are the poses read (`poses`, what `observe`
   reads).
+- **Sleep.**  An object whose velocities' squares sum below `REST_SPEED`²
+  (slower than 5 mm/s and 5 mrad/s) for PyBullet's 2 s sleeps: it is not
+  integrated, and what rests on the table alone costs the step nothing.
+  A contact with anything awake (the fingers, a block put on it) wakes it
+  in the step it happens; a pose or velocity set from outside does not,
+  so an object put somewhere before the world is stepped (a human's move,
+  a stand check's) is woken (`_wake`); one put somewhere and back
+  (`blocked`) is not.
 - **Human moves** are kinematic (no human body is simulated): the object
   is put at rest on its new pose (not within `CLEARANCE` of the robot) and
   settles.  A human puts an object only where it stands (`stands`): not in
@@ -67,12 +77,11 @@ from __future__ import annotations
 import contextlib
 import math
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
 from symsynth.bullet import pybullet
-from symsynth.errors import InputError
+from symsynth.execution.randomization import Randomization
 from symsynth.execution.world import SimWorld
 from symsynth.scene.geometry import Pose
 from symsynth.scene.model import Scene
@@ -96,6 +105,7 @@ VELOCITY_GAIN = 1.0
 ARRIVED = 2e-3  # radians: every joint this close to the end of its path
 PASSING = 2e-2  # ... and where nothing is at stake there (the hand empty, touching nothing)
 CONVERGE_STEPS = 240
+STOP_STEPS = 8  # a path's last leg slows to rest over these steps (1/30 s; stopped at once, the arm overshot by 24 mrad)
 GRIP_STEPS = 60  # steps the fingers take at most to close or open (4 cm at 0.2 m/s is 48)
 FINGER_REST = 0.01  # m/s: the opening changing slower than this has stopped (free fingers close at 0.8)
 OPEN_ENOUGH = 3e-3  # metres: a finger this close to its target is there (the last mm are a slow tail)
@@ -112,40 +122,6 @@ FRAME_STEPS = 96  # 0.4 s of the world between two frames of a recording (a moti
 SLIDE_FRAME_STEPS = 48  # ... and 0.2 s along a slide (the object 1 cm further at 5 cm/s)
 
 
-@dataclass(frozen=True)
-class Randomization:
-    """Relative ranges for friction and mass, metres for initial poses."""
-
-    friction: float = 0.0
-    mass: float = 0.0
-    pose: float = 0.0
-
-    KEYS = ("friction", "mass", "pose")
-
-    @staticmethod
-    def parse(text: str) -> Randomization:
-        """`friction=0.2,mass=0.2,pose=0.005` (any of the three)."""
-        values: dict[str, float] = {}
-        for part in filter(None, (p.strip() for p in text.split(","))):
-            key, _, value = part.partition("=")
-            key = key.strip()
-            if key not in Randomization.KEYS or not value:
-                raise InputError(f"--randomize: expected KEY=VALUE with KEY one of {', '.join(Randomization.KEYS)}"
-                                 f" (e.g. friction=0.2,mass=0.2,pose=0.005), found {part!r}")
-            try:
-                number = float(value)
-            except ValueError:
-                raise InputError(f"--randomize: {key} must be a number, found {value!r}") from None
-            if not math.isfinite(number) or number < 0 or (key != "pose" and number >= 1):
-                raise InputError(f"--randomize: {key} must be " + ("a distance >= 0 in metres" if key == "pose"
-                                 else "a relative range in [0, 1)") + f", found {value}")
-            values[key] = number
-        return Randomization(**values)
-
-    def __str__(self) -> str:
-        return ",".join(f"{key}={getattr(self, key):g}" for key in self.KEYS)
-
-
 Watch = Callable[["PhysicsWorld"], None]
 
 
@@ -160,13 +136,17 @@ class PhysicsWorld(SimWorld):
         self._scale = {o.name: self._draw("mass") for o in scene.objects}
         super().__init__(scene, gui=gui)
         client = self.client
+        # the calls made every step, looked up once (the client's own lookup costs as much as the call)
+        self._step_simulation, self._motors = client.stepSimulation, client.setJointMotorControlArray
+        self._contacts = client.getContactPoints
         client.setGravity(0, 0, -GRAVITY)
         client.setTimeStep(TIME_STEP)
         for body, name in self.obstacles.items():
             client.changeDynamics(body, -1, lateralFriction=self._friction(name))
         for name, body in self.bodies.items():
             client.changeDynamics(body, -1, lateralFriction=self._friction(name), spinningFriction=0.001,
-                                  rollingFriction=0.0)
+                                  rollingFriction=0.0, sleepThreshold=REST_SPEED ** 2,
+                                  activationState=pybullet.ACTIVATION_STATE_ENABLE_SLEEPING)
         self.fingers = tuple(sorted(self._held_joints()))
         for j in self.fingers:
             client.changeDynamics(self.robot, j, lateralFriction=FINGER_FRICTION)
@@ -238,10 +218,10 @@ class PhysicsWorld(SimWorld):
 
     def step(self) -> None:
         self._flush()
-        self.client.stepSimulation()
+        self._step_simulation()
         self.steps += 1
         if self.watching:  # one query for every body the robot touches
-            for contact in self.client.getContactPoints(bodyA=self.robot):
+            for contact in self._contacts(bodyA=self.robot):
                 name = self._names.get(contact[2])
                 if name is not None and name != self.held:
                     self.touches.add(name)
@@ -286,6 +266,11 @@ class PhysicsWorld(SimWorld):
             xyz, quat = self.client.getBasePositionAndOrientation(body)
             self.poses[name] = Pose(tuple(xyz), tuple(quat)) @ self._uncentre[name]
 
+    def _wake(self, name: str) -> None:
+        """Object `name`, put somewhere from outside, is integrated again
+        (module doc: Sleep)."""
+        self.client.changeDynamics(self.bodies[name], -1, activationState=pybullet.ACTIVATION_STATE_WAKE_UP)
+
     # -- the robot ------------------------------------------------------------
 
     def follow(self, path: Sequence[Sequence[float]], hand_speed: float | None = None,
@@ -300,7 +285,8 @@ class PhysicsWorld(SimWorld):
         `CLEAR_FRACTION`, but the path's last piece: `_clear_pieces`), or,
         where `careful(hand's start, hand's end)` holds for the leg (every
         leg when `careful` is None), its hand's straight-line travel at
-        `hand_speed` (m/s) if that is longer.  With `settle`, the world is
+        `hand_speed` (m/s) if that is longer; the last leg's target slows
+        to rest over `STOP_STEPS` (`_stopping`).  With `settle`, the world is
         then stepped until the objects rest too (`settle`), their rest
         counted while the robot is held on its last configuration.  The
         hold ends with every joint within `ARRIVED` radians, or with
@@ -325,8 +311,8 @@ class PhysicsWorld(SimWorld):
             n = max(1, math.ceil(seconds / TIME_STEP))
             velocity = (b - a) / (n * TIME_STEP)
             self._command(a, velocity)  # the fingers' targets, if changed (nothing is stepped)
-            speeds = velocity.tolist()
-            for target in (a + np.outer(np.arange(1, n + 1) / n, b - a)).tolist():  # a + (b - a) i / n
+            fractions, rates = _stopping(n) if k == len(legs) - 2 else _steady(n)
+            for target, speeds in zip((a + np.outer(fractions, b - a)).tolist(), np.outer(rates, velocity).tolist()):
                 self._set(self.joints, target, speeds, self._efforts, self._gains)
                 self.step()
         goal = np.asarray(path[-1], float)
@@ -351,7 +337,8 @@ class PhysicsWorld(SimWorld):
         travel `hand_legs`), and whether each piece is clear: the robot and
         the object it holds farther than `CLEAR` from every other object,
         and the held object from the obstacles, at both its ends (set, not
-        stepped; the robot is put back where it was)."""
+        stepped; the robot is put back where it was).  Consecutive pieces
+        of one leg that are both clear, or both not, are joined again."""
         start = self.config
         held = self.bodies.get(self.held) if self.held is not None else None
         others = [body for name, body in self.bodies.items() if name != self.held]
@@ -365,19 +352,23 @@ class PhysicsWorld(SimWorld):
                                                  for body in [*others, *self.obstacles]))
             return seen[index]
 
-        configs, pieces, travel, far = [legs[0]], [], [], []
+        configs, pieces, travel, far, leg = [legs[0]], [], [], [], []
         for k, (a, b) in enumerate(zip(legs, legs[1:])):
             parts = 1 if slow[k] else max(1, math.ceil(float(np.max(np.abs(b - a))) / CLEAR_STRIDE))
             for i in range(1, parts + 1):
                 configs.append(a + (b - a) * (i / parts))
                 pieces.append(slow[k])
                 travel.append(hand_legs[k])
+                leg.append(k)
                 n = len(configs) - 1
                 far.append(not slow[k] and clear(n - 1, configs[n - 1]) and clear(n, configs[n]))
         SimWorld.set_config(self, start)
         if far:
             far[-1] = False  # the robot arrives at the path's end at the usual speed
-        return np.asarray(configs), pieces, travel, far
+        # consecutive pieces of one leg at one speed lie on one line: driven as one (each rounded its steps up)
+        ends = [0, *(j for j in range(1, len(far)) if leg[j - 1] != leg[j] or far[j - 1] != far[j]), len(far)]
+        return (np.asarray([configs[j] for j in ends]), [pieces[j] for j in ends[:-1]], [travel[j] for j in ends[:-1]],
+                [far[j] for j in ends[:-1]])
 
     def _hand_points(self, path: Sequence[Sequence[float]]) -> np.ndarray:
         """The end-effector's position at each configuration of `path`
@@ -430,7 +421,7 @@ class PhysicsWorld(SimWorld):
 
     def _set(self, joints: list[int], targets: list[float], velocities: list[float], forces: list[float],
              gains: tuple[list[float], list[float]]) -> None:
-        self.client.setJointMotorControlArray(
+        self._motors(
             self.robot, joints, pybullet.POSITION_CONTROL, targetPositions=targets, targetVelocities=velocities,
             forces=forces, positionGains=gains[0], velocityGains=gains[1])
 
@@ -516,6 +507,7 @@ class PhysicsWorld(SimWorld):
         """Put object `name` at `pose` at rest (a human's hand: kinematic),
         then let it settle."""
         super().place(name, pose)
+        self._wake(name)
         self.client.resetBaseVelocity(self.bodies[name], [0, 0, 0], [0, 0, 0])
         self.settle()
 
@@ -549,6 +541,7 @@ class PhysicsWorld(SimWorld):
         start = [self.client.getBasePositionAndOrientation(b) for b in bodies]
         try:
             self._place_body(name, pose)
+            self._wake(name)
             self.client.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0])
             start[0] = self.client.getBasePositionAndOrientation(body)
             for _ in range(STAND_STEPS):
@@ -568,12 +561,30 @@ class PhysicsWorld(SimWorld):
         against the hand (which would drag it along as it leaves)."""
         before, body = self.poses[name], self.bodies[name]
         self._place_body(name, pose)  # placed once for both questions
-        hits = self._hits(body, ignore={name})
-        if self.client.getClosestPoints(self.robot, body, CLEARANCE):
+        hits = self._hits(body, ignore={name}, robot=False)
+        if self.client.getClosestPoints(self.robot, body, CLEARANCE):  # penetrating it, too
             hits.add("robot")
         self._place_body(name, before)
         self.client.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0])
         return hits
+
+
+def _steady(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """A leg of `n` steps at one speed: the fraction of the leg the target
+    has gone after each step, and its speed (as a fraction of the leg's)."""
+    return np.arange(1, n + 1) / n, np.ones(n)
+
+
+def _stopping(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """A path's last leg, of `n` steps at one speed, slowing to rest at
+    its end: the speed falls evenly to 0 over its last `STOP_STEPS` (at
+    most 2n) steps, which go half as far as at the leg's speed, so the leg
+    takes half as many steps longer.  Fractions and speeds as `_steady`'s."""
+    ramp = min(STOP_STEPS, 2 * n)
+    cruise = n - ramp / 2  # steps at the leg's speed
+    t = np.minimum(np.arange(1, math.ceil(n + ramp / 2) + 1), n + ramp / 2)
+    slowed = np.clip(t - cruise, 0.0, None)  # steps into the ramp
+    return (t - slowed ** 2 / (2 * ramp)) / n, 1.0 - slowed / ramp
 
 
 def _rounded(pose: Pose) -> tuple[float, ...]:
