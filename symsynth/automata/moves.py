@@ -35,6 +35,7 @@ from dataclasses import dataclass
 
 from symsynth.automata.bdd import BDD, Function, and_exists, branches, disjoin, exists, split_letters, swap
 from symsynth.automata.refine import refine
+from symsynth.automata.rows import is_row
 
 #: Successors per state on average up to which a DFA's edges (guards) are
 #: the better form for products: past it a product works on the moves.
@@ -75,9 +76,10 @@ def cube(bdd: BDD, names: Sequence[str], value: int) -> Function:
 
 
 def atom_vars(bdd: BDD) -> list[str]:
-    """The variables above the bits (the atoms, and any others declared before)."""
+    """The variables above the bits (the atoms, and any others declared
+    before), but for the row bits (rows.py)."""
     top = bdd.level_of_var(f"{_PREFIX}{FAMILIES[0]}0")
-    return [v for v in bdd.vars if bdd.level_of_var(v) < top]
+    return [v for v in bdd.vars if bdd.level_of_var(v) < top and not is_row(v)]
 
 
 # ----------------------------------------------------------------- conversion
