@@ -3,7 +3,8 @@ constructions that work on stacks (moves.py's product and minimization,
 prefix.py's renumbering, the single component's transition functions).
 
 `each` must give exactly what the operation gives row by row (BDDs are
-canonical: the same functions are the same nodes); and a leaf
+canonical: the same functions are the same nodes); the product made in
+chunks of pairs must be the product made one pair at a time; and a leaf
 built by progression after the row bits went in above the atoms must be
 the automaton of its formula (the atom levels are found, not counted)."""
 
@@ -18,6 +19,7 @@ from test_prefix_product import KEYS, Runner
 from symsynth.automata import moves, rows
 from symsynth.automata.bdd import and_exists, exists, swap
 from symsynth.automata.normal import nnf
+from symsynth.automata.products import OPS
 from symsynth.automata.progression import Progression, minimize
 from symsynth.logic import to_string
 
@@ -59,6 +61,30 @@ def test_each_is_the_operation_row_by_row(left, right, op):
     operation = operations[op]
     assert rows.each(bdd, operation, xs, ys) == [operation(u, v) for u, v in zip(xs, ys)]
     assert rows.unstack(bdd, rows.stack(bdd, xs), len(xs)) == xs
+
+
+@settings(max_examples=100, deadline=None)
+@given(formulas(max_depth=3), formulas(max_depth=3), st.sampled_from(["and", "or", "implies", "equiv"]))
+def test_a_product_made_in_chunks_is_the_product_made_pair_by_pair(f, g, op):
+    """moves.product makes the pairs found and not yet made together, at
+    most CHUNK at once: with chunks of one pair, two, or all of them, the
+    same states in the same order, the same moves."""
+    progression = Progression(KEYS)
+    bdd = progression.bdd
+    a, b = minimize(progression.dfa(nnf(f))), minimize(progression.dfa(nnf(g)))
+    made = []
+    saved = moves.CHUNK
+    try:
+        for chunk in (1, 2, saved):
+            moves.CHUNK = chunk
+            made.append(moves.product(bdd, a.moves, a.initial, a.accepting, b.moves, b.initial, b.accepting,
+                                      OPS[op]))
+    finally:
+        moves.CHUNK = saved
+    first = made[0]
+    for other in made[1:]:
+        assert (other.codes, other.accepting, other.moves, other.after, other.degrees) == \
+            (first.codes, first.accepting, first.moves, first.after, first.degrees), (to_string(f), op, to_string(g))
 
 
 @settings(max_examples=100, deadline=None)

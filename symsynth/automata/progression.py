@@ -429,7 +429,8 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
         for state in states:
             yield from before[state]
 
-    block = refine(dfa.accepting, signature_of, predecessors)
+    block = refine(dfa.accepting, lambda states, block: [signature_of(state, block) for state in states],
+                   predecessors)
     if dfa.initial == 0 and len(set(block)) == n:
         return dfa  # already minimal (and numbered from its initial state)
     # renumber blocks in BFS order from the initial state
