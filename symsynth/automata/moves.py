@@ -245,7 +245,8 @@ def product(bdd: BDD, a_moves: Sequence[Function], a_initial: int, a_accepting: 
     edges = 0
     while len(moves) < len(codes):  # the pairs found and not yet made, all at once (rows.py)
         chunk = codes[len(moves):len(moves) + CHUNK]
-        made = each(bdd, lambda u, v: u & v, [a_moves[code & low] for code in chunk], [tb[code >> wa] for code in chunk])
+        made = each(bdd, lambda u, v: u & v,  # T_s(atoms, z_low) & T_t(atoms, z_high)
+                    [a_moves[code & low] for code in chunk], [tb[code >> wa] for code in chunk])
         for code, both, pairs in zip(chunk, made, each(bdd, lambda u: exists(bdd, u, atoms), made)):
             accepting.append(accept([a_accepting[code & low], b_accepting[code >> wa]]))
             new = pairs & ~seen

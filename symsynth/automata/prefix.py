@@ -293,8 +293,8 @@ def _renumbered_moves(big: GuardedDFA, initial: int, accepting: list[bool], move
         # renaming, a swap per state: 5 s of Nim nim_06_01's 819 states), the bits past their width dropped
         high = zs[moves_.width(len(moves)):]
         per_state = dict(zip(order, degrees))
-        return GuardedDFA(bdd, initial, accepting, moves=each(bdd, lambda t: exists(bdd, t, high), full) if high else full,
-                          degrees=[per_state[old] for old in range(len(moves))])
+        kept = each(bdd, lambda t: exists(bdd, t, high), full) if high else full
+        return GuardedDFA(bdd, initial, accepting, moves=kept, degrees=[per_state[old] for old in range(len(moves))])
     fw = moves_.width(len(order))
     cs = moves_.bits(bdd, "c", fw)
     table = disjoin(bdd, (moves_.cube(bdd, zs, old) & moves_.cube(bdd, cs, new) for new, old in enumerate(order)))
