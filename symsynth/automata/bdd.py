@@ -203,11 +203,11 @@ def branches(bdd: BDD, u: Function) -> tuple[Function, Function]:
     return low, high
 
 
-def split_letters(bdd: BDD, u: Function, num_atoms: int,
+def split_letters(bdd: BDD, u: Function, top: int,
                   below: dict[Function, dict[Function, Function]] | None = None) -> dict[Function, Function]:
-    """The nodes where the paths of `u` leave the atom levels (the first
-    `num_atoms` levels: the letter read), each with the set of letters
-    leading there, as a BDD over the atoms.
+    """The nodes where the paths of `u` leave the atom levels (the levels
+    above `top`: the letter read), each with the set of letters leading
+    there, as a BDD over the atoms.
 
     Bottom-up over the BDD's nodes at atom levels (each node once, not each
     path: a path per letter class is exponential in the atoms): below[v]
@@ -222,7 +222,7 @@ def split_letters(bdd: BDD, u: Function, num_atoms: int,
         node, ready = stack.pop()
         if node in below:
             continue
-        if node == true or node == false or node.level >= num_atoms:
+        if node == true or node == false or node.level >= top:
             below[node] = {node: true}
             continue
         low, high = branches(bdd, node)
@@ -238,9 +238,9 @@ def split_letters(bdd: BDD, u: Function, num_atoms: int,
     return below[u]
 
 
-def exits(bdd: BDD, u: Function, num_atoms: int) -> Iterator[Function]:
-    """The nodes where the paths of `u` leave the atom levels (the first
-    `num_atoms` levels: the successors `split_letters` gives, without their
+def exits(bdd: BDD, u: Function, top: int) -> Iterator[Function]:
+    """The nodes where the paths of `u` leave the atom levels (the levels
+    above `top`: the successors `split_letters` gives, without their
     guards), each once, in the order a depth-first walk (high branch first)
     meets them."""
     true, false = bdd.true, bdd.false
@@ -251,7 +251,7 @@ def exits(bdd: BDD, u: Function, num_atoms: int) -> Iterator[Function]:
         if node in seen:
             continue
         seen.add(node)
-        if node == true or node == false or node.level >= num_atoms:
+        if node == true or node == false or node.level >= top:
             yield node
         else:
             stack.extend(branches(bdd, node))

@@ -35,6 +35,7 @@ from symsynth.automata import moves as moves_
 from symsynth.automata.bdd import Function, branches, cofactor, exits, split_letters
 from symsynth.automata.growth import grew
 from symsynth.automata.progression import GuardedDFA, Progression, TooDense, TooLarge
+from symsynth.automata.rows import below_atoms
 from symsynth.logic import ast
 
 
@@ -83,10 +84,14 @@ class Invariants:
     def __init__(self, progression: Progression):
         self.progression = progression
         self.bdd = progression.bdd
-        self.num_atoms = len(progression.atom_keys)
         self._primed = {key: f"#y{i}" for i, key in enumerate(progression.atom_keys)}
         self._unprimed = {name: key for key, name in self._primed.items()}
         self._declared = False
+
+    @property
+    def below_atoms(self) -> int:
+        """The first level below the atoms (rows.py's bits may come above them)."""
+        return below_atoms(self.bdd, self.progression.atom_keys)
 
     def _declare(self) -> None:
         if not self._declared:  # below the atoms: declared after them
@@ -179,7 +184,7 @@ class Invariants:
         # from the moves state by state instead, when a product asks)
         restricted = sum(ok != bdd.true for ok in allowed)
         if count <= moves_.SPARSE_DEGREE * n and len(cofactors) * restricted <= SPLIT_TARGETS * n:
-            split = split_letters(bdd, h, self.num_atoms)  # cofactor -> the letters into it
+            split = split_letters(bdd, h, self.below_atoms)  # cofactor -> the letters into it
             after = {number[node]: guard for node, guard in split.items()}
             edges = [{i + 1: bdd.true} for i in range(k)] + [after]
             for ok in allowed:  # allowed(x) ? the letters' successors : the sink
@@ -196,12 +201,12 @@ class Invariants:
     def _cofactors(self, h: Function) -> list[Function]:
         """The nodes where the paths of `h` leave the atom levels, in the
         order a depth-first walk (high branch first) meets them."""
-        return list(exits(self.bdd, h, self.num_atoms))
+        return list(exits(self.bdd, h, self.below_atoms))
 
     def _relabel(self, h: Function, label: dict[Function, Function]) -> Function:
         """`h` with each node where its paths leave the atom levels replaced
         by `label[node]`: one `ite` per node at the atom levels."""
-        bdd, top = self.bdd, self.num_atoms
+        bdd, top = self.bdd, self.below_atoms
         done: dict[Function, Function] = {}
         stack = [h]
         while stack:

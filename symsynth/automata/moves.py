@@ -19,8 +19,9 @@ order:
 
     z   a successor's number, in the moves of every DFA (a product's pairs:
         the larger operand's state in the low bits, the other's above)
-    s   a state of the DFA being minimized (its predecessor relation)
     c   a class of states (the minimization's partition)
+
+(and rows.py's row bits above the atoms, for stacks of many states).
 
 The order matters: a partition B(z, c) reads the state first.
 
@@ -35,13 +36,16 @@ from dataclasses import dataclass
 
 from symsynth.automata.bdd import BDD, Function, and_exists, branches, disjoin, exists, split_letters, swap
 from symsynth.automata.refine import refine
+from symsynth.automata.rows import each, is_row, row_bits, stack
 
 #: Successors per state on average up to which a DFA's edges (guards) are
 #: the better form for products: past it a product works on the moves.
 SPARSE_DEGREE = 32
+#: Pairs of states a product makes in one step (rows.py), at most.
+CHUNK = 1024
 #: Bits per family: DFAs of up to 2^WIDTH states.
 WIDTH = 24
-FAMILIES = ("z", "s", "c")  # in level order
+FAMILIES = ("z", "c")  # in level order
 _PREFIX = "#m"  # `#` keeps the bits apart from atom names (not in the grammar)
 
 
@@ -75,9 +79,10 @@ def cube(bdd: BDD, names: Sequence[str], value: int) -> Function:
 
 
 def atom_vars(bdd: BDD) -> list[str]:
-    """The variables above the bits (the atoms, and any others declared before)."""
+    """The variables above the bits (the atoms, and any others declared
+    before), but for the row bits (rows.py)."""
     top = bdd.level_of_var(f"{_PREFIX}{FAMILIES[0]}0")
-    return [v for v in bdd.vars if bdd.level_of_var(v) < top]
+    return [v for v in bdd.vars if bdd.level_of_var(v) < top and not is_row(v)]
 
 
 # ----------------------------------------------------------------- conversion
@@ -165,7 +170,7 @@ def numbers(bdd: BDD, u: Function, names: Sequence[str]) -> list[int]:
 def successors(bdd: BDD, moves: Sequence[Function]) -> list[Function]:
     """Each state's successors, as a set of `z` numbers."""
     atoms = atom_vars(bdd)
-    return [exists(bdd, t, atoms) for t in moves]
+    return each(bdd, lambda t: exists(bdd, t, atoms), moves)
 
 
 def count_edges(bdd: BDD, moves: Sequence[Function]) -> list[int]:
@@ -228,7 +233,7 @@ def product(bdd: BDD, a_moves: Sequence[Function], a_initial: int, a_accepting: 
         raise TooManyStates(f"more than 2^{WIDTH} pairs of states")
     pair_bits = bits(bdd, "z", wa + wb)
     up = dict(zip(pair_bits[:wb], pair_bits[wa:]))  # (wa >= wb: a renaming)
-    tb = [swap(bdd, t, up) for t in b_moves]
+    tb = each(bdd, lambda t: swap(bdd, t, up), b_moves)
     atoms = atom_vars(bdd)
     low = (1 << wa) - 1
     codes = [a_initial | b_initial << wa]
@@ -238,21 +243,22 @@ def product(bdd: BDD, a_moves: Sequence[Function], a_initial: int, a_accepting: 
     after: list[Function] = []
     degrees: list[int] = []
     edges = 0
-    for code in codes:  # grows while walked
-        s, t = code & low, code >> wa
-        accepting.append(accept([a_accepting[s], b_accepting[t]]))
-        both = a_moves[s] & tb[t]
-        pairs = exists(bdd, both, atoms)
-        new = pairs & ~seen
-        if new != bdd.false:
-            seen |= new
-            codes += sorted(numbers(bdd, new, pair_bits))
-        moves.append(both)
-        after.append(pairs)
-        degrees.append(int(bdd.count(pairs, nvars=wa + wb)))
-        if grown is not None:
-            edges += degrees[-1]
-            grown(len(moves), edges)
+    while len(moves) < len(codes):  # the pairs found and not yet made, all at once (rows.py)
+        chunk = codes[len(moves):len(moves) + CHUNK]
+        made = each(bdd, lambda u, v: u & v,  # T_s(atoms, z_low) & T_t(atoms, z_high)
+                    [a_moves[code & low] for code in chunk], [tb[code >> wa] for code in chunk])
+        for code, both, pairs in zip(chunk, made, each(bdd, lambda u: exists(bdd, u, atoms), made)):
+            accepting.append(accept([a_accepting[code & low], b_accepting[code >> wa]]))
+            new = pairs & ~seen
+            if new != bdd.false:
+                seen |= new
+                codes += sorted(numbers(bdd, new, pair_bits))
+            moves.append(both)
+            after.append(pairs)
+            degrees.append(int(bdd.count(pairs, nvars=wa + wb)))
+            if grown is not None:
+                edges += degrees[-1]
+                grown(len(moves), edges)
     return Machine(0, accepting, moves, after, wa + wb, degrees, codes)
 
 
@@ -268,22 +274,24 @@ def minimize(bdd: BDD, dfa: Machine) -> Machine | None:
     state's signature being its moves with the successor replaced by its
     class: one relational product
     `exists z. T_s(atoms, z) & B(z, c)` with the map B from states to
-    classes, updated as classes split.  The states to recompute after a
-    split, those with a successor that moved, are one relational product
-    with the predecessor relation E(s, z)."""
+    classes, updated as classes split, made for all states of a class at
+    once on their stack (rows.py).  The states to recompute after a split,
+    those with a successor that moved, are one relational product with the
+    predecessor relation E(r, z), the stack of every state's successors."""
     moves, accepting = dfa.moves, dfa.accepting
     n = len(moves)
     w = dfa.width
-    zs, ss, cs = bits(bdd, "z", w), bits(bdd, "s", width(n)), bits(bdd, "c", width(n))
+    zs, cs = bits(bdd, "z", w), bits(bdd, "c", width(n))
     zcube = [cube(bdd, zs, k) for k in (range(n) if dfa.codes is None else dfa.codes)]
-    relation = disjoin(bdd, (cube(bdd, ss, k) & succ for k, succ in enumerate(dfa.after)))  # E(s, z)
+    relation = stack(bdd, dfa.after)  # E(r, z)
+    rows = row_bits(bdd, n)[::-1]  # (least significant first)
     states_z = disjoin(bdd, zcube)
     accepting_z = disjoin(bdd, (zcube[k] for k in range(n) if accepting[k]))
     # B(z, c): the class of each state
     classes = (accepting_z & cube(bdd, cs, 1)) | (states_z & ~accepting_z & cube(bdd, cs, 0))
 
-    def signature(state: int, block: list[int]) -> Function:
-        return and_exists(bdd, moves[state], classes, zs)  # \E z: T_s(atoms, z) & B(z, c)
+    def signatures(states: list[int], block: list[int]) -> list[Function]:
+        return each(bdd, lambda t: and_exists(bdd, t, classes, zs), [moves[s] for s in states])  # \E z: T_s & B(z, c)
 
     def renumbered(part: list[int], new: int) -> None:
         nonlocal classes
@@ -292,9 +300,9 @@ def minimize(bdd: BDD, dfa: Machine) -> Machine | None:
 
     def predecessors(states: list[int]) -> list[int]:
         moved = disjoin(bdd, (zcube[state] for state in states))
-        return numbers(bdd, and_exists(bdd, relation, moved, zs), ss)  # \E z: E(s, z) & Moved(z)
+        return numbers(bdd, and_exists(bdd, relation, moved, zs), rows)  # \E z: E(r, z) & Moved(z)
 
-    block = refine(accepting, signature, predecessors, renumbered)
+    block = refine(accepting, signatures, predecessors, renumbered)
     if len(set(block)) == n and dfa.codes is None:
         return None
     # classes numbered by their first state (the initial one's first): the
@@ -310,7 +318,10 @@ def minimize(bdd: BDD, dfa: Machine) -> Machine | None:
     for state in range(n):
         first.setdefault(final[block[state]], state)
     reps = [first[c] for c in range(len(final))]
-    after = [swap(bdd, and_exists(bdd, dfa.after[r], renumber, zs), back) for r in reps]
-    return Machine(0, [accepting[r] for r in reps],
-                   [swap(bdd, and_exists(bdd, moves[r], renumber, zs), back) for r in reps],
+
+    def quotient(t: Function) -> Function:
+        return swap(bdd, and_exists(bdd, t, renumber, zs), back)  # (\E z: T(atoms, z) & R(z, c))[c := z]
+
+    after = each(bdd, quotient, [dfa.after[r] for r in reps])
+    return Machine(0, [accepting[r] for r in reps], each(bdd, quotient, [moves[r] for r in reps]),
                    after, fw, [int(bdd.count(a, nvars=fw)) for a in after])

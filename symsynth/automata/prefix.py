@@ -10,6 +10,7 @@ from __future__ import annotations
 from symsynth.automata import moves as moves_
 from symsynth.automata.bdd import BDD, Function, and_exists, disjoin, exists, swap
 from symsynth.automata.progression import GuardedDFA, TooLarge
+from symsynth.automata.rows import each
 
 def sink_states(dfa: GuardedDFA) -> tuple[int | None, int | None]:
     """The states of `dfa` whose only edge is a loop on every letter:
@@ -267,37 +268,39 @@ def _renumbered_moves(big: GuardedDFA, initial: int, accepting: list[bool], move
                       wide: dict[int, Function], width: int) -> GuardedDFA:
     """The states reachable from `initial` of `big`'s states and the ones
     made after them (their moves in `width` bits, `wide`), numbered in
-    breadth-first order from `initial` and written in their own width."""
+    breadth-first order from `initial` and written in their own width.
+    Each state's successors are found by one quantification of all the
+    moves' stack (rows.py), and only the successors not seen before are
+    listed (each state once in all)."""
     bdd = big.bdd
     atoms = moves_.atom_vars(bdd)
     zs = moves_.bits(bdd, "z", width)
-    narrow = moves_.bits(bdd, "z", moves_.width(big.num_states))
-    order, seen = [initial], {initial}
-    degrees = []
-    for state in order:  # grows while walked
-        after = moves_.numbers(bdd, exists(bdd, wide[state], atoms), zs) if state in wide else \
-            moves_.numbers(bdd, exists(bdd, moves[state], atoms), narrow)
-        degrees.append(len(after))
-        for succ in after:
-            if succ not in seen:
-                seen.add(succ)
-                order.append(succ)
-    zero = bdd.true
+    zero = bdd.true  # the bits `big`'s moves do not write
     for name in zs[moves_.width(big.num_states):]:
         zero &= ~bdd.var(name)
+    narrow = [state for state in range(len(moves)) if state not in wide]
+    zeroed = dict(zip(narrow, each(bdd, lambda t: t & zero, [moves[state] for state in narrow])))
+    full = [wide[state] if state in wide else zeroed[state] for state in range(len(moves))]  # in `width` bits
+    after = each(bdd, lambda t: exists(bdd, t, atoms), full)
+    order, seen = [initial], moves_.cube(bdd, zs, initial)
+    for state in order:  # grows while walked
+        new = after[state] & ~seen
+        if new != bdd.false:
+            seen |= new
+            order += moves_.numbers(bdd, new, zs)  # (in the walk's order, as listing all of them gives)
+    degrees = [int(bdd.count(after[state], nvars=width)) for state in order]
     if len(order) == len(moves):  # all reachable: numbered as they are, the start where it is (no
         # renaming, a swap per state: 5 s of Nim nim_06_01's 819 states), the bits past their width dropped
         high = zs[moves_.width(len(moves)):]
-        kept = [wide.get(old, moves[old] & zero) for old in range(len(moves))]
         per_state = dict(zip(order, degrees))
-        return GuardedDFA(bdd, initial, accepting, moves=[exists(bdd, t, high) for t in kept] if high else kept,
-                          degrees=[per_state[old] for old in range(len(moves))])
+        kept = each(bdd, lambda t: exists(bdd, t, high), full) if high else full
+        return GuardedDFA(bdd, initial, accepting, moves=kept, degrees=[per_state[old] for old in range(len(moves))])
     fw = moves_.width(len(order))
     cs = moves_.bits(bdd, "c", fw)
     table = disjoin(bdd, (moves_.cube(bdd, zs, old) & moves_.cube(bdd, cs, new) for new, old in enumerate(order)))
     rename = dict(zip(cs, moves_.bits(bdd, "z", fw)))
-    result = [swap(bdd, and_exists(bdd, wide.get(old, moves[old] & zero), table, zs), rename)
-              for old in order]
+    result = each(bdd, lambda t: swap(bdd, and_exists(bdd, t, table, zs), rename),  # (\E z: T & R(z, c))[c := z]
+                  [full[old] for old in order])
     return GuardedDFA(bdd, 0, [accepting[old] for old in order], moves=result, degrees=degrees)
 
 

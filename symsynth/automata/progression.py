@@ -11,11 +11,12 @@ and new obligations (the next one):
     unfold(G f)   = unfold(f) & WX G f         unfold(f R g) = unfold(g) & (unfold(f) | WX(f R g))
     unfold(last)  = WX false                   unfold(f W g) = unfold(g) | unfold(f) & WX(f W g)
 
-The atom variables come first in the order, so below the atom levels of the
-successor BDD sit the successor states themselves (the multi-terminal trick
-of Spot's MTDFA).  A state accepts (the trace may end here) iff it is true
-with every `X` obligation false and every `WX` obligation true.  The start
-state is `X phi`, which is never accepting: traces are non-empty.
+The atom variables come first in the order (but for the row bits of
+rows.py), so below the atom levels of the successor BDD sit the successor
+states themselves (the multi-terminal trick of Spot's MTDFA).  A state
+accepts (the trace may end here) iff it is true with every `X` obligation
+false and every `WX` obligation true.  The start state is `X phi`, which is
+never accepting: traces are non-empty.
 
 Every obligation is `X`/`WX` of a subformula, so the construction ends.
 """
@@ -30,6 +31,7 @@ from symsynth.automata import moves as moves_
 from symsynth.automata.bdd import BDD, Function, cofactor, exits, new_manager, split_letters
 from symsynth.automata.growth import grew
 from symsynth.automata.refine import refine
+from symsynth.automata.rows import below_atoms
 from symsynth.logic import ast
 
 
@@ -229,10 +231,10 @@ class Progression:
         step = {name: self.unfold(self._obligation[name][1]) for name in self.bdd.support(state)}
         after = self.bdd.let(step, state) if step else state
         after = self._canonical(after)  # so that successors that say the same are one BDD
-        if most is not None and next(islice(exits(self.bdd, after, len(self.atom_keys)), most, None), None) is not None:
+        if most is not None and next(islice(exits(self.bdd, after, below_atoms(self.bdd, self.atom_keys)), most, None), None) is not None:
             # (a successor past the first `most`)
             raise TooDense(f"a state with more than {most} successors")
-        return split_letters(self.bdd, after, len(self.atom_keys), below)
+        return split_letters(self.bdd, after, below_atoms(self.bdd, self.atom_keys), below)
 
     # -- states that say the same -------------------------------------------
     def _learn_implications(self, formula: ast.Formula) -> None:
@@ -427,7 +429,8 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
         for state in states:
             yield from before[state]
 
-    block = refine(dfa.accepting, signature_of, predecessors)
+    block = refine(dfa.accepting, lambda states, block: [signature_of(state, block) for state in states],
+                   predecessors)
     if dfa.initial == 0 and len(set(block)) == n:
         return dfa  # already minimal (and numbered from its initial state)
     # renumber blocks in BFS order from the initial state

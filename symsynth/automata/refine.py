@@ -18,12 +18,14 @@ from __future__ import annotations
 from collections.abc import Callable, Hashable, Iterable, Sequence
 
 
-def refine(accepting: Sequence[bool], signature: Callable[[int, list[int]], Hashable],
+def refine(accepting: Sequence[bool], signatures: Callable[[list[int], list[int]], Sequence[Hashable]],
            predecessors: Callable[[list[int]], Iterable[int]],
            renumbered: Callable[[list[int], int], None] | None = None) -> list[int]:
     """The class of each state in the coarsest partition that splits
-    accepting from rejecting states and is stable under `signature(state,
-    block)` (`block` the current class of every state).  After a split,
+    accepting from rejecting states and is stable under the signature of a
+    state, `signatures(states, block)` giving those of `states` (`block`
+    the current class of every state; all of a class's states that need
+    one are asked for at once).  After a split,
     `renumbered(states, new)` hears of each part moved to a new class
     number, and `predecessors(states)` names the states with a successor
     among all those moved."""
@@ -40,8 +42,9 @@ def refine(accepting: Sequence[bool], signature: Callable[[int, list[int]], Hash
             known[next(iter(everyone))] = None
             continue
         groups: dict[Hashable, set[int]] = {}
-        for state in changed:
-            sig = known[state] = signature(state, block)
+        asked = list(changed)
+        for state, sig in zip(asked, signatures(asked, block)):
+            known[state] = sig
             groups.setdefault(sig, set()).add(state)
         if len(changed) < len(everyone):  # the others kept one common signature
             clean = everyone - changed

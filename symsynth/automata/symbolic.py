@@ -28,6 +28,7 @@ from symsynth.automata.bdd import (BDD, Function, and_exists, children_first, co
 from symsynth.automata import moves as moves_
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.progression import GuardedDFA
+from symsynth.automata.rows import each
 
 State = tuple[bool, ...]
 Letter = Collection[str]
@@ -515,11 +516,13 @@ def _next_bits(bdd: BDD, comp: GuardedDFA, width: int) -> list[list[Function]]:
     """`ones[j][s]`: the letters (in `bdd`) after which state `s` of the
     explicit `comp` goes to a successor with bit `j` set."""
     ones: list[list[Function]] = [[bdd.false] * comp.num_states for _ in range(width)]
-    if not comp.has_edges():  # given by its moves: bit j's letters in one step per state
+    if not comp.has_edges():  # given by its moves: bit j's letters in one step for all states
+        # (on the moves' stack, rows.py: one step per state was 3 s of Nim nim_06_01's 819 states)
         zs = moves_.bits(comp.bdd, "z", width)
-        for s, t in enumerate(comp.moves):
-            for j in range(width):
-                ones[j][s] = _copied(and_exists(comp.bdd, t, comp.bdd.var(zs[j]), zs), bdd)
+        for j in range(width):
+            bit = comp.bdd.var(zs[j])
+            found = each(comp.bdd, lambda t: and_exists(comp.bdd, t, bit, zs), comp.moves)  # \E z: T_s & z_j
+            ones[j] = [_copied(u, bdd) for u in found]
         return ones
     copied: dict[Function, Function] = {}
     for s, out in enumerate(comp.edges):
