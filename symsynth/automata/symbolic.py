@@ -478,8 +478,7 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
             # bit j set, merged over the states by a decision tree on the bits
             # (a bit all successors agree on needs no disjunction: most bits
             # of most states, the successors of a state being few and near)
-            ones = _next_bits(bdd, comp, width)
-            delta.update({n: _by_state(bdd, names, ones[j]) for j, n in enumerate(names)})
+            delta.update(_single_delta(bdd, comp, names))
             accepts.append(_by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
             reachable = _by_state(bdd, names, [bdd.true] * comp.num_states)  # every state of an explicit DFA
             continue
@@ -510,6 +509,24 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
         for comp_acc in accepts:
             accepting &= comp_acc
     return SymbolicDFA(bdd, atoms, bits, delta, initial, accepting, reachable=reachable, local=local)
+
+
+def _single_delta(bdd: BDD, comp: GuardedDFA, names: Sequence[str]) -> dict[str, Function]:
+    """The transition function of each bit `names[j]` of the explicit
+    `comp` alone: the letters into successors with bit j set, merged over
+    the states by a decision tree on the bits (`_by_state`).
+
+    A DFA given by its moves in `bdd` itself, its bits above the atoms:
+    the moves merged over the states the same way are the transition
+    relation R(q, a, z), and bit j's function is \\E z: R /\\ z_j, one
+    relational product per bit.  (One `and_exists` per state and bit cost
+    urright12 1.3 to 2.1 s, 124,584 calls; per bit, 0.2 to 0.55 s.)"""
+    if comp.bdd is bdd and not comp.has_edges():
+        zs = moves_.bits(bdd, "z", len(names))
+        relation = _by_state(bdd, names, comp.moves)  # R(q, a, z): T_q(a, z)
+        return {n: and_exists(bdd, relation, bdd.var(z), zs) for n, z in zip(names, zs)}  # \E z: R /\ z_j
+    ones = _next_bits(bdd, comp, len(names))
+    return {n: _by_state(bdd, names, ones[j]) for j, n in enumerate(names)}
 
 
 def _next_bits(bdd: BDD, comp: GuardedDFA, width: int) -> list[list[Function]]:
