@@ -11,12 +11,10 @@ import math
 
 from symsynth.game.solution import OutOfReach
 from symsynth.logic import parse_ltlf
-from symsynth.solvers import andor
-from symsynth.solvers.andor import solve_andor
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers.replan import replanning_bound
 from symsynth.testing.gamegen import alike_scene, random_scene
-from support.games import worst_case_of
+from support.games import cut_answer, worst_case_of
 
 
 def _scene(seed):
@@ -55,30 +53,16 @@ def test_a_tail_below_the_enumerated_levels_is_conditional():
     assert replanning_bound(scene, parse_ltlf(scene.task), 2, levels=1, tail=50, tail_proven=True).certified
 
 
-class _Clock:
-    """A clock that ticks once per look: the search's deadlines fall after a
-    known number of looks (the replanning bound's, a share of 1e12 of the
-    limit, never)."""
-
-    def __init__(self):
-        self.now = 0.0
-
-    def __call__(self):
-        self.now += 1.0
-        return self.now
-
-
 def test_the_replanning_upper_end_holds_the_exact_value(monkeypatch):
+    """The search cut by a ticking clock, the replanning bound given a share of
+    1e12 of the limit (so it always finishes): the answer is exact, or an
+    interval that holds E_p, and where σ gives the upper end it pays at most that."""
     replanned = 0
     for (chunk, limit), seed in itertools.product([(10, 3), (40, 9)], (s for s in range(40) if s % 4)):
         scene = _scene(seed)
         k = 1 + seed % 3
         exact = solve_explicit(scene, k=k).units
-        monkeypatch.setattr(andor, "CHUNK", chunk)
-        monkeypatch.setattr(andor, "REPLAN_SHARE", 1e12)
-        monkeypatch.setattr(andor.time, "perf_counter", _Clock())
-        found = solve_andor(scene, k=k, time_limit=limit)
-        monkeypatch.undo()
+        found = cut_answer(monkeypatch, scene, k, chunk, limit, REPLAN_SHARE=1e12)
         if found.exact:
             assert found.units == exact, seed
             continue

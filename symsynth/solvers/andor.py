@@ -250,8 +250,8 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     clock = time.perf_counter()
     start = memo.node(memo.key2(tables.canon(tables.pack(v0)), q0, k))
     deadline = None if time_limit is None else clock + time_limit
-    replan = None if deadline is None else _replan_first(scene, formula, k, resolution,
-                                                          clock + time_limit * REPLAN_SHARE)
+    replan = None if time_limit is None else _replan_first(scene, formula, k, resolution,
+                                                            clock + time_limit * REPLAN_SHARE)
     try:
         lower, upper, rounds = _search(memo, start, deadline)
     except (_ZeroCost, _TooManyRounds) as why:
@@ -311,6 +311,8 @@ def _replanned(solution: Solution, replan: ReplanBound, budget: float | None) ->
     """An anytime answer whose upper end is the replanning bound when that is lower
     than the search's own (and E_p when it meets the lower end)."""
     stats = dict(solution.stats) | {"replanning_bound": replan.upper, "replanning_seconds": round(replan.seconds, 2)}
+    if replan.upper is None:  # pragma: no cover - _replan_first keeps proven bounds only
+        return solution
     upper = int(replan.upper)
     if solution.exact or (solution.units is not None and solution.units <= upper):
         return dataclasses.replace(solution, stats=stats)

@@ -7,6 +7,11 @@ It is memoryless (the same at every h) and needs no table: `NoHumanValue` finds
 the action by the AND-OR search with k = 0 from the position (`solvers.andor`),
 one memo for every question, so a plan once proven is read back, not searched.
 
+σ is well defined: the action read back at a node is the memo's proven one, and along a
+proven plan every node's upper end is exact (c + hi(after) <= V_0(p) <= c + V_0(after)),
+and an exact upper end is never changed again; so σ's plan from p_{i+1} is the rest of its
+plan from p_i.
+
 The bound
 ---------
 B_h(p) is what σ pays at most from a position p with h human moves left.  Let
@@ -113,8 +118,8 @@ class NoHumanValue:
                 after = self._after(v, action)
                 out.append((action, units, after, self.step(q, after)))
                 return out
-            v, q, _ = self.proof.position(j)
-            q = self.t.dfa_index[q]
+            v, state, _ = self.proof.position(j)
+            q = self.t.dfa_index[state]
             out.append((action, units, v, q))
             i = j
         return out
@@ -216,7 +221,8 @@ def replanning_bound(scene: Scene, formula: ast.Formula, k: int, *, resolution: 
         upper, complete = None, False
     v0 = oracle.value(v, q)
     certified = complete and (levels == k or tail_proven)
-    principal = tuple(walk.play(v, q, k, True)) if certified and levels == k and upper < INF else ()
+    principal = tuple(walk.play(v, q, k, True)) if certified and levels == k and upper is not None \
+        and upper < INF else ()
     return ReplanBound(v0, walk.first_rise, upper, levels, None if levels == k else tail, certified,
                        complete, oracle.questions, time.perf_counter() - clock, principal, oracle)
 
@@ -256,8 +262,9 @@ class _Walk:
         if h == 0:
             return o.value(v, q)
         if h <= floor:
-            value = o.value(v, q)
-            return value + h * self.tail
+            if self.tail is None:  # pragma: no cover - replanning_bound asks for one
+                raise ValueError("no tail bound for the levels below the enumerated ones")
+            return o.value(v, q) + h * self.tail
         key = (v, q, h, human_first)
         if key in self.memo:
             return self.memo[key]
