@@ -125,6 +125,7 @@ class Memo:
         self.rm_tgt = np.empty(nodes * 4, np.int32)
         self.rm_move = np.empty(nodes * 4, np.int32)
         self.hm_tgt = np.empty(nodes * 8, np.int32)
+        self.chunk: int | None = None  # questions between two looks at the clock; None: CHUNK
         self.st = np.zeros(9, np.int64)
         self.st[sk.ST_BITS] = self.bits
         self.st[sk.ST_DEPTH] = 256
@@ -178,7 +179,8 @@ class Memo:
         st = self.st
         while True:
             st[sk.ST_ABORT] = 0
-            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (CHUNK if deadline is None else CHUNK // 4)
+            chunk = self.chunk or CHUNK
+            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (chunk if deadline is None else chunk // 4)
             ok = sk._ask(np.int64(i), np.int64(b), np.int64(robot), self.P, self.G, self.B, self.M(), self.S())
             why = int(st[sk.ST_ABORT])
             if why == 0:

@@ -59,6 +59,11 @@ from symsynth.scene.model import Scene
 INF = math.inf
 
 
+#: Questions between two returns of the search's kernel for V_0: its questions have no
+#: deadline, so they are not cut finer when a caller's search is (andor.CHUNK)
+ORACLE_CHUNK = 2_000_000
+
+
 class NoHumanValue:
     """V_0 and σ's action at any (state, DFA state): the AND-OR search with k = 0
     from there (exact: it proves lower = upper), over one memo."""
@@ -72,6 +77,7 @@ class NoHumanValue:
         self.scene, self._andor = scene, andor
         self.t = Tables(scene, formula, resolution, None, 0)
         self.memo = andor.Memo(self.t, BoundTables(self.t, formula), 0)
+        self.memo.chunk = ORACLE_CHUNK
         self.proof = andor.Proof(self.memo)
         self.questions = 0
 
