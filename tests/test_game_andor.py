@@ -10,11 +10,10 @@ import itertools
 import pytest
 
 from symsynth.logic import parse_ltlf
-from symsynth.solvers import andor
 from symsynth.solvers.andor import solve_andor
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.testing.gamegen import alike_scene, random_scene
-from support.games import worst_case_of
+from support.games import cut_answer, worst_case_of
 
 
 def _scene(seed):
@@ -68,18 +67,6 @@ def test_zero_cost_moves_under_a_time_limit_are_out_of_reach():
     assert refused >= 1
 
 
-class _Clock:
-    """A clock that ticks once per look: deadlines fall after a known number
-    of looks, whatever the machine's speed."""
-
-    def __init__(self):
-        self.now = 0.0
-
-    def __call__(self):
-        self.now += 1.0
-        return self.now
-
-
 def test_time_limit_interval_holds_the_exact_value(monkeypatch):
     """Questions cut off every `chunk` steps and the clock read there: the
     answer is exact, or an interval lower <= E_p <= upper whose strategy
@@ -87,13 +74,10 @@ def test_time_limit_interval_holds_the_exact_value(monkeypatch):
     cut = upper = 0
     for (chunk, limit), seed in itertools.product([(10, 3), (20, 5), (40, 9), (80, 13)],
                                                   itertools.islice((s for s in range(60) if s % 4), 12)):
-        monkeypatch.setattr(andor, "CHUNK", chunk)
         scene = _scene(seed)
         k = 1 + seed % 3
         exact = solve_explicit(scene, k=k).units
-        monkeypatch.setattr(andor.time, "perf_counter", _Clock())
-        found = solve_andor(scene, k=k, time_limit=limit)
-        monkeypatch.undo()
+        found = cut_answer(monkeypatch, scene, k, chunk, limit)
         if found.exact:
             assert found.units == exact, seed
             continue

@@ -189,6 +189,13 @@ def _report_problem(scene: Scene, task: str, solver: str, solution: Solution) ->
         print(f"solver     {solver}")
 
 
+def _upper_strategy(solution: Solution) -> str:
+    if solution.stats.get("upper_by") == "replanning":
+        return ("replanning strategy (after each human move, the least-cost plan with no human move "
+                "left; what it pays at most, found by enumeration: solvers/replan.py)")
+    return "strategy below"
+
+
 def _report_value(scene: Scene, solution: Solution) -> None:
     """E_p, or the proven interval around it, and what it means."""
     r = solution.resolution
@@ -200,7 +207,7 @@ def _report_value(scene: Scene, solution: Solution) -> None:
               "not proven within the time limit")
         print("           lower end proven by refuting every cheaper strategy; "
               + ("no strategy found in time" if solution.cost_bound is None else
-                 f"upper end guaranteed by the strategy below, checked against every human reply "
+                 f"upper end guaranteed by the {_upper_strategy(solution)}, checked against every human reply "
                  f"(gap {_num(solution.cost_bound - lower)})"))
     elif solution.cost_bound is None:
         print("E_p        infinite")

@@ -82,6 +82,7 @@ from symsynth.solvers.packed import search as sk
 from symsynth.solvers.packed.kernels import INF, _find, _table
 from symsynth.solvers.packed.lower import BoundTables
 from symsynth.solvers.packed.tables import Tables, check_width
+from symsynth.solvers.replan import ReplanBound, replanning_bound
 
 #: Questions between two looks at the clock (and at the arrays' room): a question cut
 #: off there is asked again from the start, its proven parts kept.  Under a time limit a
@@ -92,6 +93,9 @@ CHUNK = 2_000_000
 #: rises by a cycle's cost per round where the robot can circle cheaply (the forward solver
 #: lifts such cycles with `_tighten`, not ported); the pattern family needs at most 89 (7 x 10)
 MAX_ROUNDS = 1024
+#: Share of a time limit the replanning strategy's exact bound may take before the search
+#: (`solvers.replan`): its upper end when the search proves none lower
+REPLAN_SHARE = 0.25
 
 
 class Memo:
@@ -121,6 +125,7 @@ class Memo:
         self.rm_tgt = np.empty(nodes * 4, np.int32)
         self.rm_move = np.empty(nodes * 4, np.int32)
         self.hm_tgt = np.empty(nodes * 8, np.int32)
+        self.chunk: int | None = None  # questions between two looks at the clock; None: CHUNK
         self.st = np.zeros(9, np.int64)
         self.st[sk.ST_BITS] = self.bits
         self.st[sk.ST_DEPTH] = 256
@@ -174,7 +179,8 @@ class Memo:
         st = self.st
         while True:
             st[sk.ST_ABORT] = 0
-            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (CHUNK if deadline is None else CHUNK // 4)
+            chunk = self.chunk or CHUNK
+            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (chunk if deadline is None else chunk // 4)
             ok = sk._ask(np.int64(i), np.int64(b), np.int64(robot), self.P, self.G, self.B, self.M(), self.S())
             why = int(st[sk.ST_ABORT])
             if why == 0:
@@ -246,6 +252,8 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     clock = time.perf_counter()
     start = memo.node(memo.key2(tables.canon(tables.pack(v0)), q0, k))
     deadline = None if time_limit is None else clock + time_limit
+    replan = None if time_limit is None else _replan_first(scene, formula, k, resolution,
+                                                            clock + time_limit * REPLAN_SHARE)
     try:
         lower, upper, rounds = _search(memo, start, deadline)
     except (_ZeroCost, _TooManyRounds) as why:
@@ -284,7 +292,44 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     solution = Solution(None if upper is None else in_costmap_units(upper, resolution), upper, resolution, budget,
                         realizable, k, 2 * memo.count, seconds, strategy, principal, counter,
                         scene.object_names, stats, lower_units=None if exact else lower)
-    return solution if symmetry is None else symmetry.realize(solution)
+    solution = solution if symmetry is None else symmetry.realize(solution)
+    return solution if replan is None else _replanned(solution, replan, budget)
+
+
+def _replan_first(scene: Scene, formula: ast.Formula, k: int, resolution: float,
+                  deadline: float) -> ReplanBound | None:
+    """The replanning strategy's exact bound (`solvers.replan`) when it is proven
+    before `deadline`, else None (also for k = 0, where the search is exact)."""
+    if k == 0:
+        return None
+    try:
+        bound = replanning_bound(scene, formula, k, resolution=resolution, deadline=deadline)
+    except OutOfReach:  # a zero-cost move
+        return None
+    return bound if bound.certified and bound.upper is not None and bound.upper < INF else None
+
+
+def _replanned(solution: Solution, replan: ReplanBound, budget: float | None) -> Solution:
+    """An anytime answer whose upper end is the replanning bound when that is lower
+    than the search's own (and E_p when it meets the lower end)."""
+    stats = dict(solution.stats) | {"replanning_bound": replan.upper, "replanning_seconds": round(replan.seconds, 2)}
+    if replan.upper is None:  # pragma: no cover - _replan_first keeps proven bounds only
+        return solution
+    upper = int(replan.upper)
+    if solution.exact or (solution.units is not None and solution.units <= upper):
+        return dataclasses.replace(solution, stats=stats)
+    lower, r = solution.lower_units, solution.resolution
+    exact = lower is not None and upper <= lower
+    if exact or budget is None:
+        realizable = verdict(upper, r, budget) if exact else None
+    elif verdict(upper, r, budget):
+        realizable = True
+    else:
+        realizable = False if not verdict(lower, r, budget) else None
+    return dataclasses.replace(solution, cost_bound=in_costmap_units(upper, r), units=upper, realizable=realizable,
+                               strategy=replan.strategy, principal_play=replan.principal,
+                               counter_play=replan.principal if exact and realizable is False else None,
+                               stats=stats | {"upper_by": "replanning"}, lower_units=None if exact else lower)
 
 
 def _layered(solution: Solution, why: str) -> Solution:

@@ -133,3 +133,31 @@ ALIKE_MOTIONS = {
     **{(f"{o}/top", f"l{i}/top", f"l{j}/top"): (7 if o == "c" else 2)
        for o in "abc" for i in range(1, 4) for j in range(1, 4) if i != j},
 }
+
+
+class TickClock:
+    """A clock that ticks once per look: deadlines fall after a known number
+    of looks, whatever the machine's speed (patched over time.perf_counter)."""
+
+    def __init__(self):
+        self.now = 0.0
+
+    def __call__(self):
+        self.now += 1.0
+        return self.now
+
+
+def cut_answer(monkeypatch, scene, k, chunk, limit, **andor_settings):
+    """`solve_andor` with a time limit, its questions cut every `chunk` steps and
+    its clock ticking once per look (`TickClock`); `andor_settings` are set on
+    the module for the call (e.g. REPLAN_SHARE)."""
+    from symsynth.solvers import andor
+
+    monkeypatch.setattr(andor, "CHUNK", chunk)
+    for name, value in andor_settings.items():
+        monkeypatch.setattr(andor, name, value)
+    monkeypatch.setattr(andor.time, "perf_counter", TickClock())
+    try:
+        return andor.solve_andor(scene, k=k, time_limit=limit)
+    finally:
+        monkeypatch.undo()

@@ -1,0 +1,74 @@
+"""The replanning strategy and its bound (symsynth/solvers/replan.py): on
+generated scenes the bound is exactly what the strategy pays against the worst
+human (followed through every human behaviour), so never below E_p; and an
+anytime answer whose upper end it supplies holds the exact value."""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+
+from symsynth.game.solution import OutOfReach
+from symsynth.logic import parse_ltlf
+from symsynth.solvers.explicit import solve_explicit
+from symsynth.solvers.replan import replanning_bound
+from symsynth.testing.gamegen import alike_scene, random_scene
+from support.games import cut_answer, worst_case_of
+
+
+def _scene(seed):
+    if seed % 4 == 0:
+        return alike_scene(seed, contacts=seed % 8 == 0)
+    return random_scene(8000 + seed, positive=True, contacts=seed % 3 == 0)
+
+
+def test_the_bound_is_what_the_strategy_pays_and_never_below_e_p():
+    finite = 0
+    for seed in range(72):
+        scene = _scene(seed)
+        k = 1 + seed % 3
+        formula = parse_ltlf(scene.task)
+        exact = solve_explicit(scene, k=k)
+        try:
+            bound = replanning_bound(scene, formula, k)
+        except OutOfReach:  # a zero-cost move (slides): the k = 0 search does not answer
+            continue
+        assert bound.certified and bound.complete
+        if exact.units is None or bound.upper == math.inf:
+            assert bound.upper == math.inf or exact.units is not None, seed  # σ never wins a lost game
+            continue
+        finite += 1
+        assert exact.units <= bound.upper, seed
+        followed = dataclasses.replace(exact, strategy=bound.strategy)
+        assert worst_case_of(scene, followed, formula) == bound.upper, seed
+        assert sum(s.cost for s in bound.principal) == bound.upper, seed
+    assert finite >= 15, finite
+
+
+def test_a_tail_below_the_enumerated_levels_is_conditional():
+    scene = _scene(1)
+    bound = replanning_bound(scene, parse_ltlf(scene.task), 2, levels=1, tail=50)
+    assert not bound.certified and bound.tail == 50
+    assert replanning_bound(scene, parse_ltlf(scene.task), 2, levels=1, tail=50, tail_proven=True).certified
+
+
+def test_the_replanning_upper_end_holds_the_exact_value(monkeypatch):
+    """The search cut by a ticking clock, the replanning bound given a share of
+    1e12 of the limit (so it always finishes): the answer is exact, or an
+    interval that holds E_p, and where σ gives the upper end it pays at most that."""
+    replanned = 0
+    for (chunk, limit), seed in itertools.product([(10, 3), (40, 9)], (s for s in range(40) if s % 4)):
+        scene = _scene(seed)
+        k = 1 + seed % 3
+        exact = solve_explicit(scene, k=k).units
+        found = cut_answer(monkeypatch, scene, k, chunk, limit, REPLAN_SHARE=1e12)
+        if found.exact:
+            assert found.units == exact, seed
+            continue
+        assert exact is None or found.lower_units <= exact, seed
+        if found.stats.get("upper_by") == "replanning":
+            replanned += 1
+            assert exact is not None and exact <= found.units, seed
+            assert worst_case_of(scene, found, parse_ltlf(scene.task)) <= found.units, seed
+    assert replanned >= 3, replanned
