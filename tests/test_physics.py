@@ -229,14 +229,16 @@ def test_an_object_that_has_not_moved_from_its_place_is_approached_as_planned(bl
     assert approaches.near(home, place, moved, grasp, "down") == nominal and solved == []
 
 
-def test_a_leg_goes_at_the_full_velocity_limit_only_where_it_is_clear(block):
+def test_a_leg_goes_at_the_full_velocity_limit_only_where_it_is_clear(block, monkeypatch):
     """A leg that swings the arm 1.2 rad about its base from the anchor over
-    the block: with `clear`, its pieces where the fingers are within 5 cm of
-    the block (the first ones) and its last piece go at half the velocity
-    limit, the pieces between at the full limit (joined: a piece at each
-    speed in turn, longer than `CLEAR_STRIDE`), so it takes fewer steps
-    than without `clear` (where a whole leg, or a path's last, went at half
-    the limit)."""
+    the block: with `clear`, its pieces where the fingers are within `CLEAR`
+    of the block (the first ones; `CLEAR` set to 5 cm here, which the
+    fingers at the anchor are within) and its last piece go at half the
+    velocity limit, the pieces between at the full limit (joined: a piece
+    at each speed in turn, longer than `CLEAR_STRIDE`), so it takes fewer
+    steps than without `clear` (where a whole leg, or a path's last, went
+    at half the limit)."""
+    monkeypatch.setattr(physics, "CLEAR", 0.05)
     scene, planner = block
     worlds = [at_anchor(scene, planner, "l1") for _ in range(2)]
     try:
