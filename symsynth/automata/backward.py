@@ -56,7 +56,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from symsynth.automata import moves as moves_
-from symsynth.automata.bdd import BDD, Function, and_exists, branches, children_first, cofactor, swap
+from symsynth.automata.bdd import BDD, Function, and_exists, children_first, cofactor, exits, swap
 from symsynth.automata.growth import grew
 from symsynth.automata.progression import GuardedDFA, Progression, TooLarge
 from symsynth.logic import ast
@@ -165,20 +165,12 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
         grew(len(order))
         top = automaton.successors(state)
         tops.append(top)
-        stack = [top]
-        while stack:
-            node = stack.pop()
-            if node in walked:
-                continue
-            walked.add(node)
-            if node == bdd.true or node == bdd.false or node.level >= num_atoms:  # a successor
-                if node not in index:
-                    if max_states is not None and len(order) >= max_states:
-                        raise TooLarge(f"more than {max_states} states")
-                    index[node] = len(order)
-                    order.append(node)
-            else:
-                stack.extend(branches(bdd, node))
+        for node in exits(bdd, top, num_atoms, walked):  # the successors, each node walked once in all
+            if node not in index:
+                if max_states is not None and len(order) >= max_states:
+                    raise TooLarge(f"more than {max_states} states")
+                index[node] = len(order)
+                order.append(node)
     names = moves_.bits(bdd, "z", moves_.width(len(order)))
     written = {node: moves_.cube(bdd, names, number) for node, number in index.items()}
     for node, low, high in _atom_nodes(bdd, tops, written):

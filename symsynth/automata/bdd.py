@@ -238,13 +238,14 @@ def split_letters(bdd: BDD, u: Function, top: int,
     return below[u]
 
 
-def exits(bdd: BDD, u: Function, top: int) -> Iterator[Function]:
+def exits(bdd: BDD, u: Function, top: int, seen: set[Function] | None = None) -> Iterator[Function]:
     """The nodes where the paths of `u` leave the atom levels (the levels
     above `top`: the successors `split_letters` gives, without their
     guards), each once, in the order a depth-first walk (high branch first)
-    meets them."""
+    meets them.  `seen`: nodes walked already (by earlier calls sharing
+    it), neither walked nor given again."""
     true, false = bdd.true, bdd.false
-    seen: set[Function] = set()
+    seen = set() if seen is None else seen
     stack = [u]
     while stack:
         node = stack.pop()
