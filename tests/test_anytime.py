@@ -99,3 +99,17 @@ def test_auto_falls_back_when_the_compiled_solver_cannot_hold_the_game():
     assert solution.stats["auto"] in ("forward", "symbolic")
     assert "at most 16 atoms" in solution.stats["auto_reason"]
     assert solution.units == solve_explicit(scene, symmetric=False).units
+
+
+@pytest.mark.parametrize(("lower", "upper", "budget", "expected"), [
+    (None, 10, 10.0, True), (None, 11, 10.0, False), (None, None, 10.0, False),  # exact E_p
+    (8, 10, None, None),                                                       # no budget: no verdict
+    (8, 10, 10.0, True), (8, 10, 9.0, None), (8, 10, 7.0, False),              # the budget above, in, below
+    (8, None, 9.0, None), (8, None, 7.0, False),                               # no upper end proven
+])
+def test_the_verdict_of_an_anytime_answer_by_hand(lower, upper, budget, expected):
+    """`bracket_verdict`, shared by the forward and AND-OR solvers' anytime
+    answers and the replanning upper end: the budget against [lower, upper]."""
+    from symsynth.game.solution import bracket_verdict
+
+    assert bracket_verdict(lower, upper, 1.0, budget) is expected

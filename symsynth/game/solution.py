@@ -167,3 +167,17 @@ def verdict(units: int | None, resolution: float, budget: float | Decimal | None
     if budget is None:
         return None
     return units is not None and within(units, resolution, budget)
+
+
+def bracket_verdict(lower: int | None, upper: int | None, resolution: float,
+                    budget: float | Decimal | None) -> bool | None:
+    """`verdict` for an anytime answer `lower <= E_p <= upper` (`lower` None:
+    `upper` is E_p): True when the upper end fits the budget, False when
+    the lower end does not, None when the budget lies between them."""
+    if lower is None:
+        return verdict(upper, resolution, budget)
+    if budget is None:
+        return None
+    if upper is not None and verdict(upper, resolution, budget):
+        return True
+    return False if not verdict(lower, resolution, budget) else None

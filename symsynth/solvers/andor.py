@@ -73,8 +73,8 @@ from collections.abc import Iterator, Mapping
 import numpy as np
 
 from symsynth.game.abstraction import in_costmap_units, initial_state, legal_human_moves, legal_robot_moves
-from symsynth.game.solution import (OutOfReach, Position, Solution, Step, check_parameters, task_formula,
-                                    verdict, won_at_start)
+from symsynth.game.solution import (OutOfReach, Position, Solution, Step, bracket_verdict, check_parameters,
+                                    task_formula, won_at_start)
 from symsynth.game.symmetry import Symmetry
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
@@ -272,14 +272,7 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     strategy: Mapping = ProvenStrategy(proof) if upper is not None else {}
     principal = () if upper is None else proof.play(start)
     exact = lower is None
-    if exact:
-        realizable = verdict(upper, resolution, budget)
-    elif budget is None:
-        realizable = None
-    elif upper is not None and verdict(upper, resolution, budget):
-        realizable = True
-    else:
-        realizable = False if not verdict(lower, resolution, budget) else None
+    realizable = bracket_verdict(lower, upper, resolution, budget)
     counter = principal if realizable is False and exact else None
     seconds["plays"] = time.perf_counter() - clock
     st = memo.st
@@ -312,20 +305,14 @@ def _replan_first(scene: Scene, formula: ast.Formula, k: int, resolution: float,
 def _replanned(solution: Solution, replan: ReplanBound, budget: float | None) -> Solution:
     """An anytime answer whose upper end is the replanning bound when that is lower
     than the search's own (and E_p when it meets the lower end)."""
+    assert replan.upper is not None  # _replan_first keeps proven bounds only
     stats = dict(solution.stats) | {"replanning_bound": replan.upper, "replanning_seconds": round(replan.seconds, 2)}
-    if replan.upper is None:  # pragma: no cover - _replan_first keeps proven bounds only
-        return solution
     upper = int(replan.upper)
     if solution.exact or (solution.units is not None and solution.units <= upper):
         return dataclasses.replace(solution, stats=stats)
     lower, r = solution.lower_units, solution.resolution
     exact = lower is not None and upper <= lower
-    if exact or budget is None:
-        realizable = verdict(upper, r, budget) if exact else None
-    elif verdict(upper, r, budget):
-        realizable = True
-    else:
-        realizable = False if not verdict(lower, r, budget) else None
+    realizable = bracket_verdict(None if exact else lower, upper, r, budget)
     return dataclasses.replace(solution, cost_bound=in_costmap_units(upper, r), units=upper, realizable=realizable,
                                strategy=replan.strategy, principal_play=replan.principal,
                                counter_play=replan.principal if exact and realizable is False else None,

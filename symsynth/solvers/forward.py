@@ -75,7 +75,7 @@ from symsynth.solvers import forward_search
 from symsynth.solvers.forward_search import INF, Key, OutOfTime, Search
 from symsynth.game.graph import GameGraph
 from symsynth.game.strategy import guaranteed_units
-from symsynth.game.solution import (OutOfReach, Position, Solution, check_parameters, task_formula,
+from symsynth.game.solution import (OutOfReach, Position, Solution, bracket_verdict, check_parameters, task_formula,
                                    verdict, won_at_start)
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
@@ -194,14 +194,7 @@ def _bracketed(game: GameGraph, formula: ast.Formula, search: Search, start: Key
     proven entries, checked against every human reply before it is returned."""
     scene, r = game.scene, game.resolution
     strategy: Mapping = ProvenStrategy(search) if upper is not None else {}
-    if budget is None:
-        realizable = None
-    elif upper is not None and verdict(upper, r, budget):
-        realizable = True
-    elif not verdict(lower, r, budget):
-        realizable = False
-    else:
-        realizable = None  # the budget lies between the bounds
+    realizable = bracket_verdict(lower, upper, r, budget)
     principal = () if upper is None else search.proven_play(start)
     solution = Solution(None if upper is None else in_costmap_units(upper, r), upper, r, budget, realizable, k,
                         search.positions(), seconds, strategy, principal, None,
