@@ -9,6 +9,7 @@ import dataclasses
 import itertools
 import math
 
+from symsynth.cli.solve import _report_value
 from symsynth.game.solution import OutOfReach
 from symsynth.logic import parse_ltlf
 from symsynth.solvers.explicit import solve_explicit
@@ -53,10 +54,11 @@ def test_a_tail_below_the_enumerated_levels_is_conditional():
     assert replanning_bound(scene, parse_ltlf(scene.task), 2, levels=1, tail=50, tail_proven=True).certified
 
 
-def test_the_replanning_upper_end_holds_the_exact_value(monkeypatch):
+def test_the_replanning_upper_end_holds_the_exact_value(monkeypatch, capsys):
     """The search cut by a ticking clock, the replanning bound given a share of
     1e12 of the limit (so it always finishes): the answer is exact, or an
-    interval that holds E_p, and where σ gives the upper end it pays at most that."""
+    interval that holds E_p, and where σ gives the upper end it pays at most that
+    and `solve` names it as the strategy behind the upper end."""
     replanned = 0
     for (chunk, limit), seed in itertools.product([(10, 3), (40, 9)], (s for s in range(40) if s % 4)):
         scene = _scene(seed)
@@ -71,4 +73,6 @@ def test_the_replanning_upper_end_holds_the_exact_value(monkeypatch):
             replanned += 1
             assert exact is not None and exact <= found.units, seed
             assert worst_case_of(scene, found, parse_ltlf(scene.task)) <= found.units, seed
+            _report_value(scene, found)
+            assert "upper end guaranteed by the replanning strategy" in capsys.readouterr().out, seed
     assert replanned >= 3, replanned

@@ -150,9 +150,12 @@ class TickClock:
 def cut_answer(monkeypatch, scene, k, chunk, limit, **andor_settings):
     """`solve_andor` with a time limit, its questions cut every `chunk` steps and
     its clock ticking once per look (`TickClock`); `andor_settings` are set on
-    the module for the call (e.g. REPLAN_SHARE)."""
+    the module for the call (e.g. REPLAN_SHARE).  The kernels are warmed up
+    first: `prepare` solves a warm-up game with no deadline, which in chunks
+    of a few steps would take hours (a test run alone hung there)."""
     from symsynth.solvers import andor
 
+    andor.prepare()
     monkeypatch.setattr(andor, "CHUNK", chunk)
     for name, value in andor_settings.items():
         monkeypatch.setattr(andor, name, value)
