@@ -29,7 +29,8 @@ from pathlib import Path
 
 from symsynth.execution import motion
 from symsynth.execution.human import ScriptedHuman
-from symsynth.execution.simulate import Policy, Simulator
+from symsynth.execution.policy import Policy
+from symsynth.execution.simulate import Simulator
 from symsynth.game.solution import task_formula
 from symsynth.game.strategy import strategy_table
 from symsynth.solvers.symbolic import solve_symbolic

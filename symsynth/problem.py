@@ -40,7 +40,7 @@ from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 if TYPE_CHECKING:  # the simulator (pybullet, the renderer) is imported only when simulating
     from symsynth.execution.human import ScriptedHuman
     from symsynth.execution.physics import Randomization
-    from symsynth.execution.simulate import Run
+    from symsynth.execution.runs import Run
     from symsynth.execution.world import SimWorld
 
 
@@ -181,7 +181,7 @@ class Simulation:
     def ok(self) -> bool:
         """Every run completed within E_p and the budget, without a soundness
         divergence (False when nothing ran)."""
-        from symsynth.execution.simulate import SLACK
+        from symsynth.execution.runs import SLACK
 
         return self.stopped is None and all(
             r.completed and r.sound and r.within_bound is not False
@@ -205,7 +205,8 @@ def simulate(problem: Problem, human: str | ScriptedHuman = "none", *, planner: 
     drawn by each run's seed)."""
     from symsynth.execution.human import HUMANS, HumanContext, ScriptedHuman, human_needs
     from symsynth.execution.record import Recorder
-    from symsynth.execution.simulate import Policy, Simulator
+    from symsynth.execution.policy import Policy
+    from symsynth.execution.simulate import Simulator
 
     scene = problem.scene
     if scene.geometry is None:

@@ -14,7 +14,8 @@ import pytest
 
 from symsynth.execution.human import AdversarialHuman, RandomHuman
 from symsynth.execution.objective_policy import BudgetPolicy
-from symsynth.execution.simulate import SLACK, Simulator
+from symsynth.execution.runs import SLACK
+from symsynth.execution.simulate import Simulator
 from symsynth.game.graph import GameGraph
 from symsynth.game.human_model import RandomModel
 from symsynth.game.solution import task_formula

@@ -29,7 +29,8 @@ from symsynth.execution.human import (AdversarialHuman, NoHuman, RandomHuman, Re
 from symsynth.execution.observe import observe
 from symsynth.execution.hand_motions import APPROACH_STEPS
 from symsynth.execution.record import Recorder
-from symsynth.execution.simulate import Policy, Simulator
+from symsynth.execution.policy import Policy
+from symsynth.execution.simulate import Simulator
 from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import (human_moves, initial_state, legal_human_moves, legal_robot_moves,
                                        letter, quantize, robot_moves)

@@ -21,7 +21,7 @@ RANDOMIZE = "friction=0.2,mass=0.2,pose=0.005"
 
 
 def measured(runs: Sequence[Any]) -> dict[str, Any]:
-    """The measurements of `runs` (`execution.simulate.Run`s) together."""
+    """The measurements of `runs` (`execution.runs.Run`s) together."""
     from symsynth.execution.observe import POSITION
 
     errors = [r.placement_error or 0.0 for r in runs]

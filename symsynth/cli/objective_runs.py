@@ -150,7 +150,8 @@ def run_objective_world(args: argparse.Namespace, problem: Problem, model: Human
     the world against no human or the model's random human."""
     from symsynth.execution.human import HUMANS, HumanContext
     from symsynth.execution.objective_policy import BudgetPolicy
-    from symsynth.execution.simulate import Policy, Simulator
+    from symsynth.execution.policy import Policy
+    from symsynth.execution.simulate import Simulator
     from symsynth.game.graph import GameGraph
     from symsynth.game.human_model import RandomModel
     from symsynth.planning.registry import planner_class
@@ -190,7 +191,7 @@ def run_objective_world(args: argparse.Namespace, problem: Problem, model: Human
 def _world_summary(s: ObjectiveSolution, runs: list) -> dict[str, Any]:
     """The runs' completion, measured and abstract costs (mean with its 95%
     interval), and for `expected` how many went above B (none should)."""
-    from symsynth.execution.simulate import SLACK
+    from symsynth.execution.runs import SLACK
 
     costs = [r.cost for r in runs]
     out: dict[str, Any] = {"runs": len(runs), "completed": sum(r.completed for r in runs),

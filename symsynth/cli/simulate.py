@@ -22,7 +22,7 @@ from symsynth.scene import Scene, load_scene
 from symsynth.solvers import DEFAULT_SOLVER, SOLVERS
 
 if TYPE_CHECKING:
-    from symsynth.execution.simulate import Run
+    from symsynth.execution.runs import Run
 
 HUMANS_GROUP = "symsynth.humans"  # none, random, adversarial, and any installed
 WORLDS = ("kinematic", "physics")  # execution.simulate.WORLDS, without importing pybullet for --help
@@ -234,7 +234,7 @@ def _json(args: argparse.Namespace, problem: Problem, simulation: Simulation) ->
 
 def _report(scene: Scene, args: argparse.Namespace, positions: int | None, bound: float | None,
             guarantee: bool, runs: Sequence[Run]) -> None:
-    from symsynth.execution.simulate import SLACK
+    from symsynth.execution.runs import SLACK
 
     source = f"from {args.strategy}" if args.strategy else f"solved by {args.solver}"
     print(f"scene      {scene.name} ({args.scene})")

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from symsynth.execution.simulate import Policy
+from symsynth.execution.policy import Policy
 from symsynth.game.abstraction import in_costmap_units
 from symsynth.game.graph import GameGraph
 from symsynth.game.objective_strategy import ObjectiveStrategyFile, robot_moves_at

@@ -42,8 +42,7 @@ The first two are soundness bugs; `Run.sound` is false when one occurred.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from collections.abc import Callable
 from typing import Any
 
 from symsynth.errors import SymsynthError
@@ -51,11 +50,13 @@ from symsynth.execution import motion as motions
 from symsynth.execution import hand_motions
 from symsynth.execution.human import Human, Option, Request, ScriptedHuman, Turn
 from symsynth.execution.observe import close, distance, observe, place_at
+from symsynth.execution.policy import Policy
+from symsynth.execution.runs import SLACK, Divergence, Run, Step
 from symsynth.execution.physics import FRAME_STEPS, SLIDE_FRAME_STEPS, PhysicsWorld, Randomization
 from symsynth.execution.record import STRIDE, Recorder
 from symsynth.execution.world import SimWorld
 from symsynth.game.abstraction import (Move, State, action_name, anchors, costmap_of, legal_human_moves,
-                                       legal_robot_moves, robot_action_names, state_json, slide_rule)
+                                       legal_robot_moves, robot_action_names, slide_rule)
 from symsynth.game.graph import GameGraph
 from symsynth.game.solution import Position
 from symsynth.game.strategy import format_position, format_state
@@ -66,9 +67,7 @@ from symsynth.primitive_registry import displacement, primitive
 from symsynth.scene.geometry import Pose, point_text
 from symsynth.scene.model import ELSE, HOME, Scene
 
-SLACK = 1e-6  # costmap units: float noise allowed between measured and abstract costs
 MAX_ACTIONS = 500
-SOUNDNESS = ("cost", "evidence")
 WORLDS = ("kinematic", "physics")
 #: A position at which the robot's turn comes again this often (its action
 #: failed in the world each time) ends the run: a winning strategy never
@@ -79,133 +78,6 @@ MAX_VISITS = 3
 #: there is `outside`, not a soundness bug.
 EXACT = 1e-3
 EXACT_ANGLE = 0.01
-
-
-@dataclass(frozen=True)
-class Step:
-    """One step of a run.  Robot steps carry the abstract cost of the action
-    in the state it was chosen in and the measured cost; `source` says how
-    it moved: evidence, runtime, none (already there), primitive; human
-    steps have source `human` and no costs."""
-
-    who: str
-    action: str
-    state: State  # γ of the world after the step
-    abstract: float | None = None
-    measured: float | None = None
-    radians: float = 0.0
-    source: str = "human"
-
-
-@dataclass(frozen=True)
-class Divergence:
-    step: int  # 1-based index into Run.steps
-    kind: str  # cost, evidence, state, outside, contact
-    message: str
-    #: `state`: the largest distance (metres) of an object from the location the
-    #: abstraction puts it at; None when it puts none of the strayed ones on a location.
-    distance: float | None = None
-
-    @property
-    def soundness(self) -> bool:
-        return self.kind in SOUNDNESS
-
-
-@dataclass
-class Run:
-    seed: int
-    human: str
-    bound: float | None  # E_p of the strategy followed, None when it does not win
-    completed: bool = False
-    reason: str = ""
-    steps: list[Step] = field(default_factory=list)
-    divergences: list[Divergence] = field(default_factory=list)
-    refused: list[str] = field(default_factory=list)  # human moves the world or k did not allow
-    best_effort: int = 0  # robot actions taken outside the strategy (best effort)
-    seconds: float = 0.0
-    #: The processor seconds of the run (this process's, `time.process_time`):
-    #: on a shared machine, what the run cost whatever else ran beside it.
-    cpu_seconds: float = 0.0
-    world: str = "kinematic"  # kinematic or physics
-    #: After the last step: the largest distance (metres) of an object from the location the
-    #: abstraction puts it at (None: it puts none on a location).
-    placement_error: float | None = None
-
-    @property
-    def cost(self) -> float:
-        return sum(s.measured or 0.0 for s in self.steps)
-
-    @property
-    def abstract_cost(self) -> float:
-        return sum(s.abstract or 0.0 for s in self.steps)
-
-    @property
-    def sound(self) -> bool:
-        return not any(d.soundness for d in self.divergences)
-
-    @property
-    def within_bound(self) -> bool | None:
-        if self.bound is None:
-            return None
-        return self.cost <= self.bound + SLACK
-
-    def to_json(self, objects: tuple[str, ...]) -> dict[str, Any]:
-        return {
-            "seed": self.seed, "world": self.world, "human": self.human, "completed": self.completed,
-            "reason": self.reason, "placement_error": self.placement_error,
-            "cost": self.cost, "abstract_cost": self.abstract_cost, "cost_bound": self.bound,
-            "within_bound": self.within_bound, "sound": self.sound, "best_effort_actions": self.best_effort,
-            "robot_actions": sum(s.who == "robot" for s in self.steps),
-            "human_moves": sum(s.who == "human" for s in self.steps),
-            "seconds": self.seconds, "cpu_seconds": self.cpu_seconds, "refused_human_moves": list(self.refused),
-            "divergences": [{"step": d.step, "kind": d.kind, "soundness": d.soundness, "distance": d.distance,
-                             "message": d.message} for d in self.divergences],
-            "trace": [{"who": s.who, "action": s.action, "abstract_cost": s.abstract,
-                       "measured_cost": s.measured, "radians": s.radians, "source": s.source,
-                       "state": state_json(s.state, objects)} for s in self.steps],
-        }
-
-
-class Policy:
-    """The robot's action at a position: the strategy's, or -- best effort,
-    where the strategy has none -- the action of a strategy for fewer human
-    moves left (`fallback`, e.g. a full `Solution.strategy`), as if the
-    human had only h' < h moves left."""
-
-    def __init__(self, actions: Mapping[Position, str], budgets: Mapping[Position, float | None],
-                 bound: float | None, fallback: Mapping[Position, str] | None = None) -> None:
-        self.actions, self.budgets, self.bound, self.fallback = actions, budgets, bound, fallback
-
-    def action(self, position: Position) -> tuple[str, bool] | None:
-        """(action, best effort?) or None."""
-        try:  # one lookup: a lazy strategy searches on a miss
-            return self.actions[position], False
-        except KeyError:
-            pass
-        if self.fallback is None:
-            return None
-        v, q, h = position
-        for fewer in range(h, -1, -1):
-            try:
-                return self.fallback[(v, q, fewer)], True
-            except KeyError:
-                continue
-        return None
-
-    def budget(self, position: Position) -> float | None:
-        return self.budgets.get(position)
-
-    def start(self) -> None:
-        """A run begins (a policy with memory forgets the last run's)."""
-
-    def moved(self, position: Position, action: str) -> None:
-        """The robot carried out `action` at `position` (a policy with memory counts it)."""
-
-    def memory(self) -> object:
-        """What the policy remembers of the run now (None: nothing); a
-        position the robot's turn comes back to with other memory is
-        progress (a budget spent), not the world failing the abstraction."""
-        return None
 
 
 class ActionFailed(SymsynthError):
