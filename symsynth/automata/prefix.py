@@ -77,59 +77,37 @@ def prefix_product(big: GuardedDFA, small: GuardedDFA, op: str,
         return None
     accept_sink, reject_sink = sink_states(small)
     sinks = {s for s in (accept_sink, reject_sink) if s is not None}
-    bdd = big.bdd
-    true, false = bdd.true, bdd.false
-    n = big.num_states
-    accepting = list(big.accepting)
-    edges: list[dict[int, Function]] = list(big.edges)
-    big_accept, big_reject = sink_states(big)
-    made: dict[tuple, int] = {}  # (accepting, edges) of a state added -> the state
-    preds: list[list[int]] | None = None  # of `big`'s states, made when first needed
-
-    def constant(value: bool) -> int:
-        nonlocal big_accept, big_reject
-        found = big_accept if value else big_reject
-        if found is None:
-            found = len(accepting)
-            accepting.append(value)
-            edges.append({found: true})
-            made[(value, frozenset(edges[found].items()))] = found
-            if value:
-                big_accept = found
-            else:
-                big_reject = found
-        return found
-
+    table = _Table(big)
     # the language of (q, sink): q's own, or a constant
     keeps = accept_sink if op == "and" else reject_sink
     other = reject_sink if op == "and" else accept_sink
     combine = all if op == "and" else any
-
-    def existing(q: int, value: bool, out: dict[int, Function]) -> int | None:
-        """A state of `big` (or a sink added) with acceptance `value` and
-        edges `out`: one of the states with an edge into `out`'s first target."""
-        nonlocal preds
-        if q < n and accepting[q] == value and edges[q] == out:
-            return q  # (most often: the condition met, the state goes on as `big`'s)
-        first = next(iter(out))
-        if first >= n:  # a state added: only those are its predecessors
-            return None
-        if preds is None:
-            preds = [[] for _ in range(n)]
-            for state in range(n):
-                for succ in big.edges[state]:
-                    preds[succ].append(state)
-        for state in preds[first]:
-            if accepting[state] == value and edges[state] == out:
-                return state
-        return None
-
     start = (big.initial, small.initial)
     if small.initial in sinks:
-        initial = big.initial if small.initial == keeps else constant(op == "or")
-        return _renumbered(bdd, initial, accepting, edges)
-    # the pairs reachable from the start before `small` is in a sink, with
-    # their edges: (successor pair, guard)
+        initial = big.initial if small.initial == keeps else table.constant(op == "or")
+        return _renumbered(big.bdd, initial, table.accepting, table.edges)
+    steps = _prefix_pairs(big, small, start, sinks, max_edges)
+    rank = {s: i for i, s in enumerate(order)}
+    canonical: dict[tuple[int, int], int] = {}
+    for q, s in sorted(steps, key=lambda pair: rank[pair[1]]):  # successors first
+        out: dict[int, Function] = {}
+        for q2, s2, guard in steps[(q, s)]:
+            if s2 == keeps:
+                target = q2
+            elif s2 == other:
+                target = table.constant(op == "or")
+            else:
+                target = canonical[(q2, s2)]
+            out[target] = out[target] | guard if target in out else guard
+        canonical[(q, s)] = table.state(q, combine((big.accepting[q], small.accepting[s])), out)
+    return _renumbered(big.bdd, canonical[start], table.accepting, table.edges)
+
+
+def _prefix_pairs(big: GuardedDFA, small: GuardedDFA, start: tuple[int, int], sinks: set[int],
+                  max_edges: int | None) -> dict[tuple[int, int], list[tuple[int, int, Function]]]:
+    """The pairs reachable from `start` before `small` is in a sink, with
+    their edges: (successor in `big`, successor in `small`, guard)."""
+    false = big.bdd.false
     steps: dict[tuple[int, int], list[tuple[int, int, Function]]] = {}
     todo = [start]
     count = 0
@@ -149,29 +127,66 @@ def prefix_product(big: GuardedDFA, small: GuardedDFA, op: str,
         count += len(out_pair)
         if max_edges is not None and count > max_edges:
             raise TooLarge(f"more than {max_edges} edges")
-    rank = {s: i for i, s in enumerate(order)}
-    canonical: dict[tuple[int, int], int] = {}
-    for q, s in sorted(steps, key=lambda pair: rank[pair[1]]):  # successors first
-        out: dict[int, Function] = {}
-        for q2, s2, guard in steps[(q, s)]:
-            if s2 == keeps:
-                target = q2
-            elif s2 == other:
-                target = constant(op == "or")
-            else:
-                target = canonical[(q2, s2)]
-            out[target] = out[target] | guard if target in out else guard
-        value = combine((big.accepting[q], small.accepting[s]))
+    return steps
+
+
+class _Table:
+    """`big`'s states and the states `prefix_product` adds after them, each
+    made once: a state with the acceptance and edges of one already there is
+    that one (`big` is minimal, so two states with canonical successors are
+    equivalent iff those agree)."""
+
+    def __init__(self, big: GuardedDFA):
+        self.big, self.n = big, big.num_states
+        self.accepting = list(big.accepting)
+        self.edges: list[dict[int, Function]] = list(big.edges)
+        self.sinks = dict(zip((True, False), sink_states(big)))
+        self.made: dict[tuple, int] = {}  # (accepting, edges) of a state added -> the state
+        self.preds: list[list[int]] | None = None  # of `big`'s states, made when first needed
+
+    def constant(self, value: bool) -> int:
+        """The state of the universal (`value`) or the empty language."""
+        found = self.sinks[value]
+        if found is None:
+            found = self.sinks[value] = self._add(value, {len(self.accepting): self.big.bdd.true})
+        return found
+
+    def state(self, q: int, value: bool, out: dict[int, Function]) -> int:
+        """The state with acceptance `value` and edges `out`, made when new
+        (`q`: `big`'s state of the pair, the likeliest match)."""
         key = (value, frozenset(out.items()))
-        state = made.get(key)
-        if state is None:
-            state = existing(q, value, out)
-        if state is None:
-            state = made[key] = len(accepting)
-            accepting.append(value)
-            edges.append(out)
-        canonical[(q, s)] = state
-    return _renumbered(bdd, canonical[start], accepting, edges)
+        found = self.made.get(key)
+        if found is None:
+            found = self._existing(q, value, out)
+        if found is None:
+            found = self._add(value, out)
+        return found
+
+    def _add(self, value: bool, out: dict[int, Function]) -> int:
+        state = len(self.accepting)
+        self.accepting.append(value)
+        self.edges.append(out)
+        self.made[(value, frozenset(out.items()))] = state
+        return state
+
+    def _existing(self, q: int, value: bool, out: dict[int, Function]) -> int | None:
+        """A state of `big` with acceptance `value` and edges `out`: one of
+        the states with an edge into `out`'s first target."""
+        accepting, edges = self.accepting, self.edges
+        if q < self.n and accepting[q] == value and edges[q] == out:
+            return q  # (most often: the condition met, the state goes on as `big`'s)
+        first = next(iter(out))
+        if first >= self.n:  # a state added: only those are its predecessors
+            return None
+        if self.preds is None:
+            self.preds = [[] for _ in range(self.n)]
+            for state in range(self.n):
+                for succ in self.big.edges[state]:
+                    self.preds[succ].append(state)
+        for state in self.preds[first]:
+            if accepting[state] == value and edges[state] == out:
+                return state
+        return None
 
 
 def prefix_product_moves(big: GuardedDFA, small: GuardedDFA, op: str) -> GuardedDFA | None:
