@@ -153,16 +153,7 @@ def solve_objective(scene: Scene, formula: str | ast.Formula | None = None, *, o
     is out of the compiled solver's reach or the model is not uniform)."""
     from symsynth.solvers.objectives import kernels  # numba: loaded when solving, not with the command line
 
-    if objective not in ("expected", "best-effort"):
-        raise InputError(f"objective must be expected or best-effort here, not {objective!r}")
-    if solver not in SOLVERS:
-        raise InputError(f"--objective {objective} is computed by the solvers {', '.join(SOLVERS)}, "
-                         f"not {solver!r}")
-    if objective == "expected" and model is None:
-        raise InputError("--objective expected needs a human model: give --human-model random:P, or "
-                         "human: {k: K, model: random(P)} in the scene")
-    if budget is not None and (not budget >= 0 or math.isinf(budget)):
-        raise InputError(f"budget must be a number >= 0, found {budget}")
+    _check(objective, solver, model, budget)
     k = check_parameters(scene, k, resolution)
     formula = task_formula(scene, formula)
     if solver in ("auto", "compiled"):
@@ -170,17 +161,7 @@ def solve_objective(scene: Scene, formula: str | ast.Formula | None = None, *, o
 
         compile_kernels()  # once per process, before the clock (as `prepare` does for comparison runs)
     clock = time.perf_counter()
-    use = solver
-    if solver in ("auto", "compiled"):
-        try:
-            arena = from_compiled(scene, formula, k, resolution, model)
-            use = "compiled"
-        except OutOfReach:
-            if solver == "compiled":
-                raise
-            use = "explicit"
-    if use == "explicit":
-        arena = from_explicit(scene, formula, k, resolution, model)
+    use, arena = _arena(scene, formula, k, resolution, model, solver)
     seconds = {"arena": time.perf_counter() - clock}
     base: dict[str, Any] = dict(objective=objective, k=k, resolution=resolution, solver=use,
                 human_model=None if model is None or objective != "expected" else model.name)
@@ -211,6 +192,34 @@ def solve_objective(scene: Scene, formula: str | ast.Formula | None = None, *, o
                                  position_class=cls, cooperative_cost=None if c0 >= INF else c0 * resolution,
                                  arena=arena, solved=tables, **base)
     return _expected(arena, vh, top, cost_bound, states, seconds, base, budget, resolution, epsilon)
+
+
+def _check(objective: str, solver: str, model: HumanModel | None, budget: float | None) -> None:
+    """`solve_objective`'s arguments, refused with what was expected."""
+    if objective not in ("expected", "best-effort"):
+        raise InputError(f"objective must be expected or best-effort here, not {objective!r}")
+    if solver not in SOLVERS:
+        raise InputError(f"--objective {objective} is computed by the solvers {', '.join(SOLVERS)}, "
+                         f"not {solver!r}")
+    if objective == "expected" and model is None:
+        raise InputError("--objective expected needs a human model: give --human-model random:P, or "
+                         "human: {k: K, model: random(P)} in the scene")
+    if budget is not None and (not budget >= 0 or math.isinf(budget)):
+        raise InputError(f"budget must be a number >= 0, found {budget}")
+
+
+def _arena(scene: Scene, formula: ast.Formula, k: int, resolution: float, model: HumanModel | None,
+           solver: str) -> tuple[str, Arena | None]:
+    """The solver used and its arena: the compiled solver's graph for
+    `auto` and `compiled`, the explicit one's when `auto` finds the game
+    out of the compiled solver's reach."""
+    if solver in ("auto", "compiled"):
+        try:
+            return "compiled", from_compiled(scene, formula, k, resolution, model)
+        except OutOfReach:
+            if solver == "compiled":
+                raise
+    return "explicit", from_explicit(scene, formula, k, resolution, model)
 
 
 def _expected(arena: Arena, vh: np.ndarray, top: int, cost_bound: float | None, states: int,
