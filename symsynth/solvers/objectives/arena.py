@@ -78,18 +78,7 @@ def from_explicit(scene: Scene, formula: ast.Formula, k: int, resolution: float,
         return None
     nodes, edges = game.explore(Node(v0, q0, k, False))
     value, chosen = _dijkstra(nodes, edges)
-    index: dict[tuple, int] = {}
-    order: list[int] = []  # explicit index of each arena node's robot turn
-    human_of: dict[int, int] = {}  # arena node -> explicit index of its human turn
-    for i, node in enumerate(nodes):
-        if node is not None:
-            j = index.setdefault((node.v, node.q, node.h), len(index))
-            if j == len(order):
-                order.append(-1)
-            if node.robot:
-                order[j] = i
-            else:
-                human_of[j] = i
+    index, order, human_of = _numbered(nodes)
     key0 = (v0, q0, k)
     if index[key0] != 0:  # the start first (explore numbers it first, so this never runs)
         raise RuntimeError("internal error: the start is not the arena's node 0")
@@ -134,6 +123,25 @@ def from_explicit(scene: Scene, formula: ast.Formula, k: int, resolution: float,
                  np.array(r_tgt, np.int64), np.array(r_units, np.int64), np.array(h_off, np.int64),
                  np.array(h_tgt, np.int64), rval, wchoice, stay, np.array(h_prob, np.float64), positions,
                  list(names), np.array(r_name, np.int64))
+
+
+def _numbered(nodes: list) -> tuple[dict[tuple, int], list[int], dict[int, int]]:
+    """The arena's numbering of the explicit graph's positions: each
+    (v, q, h) once, in the graph's order; with the explicit index of its
+    robot turn (-1: none) and of its human turn, where it has one."""
+    index: dict[tuple, int] = {}
+    order: list[int] = []  # explicit index of each arena node's robot turn
+    human_of: dict[int, int] = {}  # arena node -> explicit index of its human turn
+    for i, node in enumerate(nodes):
+        if node is not None:
+            j = index.setdefault((node.v, node.q, node.h), len(index))
+            if j == len(order):
+                order.append(-1)
+            if node.robot:
+                order[j] = i
+            else:
+                human_of[j] = i
+    return index, order, human_of
 
 
 def from_compiled(scene: Scene, formula: ast.Formula, k: int, resolution: float,
