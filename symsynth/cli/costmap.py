@@ -12,11 +12,12 @@ from symsynth.cli import options, physical
 from symsynth.cli.options import check_writable
 from symsynth.errors import InputError
 from symsynth.game.abstraction import costmap_of
-from symsynth.planning.build import obtain_costmap
+from symsynth.planning.build import Obtained, obtain_costmap
 from symsynth.planning.registry import DEFAULT, planner_class, planner_names, planner_version
 from symsynth.planning.verify import building_planner, verify_costmap
 from symsynth.scene import load_scene
-from symsynth.scene.costmap import write_costmap
+from symsynth.scene.model import Scene
+from symsynth.scene.costmap import Costmap, write_costmap
 
 DESCRIPTION = f"""\
 Compute the conditional costmap of a physical scene (one with a robot):
@@ -115,25 +116,36 @@ def run(args: argparse.Namespace) -> int:
                                            planner_class(got.planner)(scene), args)
     if args.output is not None:
         write_costmap(costmap, args.output)
-    written = args.output or got.path
+    summary = _summary(scene, got, costmap, args.output or got.path)
+    done = None if found is None else physical.summary(found, args, got.costmap, costmap)
+    if done is not None:
+        summary["physics"] = done
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        _print(scene, got, summary, done)
+    return 0
+
+
+def _summary(scene: Scene, got: Obtained, costmap: Costmap, written: Path | None) -> dict:
+    """What `costmap` computed, as `--json` prints it."""
     summary = {
         "scene": scene.name, "method": got.method, "planner": got.planner, "seed": got.seed,
         "cached": got.cached, "file": None if written is None else str(written),
         "motions": len(costmap.motions), "slides": len(costmap.slides),
         "rules": sum(1 for _ in costmap.all_rules()), "absent": sorted(got.costmap.absent),
     }
-    done = None if found is None else physical.summary(found, args, got.costmap, costmap)
-    if done is not None:
-        summary["physics"] = done
     if got.stats is not None:
         summary |= {"seconds": {k: round(v, 3) for k, v in got.stats.seconds.items()},
                     "wall_seconds": round(got.stats.wall, 3),
                     "cpu_seconds": round(sum(got.stats.seconds.values()), 3), "workers": got.stats.workers,
                     "roadmaps": got.stats.roadmaps, "vertices": got.stats.vertices,
                     "edges": got.stats.edges}
-    if args.json:
-        print(json.dumps(summary, indent=2))
-        return 0
+    return summary
+
+
+def _print(scene: Scene, got: Obtained, summary: dict, done: dict | None) -> None:
+    """The summary, as a person reads it."""
     origin = "reused from the cache" if got.cached else "computed"
     slides = f"{summary['slides']} slide{'s' * (summary['slides'] != 1)}, " if summary["slides"] else ""
     print(f"costmap    {scene.name}: {summary['motions']} motions, {slides}{summary['rules']} rules "
@@ -149,7 +161,6 @@ def run(args: argparse.Namespace) -> int:
     if done is not None:
         print(physical.summary_line(done))
     print(f"file       {summary['file'] or 'none written (--no-cache without -o FILE)'}")
-    return 0
 
 
 def _verify(path: Path, args: argparse.Namespace) -> int:
