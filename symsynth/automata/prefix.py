@@ -211,23 +211,9 @@ def prefix_product_moves(big: GuardedDFA, small: GuardedDFA, op: str) -> Guarded
     false = bdd.false
     n, T = big.num_states, big.moves
     w = moves_.width(n)
-    atoms = moves_.atom_vars(bdd)
     narrow = moves_.bits(bdd, "z", w)
     start = (big.initial, small.initial)
-    steps: dict[tuple[int, int], list[tuple[int, Function, Function, list[int]]]] = {}
-    todo = [start]
-    while todo:
-        q, s = pair = todo.pop()
-        if pair in steps:
-            continue
-        out = steps[pair] = []
-        for s2, g2 in small.edges[s].items():
-            part = T[q] & g2
-            if part == false:
-                continue
-            after = [] if s2 in sinks else moves_.numbers(bdd, exists(bdd, part, atoms), narrow)
-            out.append((s2, g2, part, after))
-            todo.extend((q2, s2) for q2 in after if (q2, s2) not in steps)
+    steps = _prefix_pairs_moves(big, small, start, sinks, narrow)
     # numbers: `big`'s states, the constant when `big` has no such sink, the pairs made
     value = op == "or"  # the constant language: universal for `or`, empty for `and`
     constant = sink_states(big)[0 if value else 1]
@@ -277,6 +263,31 @@ def prefix_product_moves(big: GuardedDFA, small: GuardedDFA, op: str) -> Guarded
             wide[state] = t
         canonical[(q, s)] = state
     return _renumbered_moves(big, canonical[start], accepting, moves, wide, width)
+
+
+def _prefix_pairs_moves(big: GuardedDFA, small: GuardedDFA, start: tuple[int, int], sinks: set[int],
+                        narrow: list[str]) -> dict[tuple[int, int], list[tuple[int, Function, Function, list[int]]]]:
+    """`_prefix_pairs` for a `big` given by its moves (successors numbered on
+    the bits `narrow`): each pair's parts, (successor in `small`, its guard,
+    `big`'s moves under that guard, `big`'s successors there: none into a
+    sink of `small`)."""
+    bdd = big.bdd
+    atoms = moves_.atom_vars(bdd)
+    steps: dict[tuple[int, int], list[tuple[int, Function, Function, list[int]]]] = {}
+    todo = [start]
+    while todo:
+        q, s = pair = todo.pop()
+        if pair in steps:
+            continue
+        out = steps[pair] = []
+        for s2, g2 in small.edges[s].items():
+            part = big.moves[q] & g2
+            if part == bdd.false:
+                continue
+            after = [] if s2 in sinks else moves_.numbers(bdd, exists(bdd, part, atoms), narrow)
+            out.append((s2, g2, part, after))
+            todo.extend((q2, s2) for q2 in after if (q2, s2) not in steps)
+    return steps
 
 
 def _renumbered_moves(big: GuardedDFA, initial: int, accepting: list[bool], moves: list[Function],
