@@ -194,6 +194,29 @@ def load_experiment(path: str | Path) -> Experiment:
     path = Path(path)
     data, lines = read_yaml(path, "experiment", ExperimentError)
     report = Report(str(path), lines, "experiment", ExperimentError)
+    _check_schema(data, report)
+    if "trials" in data and "seeds" in data:
+        report.add(("seeds",), "give trials (seeds 0..trials-1) or seeds, not both")
+    # the scene files are read now, so that a missing one is said with the problems above
+    scenes = [variant for i, entry in enumerate(data.get("scenes") or []) if _readable(entry)
+              for variant in _variants(entry, i, path.parent, report)]
+    report.raise_if_any()
+    runs = _runs(data, scenes, report)
+    plot_x = data.get("plots", {}).get("x")
+    names = {name for _, _, params, _ in scenes for name in params}
+    if plot_x is not None and plot_x not in names:
+        report.add(("plots", "x"), f"{plot_x!r} is no scene parameter; the parameters are: "
+                                   f"{', '.join(sorted(names)) or 'none'}")
+    report.raise_if_any()
+    ordered = tuple(runs.values())
+    return Experiment(data["name"], path, ordered, plot_x, data.get("description", ""),
+                      tuple(dict.fromkeys(run.cell for run in ordered)),
+                      {file: scene for file, _, _, scene in scenes})
+
+
+def _check_schema(data: Any, report: Report) -> None:
+    """The experiment's keys and values against `SCHEMA`, each problem at
+    its key's line (an unknown key at its own)."""
     if not isinstance(data, dict):
         report.add((), "expected a mapping with name, scenes, ...")
         report.raise_if_any()
@@ -208,12 +231,11 @@ def load_experiment(path: str | Path) -> Experiment:
         report.add(where, schema_message(error))
     for where, value in non_finite(data):
         report.add(where, f"expected a finite number, found {value}")
-    if "trials" in data and "seeds" in data:
-        report.add(("seeds",), "give trials (seeds 0..trials-1) or seeds, not both")
-    # the scene files are read now, so that a missing one is said with the problems above
-    scenes = [variant for i, entry in enumerate(data.get("scenes") or []) if _readable(entry)
-              for variant in _variants(entry, i, path.parent, report)]
-    report.raise_if_any()
+
+
+def _runs(data: dict, scenes: list, report: Report) -> dict[str, Run]:
+    """Every combination of the axes, by id (an abstract scene's runs repeat
+    over the costmap axes: one run each)."""
     limits = data.get("limits", {})
     seeds = data.get("seeds", range(data.get("trials", 1)))
     runs: dict[str, Run] = {}
@@ -241,16 +263,7 @@ def load_experiment(path: str | Path) -> Experiment:
             report.add(("scenes",), f"{same.scene_file} and {run.scene_file} have the same label and "
                                     f"parameters ({run.label!r}): give one a label of its own")
             report.raise_if_any()
-    plot_x = data.get("plots", {}).get("x")
-    names = {name for _, _, params, _ in scenes for name in params}
-    if plot_x is not None and plot_x not in names:
-        report.add(("plots", "x"), f"{plot_x!r} is no scene parameter; the parameters are: "
-                                   f"{', '.join(sorted(names)) or 'none'}")
-    report.raise_if_any()
-    ordered = tuple(runs.values())
-    return Experiment(data["name"], path, ordered, plot_x, data.get("description", ""),
-                      tuple(dict.fromkeys(run.cell for run in ordered)),
-                      {file: scene for file, _, _, scene in scenes})
+    return runs
 
 
 def _readable(entry: Any) -> bool:
