@@ -71,13 +71,7 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
     if game.accepting(q0):
         return _solution(arena, 0, budget, seconds, stats, None, (), None)
 
-    within = None
-    if reachable_only:
-        clock = time.perf_counter()
-        within = reachable(arena, arena.bdd.cube(game._values(v0, q0)))
-        seconds["reachable"] = time.perf_counter() - clock
-        nvars = len(arena.state_bits) + len(arena.dfa.bits)
-        stats["reachable_positions"] = sum(int(arena.bdd.count(u, nvars=nvars)) for u in within)
+    within = _reachable(arena, game, v0, q0, seconds, stats) if reachable_only else None
     clock = time.perf_counter()
     with _rounds("qualitative attractor") as bar:
         qualitative = attractor(arena, with_costs=False, progress=bar, within=within,
@@ -91,17 +85,8 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
         return _solution(arena, None, budget, seconds, stats, None, (), counter)
 
     width = (qualitative.action_bound * arena.max_units).bit_length()
-    arena.declare_budget(width)
-    stats["budget_bits"] = width
     del qualitative
-    clock = time.perf_counter()
-    with _rounds("cost-bounded attractor") as bar:
-        quantitative = attractor(arena, with_costs=True, progress=bar, within=within)
-    seconds["attractor"] = time.perf_counter() - clock
-    stats["iterations"] = sum(quantitative.rounds)
-    stats.update({f"seconds_{key}": value for key, value in quantitative.seconds.items()})
-    stats["peak_nodes"] = peak_nodes(arena.bdd)
-    game.attractor = quantitative
+    game.attractor = _quantitative(arena, width, within, seconds, stats)
     units = game.value_human(start)
 
     clock = time.perf_counter()
@@ -110,6 +95,33 @@ def solve_symbolic(scene: Scene, formula: str | ast.Formula | None = None, *,
     seconds["plays"] = time.perf_counter() - clock
     counter = principal if verdict(units, resolution, budget) is False else None
     return _solution(arena, units, budget, seconds, stats, strategy, principal, counter)
+
+
+def _reachable(arena: Arena, game: _Queries, v0: State, q0: Q, seconds: dict[str, float],
+               stats: dict[str, object]) -> list[Function]:
+    """The positions a play from (v0, q0) can reach (`fixpoint.reachable`),
+    counted into `stats`."""
+    clock = time.perf_counter()
+    within = reachable(arena, arena.bdd.cube(game._values(v0, q0)))
+    seconds["reachable"] = time.perf_counter() - clock
+    nvars = len(arena.state_bits) + len(arena.dfa.bits)
+    stats["reachable_positions"] = sum(int(arena.bdd.count(u, nvars=nvars)) for u in within)
+    return within
+
+
+def _quantitative(arena: Arena, width: int, within: list[Function] | None, seconds: dict[str, float],
+                  stats: dict[str, object]) -> Attractor:
+    """The cost-bounded attractor on budgets of `width` bits."""
+    arena.declare_budget(width)
+    stats["budget_bits"] = width
+    clock = time.perf_counter()
+    with _rounds("cost-bounded attractor") as bar:
+        quantitative = attractor(arena, with_costs=True, progress=bar, within=within)
+    seconds["attractor"] = time.perf_counter() - clock
+    stats["iterations"] = sum(quantitative.rounds)
+    stats.update({f"seconds_{key}": value for key, value in quantitative.seconds.items()})
+    stats["peak_nodes"] = peak_nodes(arena.bdd)
+    return quantitative
 
 
 def _encoded(scene: Scene, formula: ast.Formula, k: int, resolution: float,
