@@ -184,19 +184,28 @@ class Invariants:
         # from the moves state by state instead, when a product asks)
         restricted = sum(ok != bdd.true for ok in allowed)
         if count <= moves_.SPARSE_DEGREE * n and len(cofactors) * restricted <= SPLIT_TARGETS * n:
-            split = split_letters(bdd, h, self.below_atoms)  # cofactor -> the letters into it
-            after = {number[node]: guard for node, guard in split.items()}
-            edges = [{i + 1: bdd.true} for i in range(k)] + [after]
-            for ok in allowed:  # allowed(x) ? the letters' successors : the sink
-                if ok == bdd.true:
-                    edges.append(dict(after))
-                    continue
-                out = {t: guard & ok for t, guard in after.items()}
-                out[sink] = out.get(sink, bdd.false) | ~ok
-                edges.append({t: guard for t, guard in out.items() if guard != bdd.false})
-            if has_sink:
-                edges.append({sink: bdd.true})
+            edges = self._edges(h, k, allowed, number, sink, has_sink)
         return GuardedDFA(bdd, 0, accepting, edges, moves=moves, degrees=degrees)
+
+    def _edges(self, h: Function, k: int, allowed: list[Function], number: dict[Function, int], sink: int,
+               has_sink: bool) -> list[dict[int, Function]]:
+        """`dfa`'s edges, read off H: the prefix's chain, the start's letters
+        into each cofactor, and each cofactor state's the same where its
+        letter is allowed, into the sink where not."""
+        bdd = self.bdd
+        split = split_letters(bdd, h, self.below_atoms)  # cofactor -> the letters into it
+        after = {number[node]: guard for node, guard in split.items()}
+        edges = [{i + 1: bdd.true} for i in range(k)] + [after]
+        for ok in allowed:  # allowed(x) ? the letters' successors : the sink
+            if ok == bdd.true:
+                edges.append(dict(after))
+                continue
+            out = {t: guard & ok for t, guard in after.items()}
+            out[sink] = out.get(sink, bdd.false) | ~ok
+            edges.append({t: guard for t, guard in out.items() if guard != bdd.false})
+        if has_sink:
+            edges.append({sink: bdd.true})
+        return edges
 
     def _cofactors(self, h: Function) -> list[Function]:
         """The nodes where the paths of `h` leave the atom levels, in the
