@@ -397,43 +397,20 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
         for succ in out:
             before[succ].append(state)
 
-    def signature_of(state: int, block: list[int]) -> frozenset:
-        into: dict[int, list[Function]] = {}
-        for succ, guard in old_edges[state].items():
-            b = block[succ]
-            if b in into:
-                into[b].append(guard)
-            else:
-                into[b] = [guard]
-        # the guards are disjoint and cover every letter: the class with the
-        # most of them is entered on the letters the others are not, which
-        # saves ORs when it has more guards than there are classes (one
-        # class: true, no OR at all)
-        most = max(into, key=lambda b: len(into[b]))
-        skip = most if len(into[most]) > len(into) else None
-        joined: dict[int, Function] = {}
-        for b, guards in into.items():
-            if b != skip:
-                union = guards[0]
-                for guard in guards[1:]:
-                    union |= guard
-                joined[b] = union
-        if skip is not None:
-            rest = false
-            for union in joined.values():
-                rest |= union
-            joined[skip] = ~rest
-        return frozenset(joined.items())
-
     def predecessors(states: list[int]) -> Iterator[int]:
         for state in states:
             yield from before[state]
 
-    block = refine(dfa.accepting, lambda states, block: [signature_of(state, block) for state in states],
-                   predecessors)
+    block = refine(dfa.accepting, lambda states, block: [_signature(old_edges[state], block, false)
+                                                         for state in states], predecessors)
     if dfa.initial == 0 and len(set(block)) == n:
         return dfa  # already minimal (and numbered from its initial state)
-    # renumber blocks in BFS order from the initial state
+    return _quotient(dfa, block)
+
+
+def _quotient(dfa: GuardedDFA, block: list[int]) -> GuardedDFA:
+    """`dfa`'s states merged by `block`, numbered in BFS order from the
+    initial state."""
     rename: dict[int, int] = {block[dfa.initial]: 0}
     order = [dfa.initial]
     representative: dict[int, int] = {}  # block -> its first state in BFS order
@@ -452,4 +429,35 @@ def minimize(dfa: GuardedDFA) -> GuardedDFA:
         for succ, guard in dfa.edges[state].items():
             target = rename[block[succ]]
             out[target] = out[target] | guard if target in out else guard
-    return GuardedDFA(bdd, 0, accepting, edges)
+    return GuardedDFA(dfa.bdd, 0, accepting, edges)
+
+
+def _signature(out_edges: dict[int, Function], block: list[int], false: Function) -> frozenset:
+    """A state's letters into each class (its edges `out_edges`, classes
+    `block`), as `minimize` compares them."""
+    into: dict[int, list[Function]] = {}
+    for succ, guard in out_edges.items():
+        b = block[succ]
+        if b in into:
+            into[b].append(guard)
+        else:
+            into[b] = [guard]
+    # the guards are disjoint and cover every letter: the class with the
+    # most of them is entered on the letters the others are not, which
+    # saves ORs when it has more guards than there are classes (one
+    # class: true, no OR at all)
+    most = max(into, key=lambda b: len(into[b]))
+    skip = most if len(into[most]) > len(into) else None
+    joined: dict[int, Function] = {}
+    for b, guards in into.items():
+        if b != skip:
+            union = guards[0]
+            for guard in guards[1:]:
+                union |= guard
+            joined[b] = union
+    if skip is not None:
+        rest = false
+        for union in joined.values():
+            rest |= union
+        joined[skip] = ~rest
+    return frozenset(joined.items())
