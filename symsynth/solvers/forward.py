@@ -109,20 +109,7 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
     clock = time.perf_counter()
     start = (v0, q0, k)
     search = Search(game, bound)
-    # a bar of the rounds at the start (each asks "E_p <= b?" with b one more),
-    # shown on a terminal once the search takes over a second
-    lower = None
-    with tqdm(desc="forward search", unit=" rounds", delay=1.0, leave=False, disable=None) as bar:
-        def on_round(b: int) -> None:
-            bar.update()
-            bar.set_postfix_str(f"E_p >= {b}", refresh=False)
-
-        search.on_round = on_round
-        if time_limit is None:
-            units = _deep(search.value_human, start)
-        else:
-            lower, units = _anytime(search, start, forward_search.deadline_clock() + time_limit)
-        search.on_round = None
+    lower, units = _searched(search, start, time_limit)
     seconds["search"] = time.perf_counter() - clock
     stats = search.stats()
     if lower is not None:
@@ -142,6 +129,24 @@ def solve_forward(scene: Scene, formula: str | ast.Formula | None = None, *,
                         realizable, k, search.positions(), seconds, strategy, principal, counter,
                         scene.object_names, stats)
     return solution if game.symmetry is None else game.symmetry.realize(solution)
+
+
+def _searched(search: Search, start: Key, time_limit: float | None) -> tuple[int | None, int | None]:
+    """(None, E_p in units), or with `time_limit` `_anytime`'s (lower,
+    upper) when E_p was not proven in time; a bar of the rounds (each asks
+    "E_p <= b?" with b one more) on a terminal once it takes over a second."""
+    with tqdm(desc="forward search", unit=" rounds", delay=1.0, leave=False, disable=None) as bar:
+        def on_round(b: int) -> None:
+            bar.update()
+            bar.set_postfix_str(f"E_p >= {b}", refresh=False)
+
+        search.on_round = on_round
+        try:
+            if time_limit is None:
+                return None, _deep(search.value_human, start)
+            return _anytime(search, start, forward_search.deadline_clock() + time_limit)
+        finally:
+            search.on_round = None
 
 
 # -- anytime answers --------------------------------------------------------------------

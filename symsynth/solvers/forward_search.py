@@ -338,13 +338,26 @@ class Search:
         self._tightened_at = self.calls
         n = len(self.keys)
         lo_r, lo_h = self.lo_r, self.lo_h
+        value = _least_solution(*self._equations(), n)
+        for i in range(n):
+            if value[i] > lo_r[i]:
+                lo_r[i] = value[i]
+            if value[n + i] > lo_h[i]:
+                lo_h[i] = value[n + i]
+
+    def _equations(self) -> tuple[list[list[tuple[int, int]]], list[int], list[tuple[float, int]]]:
+        """`_tighten`'s equations over the roles (robot at [0, n), human at
+        [n, 2n)): who waits on each role and the units it adds, the replies
+        a human role waits for, and the roles whose value is known (a win,
+        or an unexpanded position at its lo)."""
+        n = len(self.keys)
         users: list[list[tuple[int, int]]] = [[] for _ in range(2 * n)]  # (who waits, units it adds)
         waiting = [0] * (2 * n)  # a human role: replies not yet final
         heap: list[tuple[float, int]] = []
         for i in range(n):
             options = self._robot.get(i)
             if options is None:
-                heap.append((lo_r[i], i))
+                heap.append((self.lo_r[i], i))
             else:
                 for units, _, j in options:
                     if j < 0:
@@ -353,7 +366,7 @@ class Search:
                         users[n + j].append((i, units))
             replies = self._human.get(i)
             if replies is None:
-                heap.append((lo_h[i], n + i))
+                heap.append((self.lo_h[i], n + i))
             else:
                 live = [j for j in replies if j >= 0]
                 waiting[n + i] = len(live)
@@ -361,29 +374,7 @@ class Search:
                     heap.append((0, n + i))
                 for j in live:
                     users[j].append((n + i, 0))
-        heapq.heapify(heap)
-        value = [INF] * (2 * n)
-        while heap:
-            x_value, x = heapq.heappop(heap)
-            if x_value == INF:
-                break
-            if value[x] != INF:
-                continue
-            value[x] = x_value
-            for y, units in users[x]:
-                if value[y] != INF:
-                    continue
-                if y < n:  # one action of the robot role y is now known
-                    heapq.heappush(heap, (units + x_value, y))
-                else:
-                    waiting[y] -= 1
-                    if waiting[y] == 0:  # its last reply, so its largest (taken smallest first)
-                        heapq.heappush(heap, (x_value, y))
-        for i in range(n):
-            if value[i] > lo_r[i]:
-                lo_r[i] = value[i]
-            if value[n + i] > lo_h[i]:
-                lo_h[i] = value[n + i]
+        return users, waiting, heap
 
     def _qualitative(self) -> None:
         """Positions the human can keep from winning forever, found within what
@@ -532,3 +523,29 @@ class Search:
         return {"calls": self.calls, "rounds": self.rounds, "positions": len(self.keys),
                 "proven": len(self.hi_r) + len(self.hi_h), "closures": self.closures,
                 "qualitative": self.explored, "tightened": self.tightened}
+
+
+def _least_solution(users: list[list[tuple[int, int]]], waiting: list[int], heap: list[tuple[float, int]],
+                    n: int) -> list[float]:
+    """Knuth's generalization of Dijkstra's algorithm on `Search._equations`:
+    each role's least value, smallest first (a robot role at its first
+    action known, a human role at its last reply), INF where none."""
+    heapq.heapify(heap)
+    value = [INF] * (2 * n)
+    while heap:
+        x_value, x = heapq.heappop(heap)
+        if x_value == INF:
+            break
+        if value[x] != INF:
+            continue
+        value[x] = x_value
+        for y, units in users[x]:
+            if value[y] != INF:
+                continue
+            if y < n:  # one action of the robot role y is now known
+                heapq.heappush(heap, (units + x_value, y))
+            else:
+                waiting[y] -= 1
+                if waiting[y] == 0:  # its last reply, so its largest (taken smallest first)
+                    heapq.heappush(heap, (x_value, y))
+    return value
