@@ -74,6 +74,7 @@ class Backward:
         self.step, self.end = self._closure()  # (END: X f false, WX f true)
         if max_obligations is not None and len(self.step) > max_obligations:
             raise TooLarge(f"more than {max_obligations} obligations")
+        self._order_obligations()
         self.reach = self._reachable()
         # H_o only matters on Reach (every T below is false outside it): CUDD's restrict
         # drops nodes that tell apart vectors outside Reach
@@ -98,6 +99,21 @@ class Backward:
             end[name] = not strong
             todo.extend(v for v in self.bdd.support(step[name]) if v not in step)
         return step, end
+
+    def _order_obligations(self) -> None:
+        """The obligations on the least nested operands highest, `X phi`'s
+        (phi nests the most) lowest, on the levels they occupied (every
+        other variable stays where it was).  A set is then decided by the
+        inner obligations first: urright12's successors 2.1x faster than in
+        the order of discovery (the root first), urright13's 2.6x; the
+        reverse (the root's operand's first parts highest) is 1.5x slower.
+        The states are the same sets, numbered alike (the letters above)."""
+        bdd = self.bdd
+        names = sorted(self.step, key=bdd.level_of_var)
+        wanted = sorted(names, key=lambda name: ast.depth(self.progression.meaning(name)[1]))  # (stable)
+        order = {var: bdd.level_of_var(var) for var in bdd.vars}
+        order.update(zip(wanted, [order[name] for name in names]))
+        bdd.reorder(order)
 
     def _reachable(self) -> Function:
         """Reach = mu R. END | image(R), image(R)(u') = \\E a, u: R(u) & /\\_o u'_o <-> H_o(a, u)."""
