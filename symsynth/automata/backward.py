@@ -124,6 +124,8 @@ class Backward:
         bdd = self.bdd
         names = sorted(self.step, key=bdd.level_of_var)
         wanted = sorted(names, key=nesting)  # (stable: ties keep their order)
+        if wanted == names:
+            return
         order = {var: bdd.level_of_var(var) for var in bdd.vars}
         order.update(zip(wanted, [order[name] for name in names]))
         bdd.reorder(order)
