@@ -14,11 +14,12 @@ from hypothesis import strategies as st
 from support.reference import all_traces, distinguishing_trace, minimal_num_states, reference_dfa
 from support.strategies import formulas, traces
 from symsynth.automata import compile_ltlf
-from symsynth.automata.backward import backward_dfa
+from symsynth.automata.backward import Backward, backward_dfa
 from symsynth.automata.bdd import cofactor
 from symsynth.automata.normal import nnf
 from symsynth.automata.progression import Progression, TooLarge
 from symsynth.logic import ast, atoms, holds, parse_ltlf, to_string
+from symsynth.logic.ast import depth
 
 SETTINGS = settings(max_examples=150, deadline=None)
 
@@ -106,3 +107,18 @@ def test_past_the_state_budget_it_stops():
     formula = nnf(parse_ltlf("p1 U (p2 R (p3 U (p4 R p5)))"))
     with pytest.raises(TooLarge):
         backward_dfa(Progression(keys(formula)), formula, max_states=5)
+
+
+def test_the_obligations_on_the_least_nested_operands_come_first():
+    """The order `Backward` puts its obligations in (the successors' cost
+    depends on it, not the result): least nested operand highest, `X phi`
+    lowest, the atoms left on the levels above them."""
+    formula = nnf(parse_ltlf("p1 U (p2 R (p3 U (p4 R (p5 U p6))))"))
+    progression = Progression(keys(formula))
+    automaton = Backward(progression, formula)
+    bdd = progression.bdd
+    names = sorted(automaton.step, key=bdd.level_of_var)
+    depths = [depth(progression.meaning(name)[1]) for name in names]
+    assert depths == sorted(depths) and len(set(depths)) == len(depths) == 5
+    assert names[-1] == bdd.support(automaton.start).pop()  # X phi, phi the whole formula
+    assert [bdd.level_of_var(key) for key in keys(formula)] == list(range(6))
