@@ -31,7 +31,7 @@ from ltlf_generated import generated  # noqa: E402
 
 CHILD = r'''
 import json, sys, time
-from symsynth.automata import choice, compose
+from symsynth.automata import choice, compiler, compose
 from symsynth.logic.parser import parse_ltlf
 formula = parse_ltlf(sys.stdin.read(), next_semantics="weak")
 reason = choice.rule(formula)
@@ -42,14 +42,14 @@ def counted(self, f):
     return original(self, f)
 compose.Composer.compose = counted
 backward = []
-built_backward = compose.backward_dfa
+built_backward = compiler.backward_dfa
 def counted_backward(*args, **kwargs):
     found = built_backward(*args, **kwargs)
     backward.append(1)
     return found
-compose.backward_dfa = counted_backward
+compiler.backward_dfa = counted_backward
 start = time.process_time()
-dfa = compose.compile_ltlf(formula, construction=sys.argv[1])
+dfa = compiler.compile_ltlf(formula, construction=sys.argv[1])
 print(json.dumps({"states": dfa.num_states, "cpu": round(time.process_time() - start, 3),
                   "ran": "compositional" if used else "backward" if backward else "progression",
                   "rule": reason}))

@@ -9,7 +9,7 @@ from __future__ import annotations
 import pytest
 
 from support.reference import distinguishing_trace, minimal_num_states, reference_dfa
-from symsynth.automata import choice, compile_ltlf, compose
+from symsynth.automata import choice, compile_ltlf, compiler, compose
 from symsynth.logic import atoms, parse_ltlf
 
 
@@ -136,13 +136,13 @@ def test_limits_and_the_named_constructions_are_kept(composed):
 def went_backward(monkeypatch):
     """The formulas the backward construction built."""
     calls = []
-    original = compose.backward_dfa
+    original = compiler.backward_dfa
 
     def counted(progression, formula, *args, **kwargs):
         calls.append(formula)
         return original(progression, formula, *args, **kwargs)
 
-    monkeypatch.setattr(compose, "backward_dfa", counted)
+    monkeypatch.setattr(compiler, "backward_dfa", counted)
     return calls
 
 
@@ -174,8 +174,8 @@ def test_deep_until_release_alternation_goes_backward(went_backward, composed):
 def test_past_the_obligations_allowed_it_is_progressed(monkeypatch, went_backward, composed):
     eight = "p1 U (p2 R (p3 U (p4 R (p5 U (p6 R (p7 U (p8)))))))"  # 7 obligations
     progressed = []
-    original = compose.Progression.dfa
-    monkeypatch.setattr(compose.Progression, "dfa", lambda self, *a: progressed.append(1) or original(self, *a))
+    original = compiler.Progression.dfa
+    monkeypatch.setattr(compiler.Progression, "dfa", lambda self, *a: progressed.append(1) or original(self, *a))
     monkeypatch.setattr(choice, "AUTO_OBLIGATIONS", 6)
     assert compile_ltlf(eight).num_states == 110
     assert len(went_backward) == 1 and progressed and not composed  # tried, refused before any state

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-import symsynth.automata.compose as compose
+import symsynth.automata.compiler as compiler
 import symsynth.automata.shared as shared
 from support.paper import SCENES
 from symsynth.cli import main
@@ -17,12 +17,12 @@ from symsynth.problem import load_problem, solve
 def compiles(monkeypatch) -> list:
     """Every DFA construction of a task (`compile_ltlf`'s work, wherever it is called from)."""
     made: list = []
-    construct = compose._compile
+    construct = compiler._compile
 
     def counted(formula, *options):
         made.append(formula)
         return construct(formula, *options)
-    monkeypatch.setattr(compose, "_compile", counted)
+    monkeypatch.setattr(compiler, "_compile", counted)
     shared._kept.clear()
     getattr(shared, "_ordered", {}).clear()
     return made

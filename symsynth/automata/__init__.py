@@ -1,7 +1,7 @@
 """LTLf to minimal DFA: explicit per-conjunct progression, symbolic product,
 symbolic minimization.  The result is a `SymbolicDFA` over `dd` BDDs."""
 
-from symsynth.automata.compose import compile_ltlf
+from symsynth.automata.compiler import compile_ltlf
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.symbolic import SymbolicDFA
 

@@ -23,7 +23,7 @@ from collections import OrderedDict
 from collections.abc import Callable
 
 from symsynth.automata.bdd import BDD, new_manager
-from symsynth.automata.compose import compile_ltlf
+from symsynth.automata.compiler import compile_ltlf
 from symsynth.automata.symbolic import SymbolicDFA
 from symsynth.logic import ast
 

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import get_args
 
 from symsynth.automata import SymbolicDFA, compile_ltlf
-from symsynth.automata.compose import Construction
+from symsynth.automata.compiler import Construction
 from symsynth.automata.growth import StateLimitReached, watched
 from symsynth.cli.options import count
 from symsynth.cli.progress import bar
