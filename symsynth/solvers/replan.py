@@ -98,7 +98,7 @@ class NoHumanValue:
         self.questions += 1
         try:
             lower, upper, _ = self._andor._search(memo, i, None)
-        except self._andor._ZeroCost:
+        except self._andor.ZeroCost:
             raise OutOfReach("a robot move of this game costs 0 units: the AND-OR search that finds the "
                              "replanning strategy's plans does not answer such games") from None
         if lower is not None:  # pragma: no cover - the search without a deadline is exact
