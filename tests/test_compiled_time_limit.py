@@ -1,0 +1,155 @@
+"""`solve --solver compiled --time-limit S` (symsynth/solvers/compiled.py,
+packed/deadline.py): the layered solve when it is predicted to end in time
+(then exact), else the AND-OR search on the same tables in the time left:
+an interval [lower, upper] that holds the exact value (the explicit
+solver's), with a strategy that pays at most upper against every human.
+The clock ticks once per look (`TickClock`) and the AND-OR search's
+questions are cut every few steps, so each limit stops the same way on
+every machine; no test is timed."""
+
+from __future__ import annotations
+
+import itertools
+import re
+import sys
+import weakref
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from symsynth.cli import main
+from symsynth.logic import parse_ltlf
+from symsynth.solvers import andor, compiled
+from symsynth.solvers.explicit import solve_explicit
+from symsynth.solvers.packed import deadline
+from symsynth.testing.gamegen import alike_scene, random_scene
+from support.games import TickClock, worst_case_of
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
+from gamefamily import pattern_data  # noqa: E402
+
+
+def _scene(seed):
+    if seed % 4 == 0:
+        return alike_scene(seed, contacts=seed % 8 == 0)
+    return random_scene(5000 + seed, positive=True, contacts=seed % 3 == 0)
+
+
+def _ticked(monkeypatch, chunk):
+    """Every clock a tick per look, the search's questions cut every `chunk` steps."""
+    andor.prepare()  # compiled before the clock is replaced
+    monkeypatch.setattr(andor, "CHUNK", chunk)
+    monkeypatch.setattr(andor.time, "perf_counter", TickClock())
+
+
+def test_layer_sizes_and_the_prediction_by_hand():
+    # layers 3 and 2 closed (100 and 250 nodes), layer 2's human moves have seeded 30 of layer 1
+    lo = np.array([0, 350, 100, 0])  # lo[0] unset yet
+    sizes, passed = deadline.layer_sizes(2, 380, lo, 200)
+    assert sizes == [100, 250, 30]
+    assert passed == 2 * 100 + 250 + (200 - 100)  # layer 3 twice, layer 2's robot pass, half its human one
+    # growth 2.5 from layer 3 to 2, its excess halving: 250 * 2.5 = 625, then 625 * 1.75
+    assert deadline.predicted_sizes(sizes, 3) == [100, 250, 625, 1093.75]
+    assert deadline.passes([100, 250, 625, 1093.75]) == 2 * (100 + 250 + 625) + 1093.75
+    # layer 3 still closing: only what it holds, then FIRST_RATIO with its excess halving
+    assert deadline.layer_sizes(3, 40, np.zeros(4, np.int64), 8) == ([40], 8)
+    r = deadline.FIRST_RATIO
+    assert deadline.predicted_sizes([40], 2) == [40, 40 * (1 + (r - 1) / 2), 40 * (1 + (r - 1) / 2) * (1 + (r - 1) / 4)]
+
+
+def test_in_time_the_layered_solve_answers_exactly():
+    for seed in range(16):
+        scene = _scene(seed)
+        k = seed % 4
+        got = compiled.solve_compiled(scene, k=k, time_limit=3600)
+        assert got.exact and "handed_over" not in got.stats, seed
+        assert got.units == solve_explicit(scene, k=k).units, seed
+
+
+def test_intervals_hold_the_exact_value_when_it_hands_over(monkeypatch):
+    """Limits of a few ticks: the layered solve runs out of them and hands
+    the game to the search (or finishes, at the larger ones); every answer
+    holds the explicit solver's value, and a strategy for upper pays at most
+    upper against every human behaviour."""
+    kinds = {"layered": 0, "handed over, exact": 0, "interval": 0, "upper": 0}
+    for (chunk, limit), seed in itertools.product([(10, 4), (20, 12), (40, 24), (80, 40), (20, 60), (10, 100), (80, 400)],
+                                                  itertools.islice((s for s in range(60) if s % 4), 12)):
+        scene = _scene(seed)
+        k = 1 + seed % 3
+        exact = solve_explicit(scene, k=k).units
+        _ticked(monkeypatch, chunk)
+        try:
+            found = compiled.solve_compiled(scene, k=k, time_limit=limit)
+        finally:
+            monkeypatch.undo()
+        if "handed_over" not in found.stats:
+            kinds["layered"] += 1
+            assert found.exact and found.units == exact, seed
+            continue
+        assert found.stats["handed_over"].startswith("the layered solve "), found.stats
+        if found.exact:
+            kinds["handed over, exact"] += 1
+            assert found.units == exact, seed
+            continue
+        kinds["interval"] += 1
+        assert exact is None or found.lower_units <= exact, seed
+        if found.units is not None:
+            kinds["upper"] += 1
+            assert exact is not None and exact <= found.units, seed
+            assert worst_case_of(scene, found, parse_ltlf(scene.task)) <= found.units, seed
+    assert min(kinds.values()) >= 3, kinds
+
+
+def test_a_prediction_beyond_the_limit_hands_over_at_once(monkeypatch):
+    """A predicted size past the limit stops the layered solve at its first
+    batch; the search, with the whole limit, proves the exact value."""
+    monkeypatch.setattr(deadline, "predicted_sizes", lambda sizes, k: [1e15] * (k + 1))
+    for seed in (1, 2, 5):
+        scene = _scene(seed)
+        got = compiled.solve_compiled(scene, k=2, time_limit=3600)
+        assert "was predicted to take about" in got.stats["handed_over"], got.stats
+        assert got.exact and got.units == solve_explicit(scene, k=2).units, seed
+
+
+def test_the_layered_arrays_are_gone_when_the_search_runs(monkeypatch):
+    """Peak memory: the explored arrays go with the layered solve's frames
+    before the search starts (`lo` stands for them)."""
+    seen = []
+    search = andor.search_tables
+
+    def stop(self, h, nodes, lo, done):
+        seen.append(weakref.ref(lo))
+        raise deadline.HandOver("was stopped by the test")
+
+    def searched(*args, **kwargs):
+        assert seen and seen[0]() is None, "the layered arrays are still held"
+        return search(*args, **kwargs)
+
+    monkeypatch.setattr(deadline.Deadline, "check", stop)
+    monkeypatch.setattr(andor, "search_tables", searched)
+    got = compiled.solve_compiled(_scene(1), k=2, time_limit=3600)
+    assert got.stats["handed_over"].startswith("the layered solve was stopped by the test")
+
+
+def test_the_command_prints_the_interval_and_why(monkeypatch, capsys, tmp_path):
+    """`symsynth solve --solver compiled --time-limit`: the solver line says
+    the layered solve handed over and why, E_p is printed as the proven
+    interval, and the interval holds the exact value."""
+    from symsynth.scene import load_scene
+
+    path = tmp_path / "pattern.yaml"
+    path.write_text(yaml.safe_dump(pattern_data(2, 4, k=1)))
+    exact = solve_explicit(load_scene(path)).cost_bound
+    _ticked(monkeypatch, 10)
+    assert main(["solve", str(path), "--solver", "compiled", "--time-limit", "20"]) == 0
+    monkeypatch.undo()
+    out = capsys.readouterr().out
+    assert "\nsolver     compiled\n           the layered solve was predicted to take about " in out, out
+    assert "the AND-OR search answered in the " in out
+    lower, upper = map(int, re.search(r"^E_p\s+in \[(\d+), (\d+)\]: not proven within the time limit", out,
+                                      re.M).groups())
+    assert lower <= exact <= upper and lower < upper, out
+    assert f"<= {upper}, the upper end" in out
+
