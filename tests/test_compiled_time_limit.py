@@ -153,3 +153,14 @@ def test_the_command_prints_the_interval_and_why(monkeypatch, capsys, tmp_path):
     assert lower <= exact <= upper and lower < upper, out
     assert f"<= {upper}, the upper end" in out
 
+
+def test_auto_gives_the_compiled_solver_the_limit(monkeypatch):
+    """`auto` with a time limit picks the compiled solver for a game its
+    tables hold, and passes the limit on: a prediction past it hands over."""
+    from symsynth.solvers.auto import solve_auto
+
+    monkeypatch.setattr(deadline, "predicted_sizes", lambda sizes, k: [1e15] * (k + 1))
+    scene = _scene(5)
+    got = solve_auto(scene, k=2, time_limit=3600)
+    assert got.stats["auto"] == "compiled" and "handed_over" in got.stats, got.stats
+    assert got.units == solve_explicit(scene, k=2).units
