@@ -59,6 +59,25 @@ def test_layer_sizes_and_the_prediction_by_hand():
     assert deadline.predicted_sizes([40], 2) == [40, 40 * (1 + (r - 1) / 2), 40 * (1 + (r - 1) / 2) * (1 + (r - 1) / 4)]
 
 
+
+def test_the_deadline_by_hand():
+    """A limit of 10 s (ends at 9 s, the reserve left to the search): a
+    batch past 9 s stops, one predicted past it stops, one predicted before
+    it goes on; the solve is refused when exploring left too little for it."""
+    def deadline_at(*times):
+        return deadline.Deadline(10, clock=iter(times).__next__)  # start, then one time per look
+
+    lo = np.zeros(4, np.int64)
+    with pytest.raises(deadline.HandOver, match="was not done after 9.5 s"):
+        deadline_at(0, 9.5).check(3, 10, lo, 1)
+    # 100 nodes of layer 3 in 1 s: 100 * 2.5 * 1.75 * ... nodes, about 21 passes per node seen
+    with pytest.raises(deadline.HandOver, match="was predicted to take about"):
+        deadline_at(0, 1).check(3, 100, lo, 100)
+    deadline_at(0, 0.1).check(3, 100, lo, 100)  # 0.1 s * 21 * 1.6: well before 9 s
+    deadline_at(0, 2).check_solve(2.0, 100)  # 2 s + 0.6 * 2 s <= 9 s
+    with pytest.raises(deadline.HandOver, match="too late to solve"):
+        deadline_at(0, 7).check_solve(7.0, 100)
+
 def test_in_time_the_layered_solve_answers_exactly():
     for seed in range(16):
         scene = _scene(seed)
