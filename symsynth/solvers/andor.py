@@ -126,6 +126,9 @@ class Memo:
         self.rm_move = np.empty(nodes * 4, np.int32)
         self.hm_tgt = np.empty(nodes * 8, np.int32)
         self.chunk: int | None = None  # questions between two looks at the clock; None: CHUNK
+        #: a time past which every question stops where its chunk ends, raising `CutOff`
+        #: (set by a caller whose questions take no deadline of their own: `solvers.replan`)
+        self.cutoff: float | None = None
         self.st = np.zeros(9, np.int64)
         self.st[sk.ST_BITS] = self.bits
         self.st[sk.ST_DEPTH] = 256
@@ -180,7 +183,7 @@ class Memo:
         while True:
             st[sk.ST_ABORT] = 0
             chunk = self.chunk or CHUNK
-            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (chunk if deadline is None else chunk // 4)
+            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (chunk if deadline is None and self.cutoff is None else chunk // 4)
             ok = sk._ask(np.int64(i), np.int64(b), np.int64(robot), self.P, self.G, self.B, self.M(), self.S())
             why = int(st[sk.ST_ABORT])
             if why == 0:
@@ -196,6 +199,8 @@ class Memo:
                 self.frames = np.empty((depth, 5), np.int64)
             elif deadline is not None and time.perf_counter() > deadline:
                 return None
+            elif self.cutoff is not None and time.perf_counter() > self.cutoff:
+                raise CutOff
 
     def lo_h(self, i: int) -> int:
         return int(max(self.rec[i, sk.LO_H], self.rec[i, sk.LO_R]))
@@ -215,6 +220,10 @@ def _grown(a: np.ndarray, size: int) -> np.ndarray:
 
 class ZeroCost(Exception):
     """The search met a robot move of 0 units (module doc): the layered solver answers."""
+
+
+class CutOff(Exception):
+    """A question ran past `Memo.cutoff`: what it proved on the way is kept."""
 
 
 class _TooManyRounds(Exception):
