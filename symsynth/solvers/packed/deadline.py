@@ -11,16 +11,20 @@ about the same each (6 x 8: 1.6-2.8 us per node and pass), and after each
 batch the sizes of the closed layers are known and the growing one is at
 least what it holds.  The prediction:
 
-- layer sizes: each layer still to come has `ratio` times the nodes of
-  the one before, where `ratio` is the growth between the last two closed
-  layers (`FIRST_RATIO` while fewer than two are closed, raised to what
-  the growing layer already shows), and its excess over 1 halves from
-  each layer to the next.  On the pattern family the excess falls faster
-  (5 x 7: ratios 2.07, 1.10, 1.01; 6 x 8: 2.36, 1.19, 1.02), so the
-  prediction is high early and close once two layers are closed;
+- layer sizes: the growing layer has at least `ratio` times the nodes of
+  the one before, and each later layer grows over the one before it by
+  half the excess over 1 of the step before (ratios r, 1 + (r - 1) / 2,
+  1 + (r - 1) / 4, ...); `ratio` is the growth between
+  the last two closed layers, or `FIRST_RATIO` while fewer than two are
+  closed, raised to what the growing layer already shows.  Measured
+  ratios: pattern 5 x 7 2.07, 1.10, 1.01; 6 x 8 2.36, 1.19, 1.02; sorting
+  8 x 12 1.28, 1.04, 1.00.  So `FIRST_RATIO` assumes little (the human
+  pass over layer k shows the real growth soon after), and the halving is
+  slower than the fall measured;
 - seconds: the seconds per node passed so far, times the passes left;
-  solving then takes `SOLVE_SHARE` of exploring (measured 0.13 at pattern
-  5 x 7, 0.43-0.54 at 6 x 8, 0.26 for sorting 8 x 12).
+  solving then takes `SOLVE_SHARE` of exploring (measured 0.13-0.27 at
+  pattern 5 x 7, 0.32-0.54 at 6 x 8, 0.20-0.26 for sorting 8 x 12; the
+  reserve below covers the rest).
 
 The layered solve goes on while it is predicted to end before the limit
 less `RESERVE` of it, and stops when that time has passed: a prediction
@@ -34,10 +38,11 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-#: Growth of layer k - 1 over layer k assumed before it is seen (the pattern family: 2.07-2.36)
-FIRST_RATIO = 2.5
-#: Seconds of the bottom-up solve per second of exploring, kept above what was measured
-SOLVE_SHARE = 0.6
+#: Growth of layer k - 1 over layer k assumed before it is seen (measured 1.28-2.36)
+FIRST_RATIO = 1.3
+#: Seconds of the bottom-up solve per second of exploring (measured 0.13-0.54; an uninterruptible
+#: kernel call, so a solve above it eats into the reserve, never past the limit up to 0.56)
+SOLVE_SHARE = 0.45
 #: Share of the limit always left to the AND-OR search
 RESERVE = 0.1
 
