@@ -472,8 +472,8 @@ def main(argv=None):
     p.add_argument("--limit", action="append", default=[], metavar="SOLVER=NxM",
                    help="run SOLVER only up to size NxM (in the order of --sizes); repeatable")
     p.add_argument("--time-limit", type=float, default=0.0, metavar="S",
-                   help="seconds of search given to every solver (they must take time_limit: forward, "
-                        "andor); an answer not proven in time is the interval [lower, upper]")
+                   help="seconds of search given to every solver that takes time_limit (forward, andor, "
+                        "compiled, auto); an answer not proven in time is the interval [lower, upper]")
     p.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"markdown file (default {DEFAULT_OUT})")
     args = p.parse_args(argv)
     if not args.time_limit >= 0:

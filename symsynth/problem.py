@@ -152,7 +152,7 @@ def solve(problem: Problem, solver: str = DEFAULT_SOLVER, *, budget: float | Non
     function = SOLVERS[solver]
     if "time_limit" not in inspect.signature(function).parameters:
         raise InputError(f"the {solver} solver does not stop at a time limit; "
-                         "use --solver forward or auto for an anytime answer")
+                         "use --solver auto, compiled, andor or forward for an anytime answer")
     return function(problem.scene, problem.formula, k=k, budget=budget, resolution=resolution,
                     time_limit=time_limit)
 

@@ -73,9 +73,10 @@ def test_the_cache_state_is_read_from_numba_cache():
 def test_a_time_limit_goes_to_an_exact_solver_when_the_game_fits_it():
     """With a time limit, the exact solver when it is expected to take at
     most half of it (the compile included when the kernels are cold), else
-    an anytime search: the AND-OR search where the compiled tables hold the
-    game and its kernels are ready (or compile in half the limit), the
-    forward search otherwise."""
+    the compiled solver with the limit (its layered solve, or the AND-OR
+    search it hands over to) where the compiled tables hold the game and the
+    kernels are ready (or compile in half the limit), the forward search
+    otherwise."""
     small = load_scene(ROOT / "scenes" / "arch-abstract.yaml")
     formula = task_formula(small, None)
     assert choose(small, formula, time_limit=10, compiled_ready=True)[0] == "compiled"
@@ -83,11 +84,12 @@ def test_a_time_limit_goes_to_an_exact_solver_when_the_game_fits_it():
     assert choose(small, formula, time_limit=0.5, compiled_ready=False)[0] == "forward"
     large = pattern_scene(6, 8)
     name, reason = choose(large, task_formula(large, None), time_limit=10, compiled_ready=True)
-    assert name == "andor" and "anytime" in reason
+    assert name == "compiled" and "anytime" in reason and "AND-OR search on the same tables" in reason
     name, reason = choose(large, task_formula(large, None), time_limit=60, compiled_ready=False)
-    assert name == "andor" and "compiled first" in reason
+    assert name == "compiled" and "compiled first" in reason
     name, reason = choose(large, task_formula(large, None), time_limit=10, compiled_ready=False)
     assert name == "forward" and "anytime" in reason  # no time to compile the kernels first
     assert choose(large, task_formula(large, None), time_limit=10, compiled_ready=True,
-                  refused={"andor"})[0] == "forward"
-    assert choose(large, task_formula(large, None), time_limit=3600, compiled_ready=True)[0] == "compiled"
+                  refused={"compiled"})[0] == "forward"
+    name, reason = choose(large, task_formula(large, None), time_limit=3600, compiled_ready=True)
+    assert name == "compiled" and "well above" in reason

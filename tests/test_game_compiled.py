@@ -305,17 +305,26 @@ def test_exploring_reports_its_progress_layer_by_layer():
     """The exploring loop calls back after every batch with the layer and the
     nodes found so far (what the terminal's bar shows): every layer that has
     nodes, from k down, counts that never fall and never pass the nodes
-    explored, and a call for every batch (of 4 nodes here)."""
+    explored, and a call for every batch (of 4 nodes here).  The layers'
+    first nodes passed with it give the closed layers' final sizes
+    (`deadline.layer_sizes`, which the time limit's prediction reads)."""
+    from symsynth.solvers.packed.deadline import layer_sizes
     from symsynth.solvers.packed.explore import explore
 
     scene = random_scene(3007, positive=True, contacts=False)
     formula = task_formula(scene, None)
     t = Tables(scene, formula, 1.0, None, 3)
     v0 = t.pack(initial_state(scene))
-    calls = []
+    calls, seen = [], []
     explored = explore(t.key(v0, t.step(t.dfa_index[t.dfa.initial], v0)), *t.kernel_args(batch=4),
-                       progress=lambda h, nodes: calls.append((h, nodes)))
+                       progress=lambda h, nodes, lo, done: (calls.append((h, nodes)),
+                                                            seen.append(layer_sizes(h, nodes, lo, done))))
     keys, lo, hi = explored[0], explored[2], explored[3]
+    final = [int(hi[h] - lo[h]) for h in range(3, -1, -1)]
+    for sizes, passed in seen:
+        assert sizes[:-1] == final[:len(sizes) - 1] and 0 <= sizes[-1] <= final[len(sizes) - 1], (sizes, final)
+        assert passed <= 2 * sum(final) - final[-1]
+    assert max(len(sizes) for sizes, _ in seen) >= 3
     assert [h for h, _ in calls] == sorted((h for h, _ in calls), reverse=True)
     assert {h for h, _ in calls} == {h for h in range(4) if hi[h] > lo[h]}
     assert all(a[1] <= b[1] for a, b in zip(calls, calls[1:]))

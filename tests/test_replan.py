@@ -76,3 +76,27 @@ def test_the_replanning_upper_end_holds_the_exact_value(monkeypatch, capsys):
             _report_value(scene, found)
             assert "upper end guaranteed by the replanning strategy" in capsys.readouterr().out, seed
     assert replanned >= 3, replanned
+
+
+def test_the_no_human_value_keeps_the_deadline(monkeypatch):
+    """Under a deadline, V_0's own searches stop at it too (they had none: one
+    V_0 at sorting 8 x 12 took 111 s of a 15 s share): with the clock past the
+    deadline and the search's questions cut every 16 steps (64 / 4 under a
+    deadline), the bound gives up before V_0 at the start is proven (52 steps
+    there), which it then reports unknown."""
+    import sys
+    from pathlib import Path
+
+    from symsynth.solvers import andor, replan
+    from support.games import TickClock
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
+    from gamefamily import pattern_scene
+
+    scene = pattern_scene(4, 6, k=2)
+    formula = parse_ltlf(scene.task)
+    andor.prepare()
+    monkeypatch.setattr(replan, "ORACLE_CHUNK", 64)
+    monkeypatch.setattr(andor.time, "perf_counter", TickClock())
+    bound = replanning_bound(scene, formula, 2, deadline=0.0)
+    assert not bound.complete and bound.upper is None and math.isnan(bound.v0)

@@ -72,7 +72,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--time-limit", type=options.positive, metavar="S",
                         help="seconds of search; if E_p is not proven by then, print a proven interval "
                              "[lower, upper] and a strategy that guarantees the upper end (solvers "
-                             "forward and auto)")
+                             "auto, compiled, andor and forward)")
     parser.add_argument("--resolution", type=options.positive, default=1.0, metavar="R",
                         help="round each action's cost up to a multiple of R (default: 1)")
     parser.add_argument("--json", action="store_true", help="print the solution as JSON")
@@ -187,6 +187,8 @@ def _report_problem(scene: Scene, task: str, solver: str, solution: Solution) ->
         print(f"solver     auto: {solution.stats['auto']}, as {solution.stats['auto_reason']}")
     else:
         print(f"solver     {solver}")
+    if "handed_over" in solution.stats:  # the compiled solver under a time limit
+        print(f"           {solution.stats['handed_over']}")
 
 
 def _upper_strategy(solution: Solution) -> str:
@@ -313,8 +315,11 @@ def _print_play(play: tuple[Step, ...], objects: tuple[str, ...]) -> None:
 
 
 def _counter_report(scene: Scene, solution: Solution) -> None:
-    play = solution.counter_play or ()
     print("No strategy wins: no robot strategy completes the task against every human behaviour.")
+    if solution.counter_play is None:  # lost, proven by a search that builds no counter play
+        print(f"Counter play {solution.stats.get('counter_play', 'not built')}.")
+        return
+    play = solution.counter_play
     if play:
         print("Counter play: a play the robot never wins, with the human's moves that defeat it "
               "(the robot takes its cheapest action).")

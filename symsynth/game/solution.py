@@ -48,6 +48,8 @@ class Solution:
       robot takes its cheapest action, until the robot has no action or the play
       comes back to a position it has visited.  When E_p exceeds the budget, the
       principal play (the human's answers that cost the best strategy too much).
+      None also when the robot loses but a time limit left no time to build the
+      play (the compiled solver's hand-over: `stats["counter_play"]` says so).
     """
 
     cost_bound: float | None

@@ -126,6 +126,9 @@ class Memo:
         self.rm_move = np.empty(nodes * 4, np.int32)
         self.hm_tgt = np.empty(nodes * 8, np.int32)
         self.chunk: int | None = None  # questions between two looks at the clock; None: CHUNK
+        #: a time past which every question stops where its chunk ends, raising `CutOff`
+        #: (set by a caller whose questions take no deadline of their own: `solvers.replan`)
+        self.cutoff: float | None = None
         self.st = np.zeros(9, np.int64)
         self.st[sk.ST_BITS] = self.bits
         self.st[sk.ST_DEPTH] = 256
@@ -180,7 +183,7 @@ class Memo:
         while True:
             st[sk.ST_ABORT] = 0
             chunk = self.chunk or CHUNK
-            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (chunk if deadline is None else chunk // 4)
+            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (chunk if deadline is None and self.cutoff is None else chunk // 4)
             ok = sk._ask(np.int64(i), np.int64(b), np.int64(robot), self.P, self.G, self.B, self.M(), self.S())
             why = int(st[sk.ST_ABORT])
             if why == 0:
@@ -188,7 +191,7 @@ class Memo:
             if why == sk.ABORT_ROOM:
                 self._grow()
             elif why == sk.ABORT_ZERO:
-                raise _ZeroCost
+                raise ZeroCost
             elif why == sk.ABORT_DEPTH:
                 depth = 2 * int(st[sk.ST_DEPTH])
                 st[sk.ST_DEPTH] = depth
@@ -196,6 +199,8 @@ class Memo:
                 self.frames = np.empty((depth, 5), np.int64)
             elif deadline is not None and time.perf_counter() > deadline:
                 return None
+            elif self.cutoff is not None and time.perf_counter() > self.cutoff:
+                raise CutOff
 
     def lo_h(self, i: int) -> int:
         return int(max(self.rec[i, sk.LO_H], self.rec[i, sk.LO_R]))
@@ -213,8 +218,12 @@ def _grown(a: np.ndarray, size: int) -> np.ndarray:
     return b
 
 
-class _ZeroCost(Exception):
+class ZeroCost(Exception):
     """The search met a robot move of 0 units (module doc): the layered solver answers."""
+
+
+class CutOff(Exception):
+    """A question ran past `Memo.cutoff`: what it proved on the way is kept."""
 
 
 class _TooManyRounds(Exception):
@@ -231,8 +240,8 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     strategy that guarantees `units` (None when none was proven in time).
     Games with a zero-cost robot move, and games the robot loses (for the
     counter play), are answered by the layered solver; with `time_limit`, a
-    zero-cost move is `OutOfReach` instead (the layered solver takes no
-    limit: `auto` goes on to the forward search)."""
+    zero-cost move is `OutOfReach` instead (the layered solver has no
+    anytime answer of its own: `auto` goes on to the forward search)."""
     from symsynth.solvers.compiled import solve_compiled
 
     k = check_parameters(scene, k, resolution)
@@ -240,11 +249,35 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     seconds = {} if took is None else {"compile": took}
     clock = time.perf_counter()
     formula = task_formula(scene, formula)
-    symmetry = Symmetry.of(scene, formula) if symmetric else None
-    tables = Tables(scene, formula, resolution, symmetry, k)
+    tables = Tables(scene, formula, resolution, Symmetry.of(scene, formula) if symmetric else None, k)
     check_width(tables, k)
-    memo = Memo(tables, BoundTables(tables, formula), k)
     seconds["tables"] = time.perf_counter() - clock
+    try:
+        solution = search_tables(tables, formula, budget, seconds, time_limit)
+    except (ZeroCost, _TooManyRounds) as why:
+        if time_limit is not None:  # (rounds run out only without a limit)
+            raise OutOfReach("a robot move of this game costs 0 units, which the AND-OR search hands to the "
+                             "layered solver, and that one has no anytime answer: drop the time limit, or "
+                             "use the forward search (--solver forward)") from None
+        return _layered(solve_compiled(scene, formula, k=k, budget=budget, resolution=resolution,
+                                       symmetric=symmetric), why.__doc__ or "")
+    if solution.exact and solution.units is None:  # lost: the layered solver's counter play
+        return _layered(solve_compiled(scene, formula, k=k, budget=budget, resolution=resolution,
+                                       symmetric=symmetric), "The robot loses: the layered solver's counter play.")
+    return solution
+
+
+def search_tables(tables: Tables, formula: ast.Formula, budget: float | None, seconds: dict[str, float],
+                  time_limit: float | None) -> Solution:
+    """The search on `tables` (built for k = `tables.k`), its seconds added to
+    `seconds`; with `time_limit` (seconds from now) an anytime answer.  A
+    game the robot loses is answered E_p infinite with no counter play;
+    raises `ZeroCost` (and, without a limit, `_TooManyRounds`) for the
+    layered solver to answer."""
+    scene, resolution, k, symmetry = tables.scene, tables.resolution, tables.k, tables.symmetry
+    clock = time.perf_counter()
+    memo = Memo(tables, BoundTables(tables, formula), k)
+    seconds["tables"] = seconds.get("tables", 0.0) + time.perf_counter() - clock
     v0 = initial_state(scene)
     q0 = tables.step(tables.dfa_index[tables.dfa.initial], tables.pack(v0))
     if tables.accepting[q0]:
@@ -254,19 +287,8 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     deadline = None if time_limit is None else clock + time_limit
     replan = None if time_limit is None else _replan_first(scene, formula, k, resolution,
                                                             clock + time_limit * REPLAN_SHARE)
-    try:
-        lower, upper, rounds = _search(memo, start, deadline)
-    except (_ZeroCost, _TooManyRounds) as why:
-        if time_limit is not None:  # (rounds run out only without a limit)
-            raise OutOfReach("a robot move of this game costs 0 units, which the AND-OR search hands to the "
-                             "layered solver, and that one takes no time limit: drop the time limit, or use "
-                             "the forward search (--solver forward)") from None
-        return _layered(solve_compiled(scene, formula, k=k, budget=budget, resolution=resolution,
-                                       symmetric=symmetric), why.__doc__ or "")
+    lower, upper, rounds = _search(memo, start, deadline)
     seconds["search"] = time.perf_counter() - clock
-    if upper is None and lower is None:  # lost: the layered solver's counter play
-        return _layered(solve_compiled(scene, formula, k=k, budget=budget, resolution=resolution,
-                                       symmetric=symmetric), "The robot loses: the layered solver's counter play.")
     clock = time.perf_counter()
     proof = Proof(memo)
     strategy: Mapping = ProvenStrategy(proof) if upper is not None else {}

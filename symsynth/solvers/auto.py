@@ -5,14 +5,17 @@ The rule follows side-by-side measurements on this project's game families
 (docs/solving.md, bench/results/game.md and game-sort.md), not a guess:
 
 1. a time limit: the exact solver of rule 2 when it is expected to take at
-   most half the limit (from `position_bound`, compile included), else a
-   solver that answers anytime (a proven interval and a strategy for its
-   upper end): the AND-OR search (`andor`, the forward search's algorithm
-   on the compiled solver's tables) where the compiled solver can hold the
-   game and its kernels are compiled, or their cold compile takes at most
-   half the limit (pattern family 6 x 8 x k = 3 with 60 s: `andor` exact,
-   649, in 19.9 s; `forward` [641, no upper end] at the limit;
-   bench/results/game-anytime.md), else the forward search;
+   most half the limit (from `position_bound`, compile included), else,
+   where the compiled solver can hold the game and its kernels (the AND-OR
+   search's too) are compiled, or their cold compile takes at most half
+   the limit, the compiled solver with the limit: its layered solve when
+   that is predicted to end in time (`packed.deadline`), else the AND-OR
+   search (`andor`, the forward search's algorithm on the same tables) in
+   the time left, which answers anytime (a proven interval and a strategy
+   for its upper end; pattern family 6 x 8 x k = 3 with 60 s: `andor`
+   exact, 649, in 19.9 s; `forward` [641, no upper end] at the limit;
+   bench/results/game-anytime.md); else the forward search.  The compiled
+   solver is given the limit in every case;
 2. a game the compiled solver can hold (at most 16 task atoms, a position
    in 62 bits): the compiled solver, the fastest wherever it fits (side by
    side on a quiet machine, pattern family 5 x 7: 0.43 s against 27.6 s for
@@ -66,17 +69,20 @@ def choose(scene: Scene, formula: ast.Formula, time_limit: float | None = None,
     `refused` (each said the game is out of its reach, `OutOfReach`);
     `compiled_ready` says whether the compiled solver's kernels are
     compiled (None: ask numba's cache, `compiled.kernels_cached`)."""
-    exact = _exact(scene, formula, scene.k if k is None else k, refused, compiled_ready)
+    k = scene.k if k is None else k
+    exact = _exact(scene, formula, k, refused, compiled_ready, andor=time_limit is not None)
     if time_limit is not None:
         if exact is not None and exact[2] <= time_limit / 2:
             return exact[0], (f"a time limit of {time_limit:g} s, well above what the exact solve is expected "
                               f"to take: {exact[1]}")
         ready = exact is not None and _kernels_ready(compiled_ready, andor=True)
-        if exact is not None and "andor" not in refused and (ready or COLD_COMPILE_SECONDS <= time_limit / 2):
-            return "andor", ("a time limit, and the game fits the compiled solver's tables: the AND-OR search "
-                             "on them answers anytime, faster than the forward search (measured on the "
-                             "pattern family)" + ("" if ready else f"; its kernels are compiled first (about "
-                                                  f"{COLD_COMPILE_SECONDS:.0f} s, once per install)"))
+        if exact is not None and (ready or COLD_COMPILE_SECONDS <= time_limit / 2):
+            return "compiled", ("a time limit, and the game fits the compiled solver's tables: its layered solve "
+                                "when that is predicted to end in time (exact), else the AND-OR search on the same "
+                                "tables in the time left, which answers anytime, faster than the forward search "
+                                "(measured on the pattern family)"
+                                + ("" if ready else f"; its kernels are compiled first (about "
+                                   f"{COLD_COMPILE_SECONDS:.0f} s, once per install)"))
         if "forward" not in refused:
             return "forward", "a time limit: the forward search is the solver that answers anytime"
     if exact is not None:
@@ -92,14 +98,15 @@ def choose(scene: Scene, formula: ast.Formula, time_limit: float | None = None,
 
 
 def _exact(scene: Scene, formula: ast.Formula, k: int, refused: Collection[str],
-           compiled_ready: bool | None) -> tuple[str, str, float] | None:
+           compiled_ready: bool | None, andor: bool = False) -> tuple[str, str, float] | None:
     """The compiled solver, or the explicit one when the compiled kernels
     would be compiled first for longer than the explicit solver takes:
     (name, reason, expected seconds, compile included); None when the
-    compiled solver refused the game."""
+    compiled solver refused the game.  With `andor` (a time limit, which
+    may hand the game to the AND-OR search), its kernels count too."""
     if "compiled" in refused:
         return None
-    compiled_ready = _kernels_ready(compiled_ready)
+    compiled_ready = _kernels_ready(compiled_ready, andor)
     positions = position_bound(scene, formula, k)
     fast = positions * COMPILED_SECONDS_PER_POSITION
     if compiled_ready:
@@ -158,7 +165,7 @@ def solve_auto(scene: Scene, formula: str | ast.Formula | None = None, *, k: int
     refused: dict[str, str] = {}
     while True:
         name, reason = choose(scene, formula, time_limit, refused, k=k)
-        options = {} if time_limit is None or name not in ("forward", "andor") else {"time_limit": time_limit}
+        options = {} if time_limit is None or name not in ("forward", "andor", "compiled") else {"time_limit": time_limit}
         try:
             solution = SOLVERS[name](scene, formula, k=k, budget=budget, resolution=resolution, **options)
         except OutOfReach as error:

@@ -41,6 +41,7 @@ limit; `--solver explicit` solves them, and `auto` goes on to it.
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 import threading
 import time
@@ -52,12 +53,14 @@ from tqdm import tqdm
 
 from symsynth.errors import InputError
 from symsynth.game.abstraction import in_costmap_units, initial_state
-from symsynth.game.solution import Solution, Step, check_parameters, task_formula, verdict, won_at_start
+from symsynth.game.solution import (OutOfReach, Solution, Step, check_parameters, task_formula, verdict,
+                                    won_at_start)
 from symsynth.game.symmetry import Symmetry
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.packed import kernels
 from symsynth.solvers.packed.graph import CompiledStrategy, Graph
+from symsynth.solvers.packed.deadline import Deadline, HandOver
 from symsynth.solvers.packed.explore import Progress, compile_growth, explore
 from symsynth.solvers.packed.kernels import INF, _solve
 from symsynth.solvers.packed.tables import BATCH, HUMAN_MOVES_KEPT, Tables, TooLarge, check_width
@@ -97,20 +100,37 @@ def explore_packed(scene: Scene, formula: ast.Formula, k: int, resolution: float
     ρ(v0) alone is accepted: nothing to play); `k` checked already.  The
     seconds of `tables`, `explore` and `solve` in `Packed.seconds`."""
     clock = time.perf_counter()
+    tables, start = packed_start(scene, formula, k, resolution, symmetric)
+    seconds = {"tables": time.perf_counter() - clock}
+    return None if start is None else explore_tables(tables, start, seconds, progress)
+
+
+def packed_start(scene: Scene, formula: ast.Formula, k: int, resolution: float,
+                 symmetric: bool) -> tuple[Tables, int | None]:
+    """The game's tables and the start's key (None when ρ(v0) alone is accepted)."""
     symmetry = Symmetry.of(scene, formula) if symmetric else None
     tables = Tables(scene, formula, resolution, symmetry, k)
     check_width(tables, k)
-    seconds = {"tables": time.perf_counter() - clock}
     v0 = initial_state(scene)
     q0 = tables.step(tables.dfa_index[tables.dfa.initial], tables.pack(v0))
     if tables.accepting[q0]:
-        return None
+        return tables, None
+    return tables, int(tables.key(tables.canon(tables.pack(v0)), q0))
+
+
+def explore_tables(tables: Tables, start: int, seconds: dict[str, float], progress: Progress | None = None,
+                   deadline: Deadline | None = None) -> Packed:
+    """`explore_packed` on built tables; with `deadline`, `HandOver` when the
+    solve would not end in time (the arrays are dropped on the way out)."""
     clock = time.perf_counter()
-    start = tables.key(tables.canon(tables.pack(v0)), q0)
+    if deadline is not None:
+        deadline.exploring()
     explored = explore(start, *tables.kernel_args(HUMAN_MOVES_KEPT, BATCH), progress=progress)
     seconds["explore"] = time.perf_counter() - clock
-    clock = time.perf_counter()
     keys, r_tgt = explored[0], explored[5]
+    if deadline is not None:
+        deadline.check_solve(seconds["explore"], len(keys))
+    clock = time.perf_counter()
     if max(len(keys), len(r_tgt)) >= 1 << 31:
         raise TooLarge("the compiled solver holds fewer than 2^31 nodes and robot moves; "
                        f"this game has {len(keys)} nodes and {len(r_tgt)} robot moves")
@@ -118,33 +138,61 @@ def explore_packed(scene: Scene, formula: ast.Formula, k: int, resolution: float
     if missing:
         raise RuntimeError(f"internal error: {missing} human moves left the explored nodes")
     seconds["solve"] = time.perf_counter() - clock
-    return Packed(tables, int(start), explored, rval, choice, int(top), seconds)
+    return Packed(tables, start, explored, rval, choice, int(top), seconds)
 
 
 def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
                    k: int | None = None, budget: float | None = None,
-                   resolution: float = 1.0, symmetric: bool = True) -> Solution:
-    """E_p, a strategy and plays, as `solve_explicit` computes them."""
+                   resolution: float = 1.0, symmetric: bool = True,
+                   time_limit: float | None = None) -> Solution:
+    """E_p, a strategy and plays, as `solve_explicit` computes them.  With
+    `time_limit` (seconds), the layered solve when it is predicted to end
+    in time (`packed.deadline`), else the AND-OR search on the same tables
+    in the time left (`andor.search_tables`): `Solution.lower_units <= E_p
+    <= units` when it proves no more, `stats["handed_over"]` saying why.
+    A game with a zero-cost robot move that the layered solve cannot finish
+    in time is `OutOfReach` (the search does not take it)."""
     k = check_parameters(scene, k, resolution)
-    took = compile_kernels()  # the first solve of the process only
+    took = compile_kernels() if time_limit is None else _prepare_search()
     seconds = {} if took is None else {"compile": took}
+    deadline = None if time_limit is None else Deadline(time_limit)
     clock = time.perf_counter()
     formula = task_formula(scene, formula)
+    tables, start = packed_start(scene, formula, k, resolution, symmetric)
     seconds["tables"] = time.perf_counter() - clock
-    # a bar of the nodes found, layer by layer, on a terminal once exploring takes over a second
+    if start is None:
+        return won_at_start(scene, k, resolution, budget, seconds | {"explore": 0.0, "solve": 0.0})
+    try:
+        packed = _explore_with_bar(tables, start, seconds, deadline)
+    except HandOver as why:
+        reason = f"the layered solve {why}"
+    else:
+        return _answer(packed, budget)
+    assert deadline is not None  # HandOver comes from a deadline only
+    return _hand_over(tables, formula, budget, seconds, deadline, reason)
+
+
+def _explore_with_bar(tables: Tables, start: int, seconds: dict[str, float], deadline: Deadline | None) -> Packed:
+    """`explore_tables` with a bar of the nodes found, layer by layer, on a
+    terminal once exploring takes over a second (and the deadline checked)."""
+    k = tables.k
     with tqdm(desc="compiled solver: exploring", unit=" nodes", unit_scale=True, delay=1.0, leave=False,
               disable=None) as bar:
-        def progress(h: int, nodes: int) -> None:
+        def progress(h: int, nodes: int, lo: np.ndarray, done: int) -> None:
             bar.update(nodes - bar.n)
             bar.set_postfix_str(f"layer h = {h} of {k}", refresh=False)
+            if deadline is not None:
+                deadline.check(h, nodes, lo, done)
 
-        packed = explore_packed(scene, formula, k, resolution, symmetric=symmetric, progress=progress)
-    if packed is None:
-        return won_at_start(scene, k, resolution, budget, seconds | {"explore": 0.0, "solve": 0.0})
-    seconds["tables"] += packed.seconds.pop("tables")
-    seconds |= packed.seconds
+        return explore_tables(tables, start, seconds, progress, deadline)
+
+
+def _answer(packed: Packed, budget: float | None) -> Solution:
+    """The solved layers as a Solution: E_p, the worst-case strategy, plays."""
+    seconds = packed.seconds
     clock = time.perf_counter()
     tables, explored = packed.tables, packed.explored
+    scene, k, resolution = tables.scene, tables.k, tables.resolution
     keys, hflag, r_tgt, human_moves = explored[0], explored[1], explored[5], int(explored[7])
     graph = Graph(tables, explored[:7], packed.rval, packed.choice)
     result = None if packed.top >= INF else packed.top
@@ -164,7 +212,36 @@ def solve_compiled(scene: Scene, formula: str | ast.Formula | None = None, *,
     solution = Solution(None if result is None else in_costmap_units(result, resolution), result, resolution, budget,
                         realizable, k, len(keys) + humans, seconds, strategy, principal, counter,
                         scene.object_names, stats)
-    return solution if packed.tables.symmetry is None else packed.tables.symmetry.realize(solution)
+    return solution if tables.symmetry is None else tables.symmetry.realize(solution)
+
+
+def _hand_over(tables: Tables, formula: ast.Formula, budget: float | None, seconds: dict[str, float],
+               deadline: Deadline, reason: str) -> Solution:
+    """The AND-OR search on `tables` in the time the limit has left (the
+    layered arrays are gone by now), its stats saying why it answered."""
+    from symsynth.solvers import andor
+
+    seconds["explore"] = deadline.clock() - deadline.explore_start  # until the hand-over
+    reason += f"; the AND-OR search answered in the {max(deadline.left(), 0.0):.1f} s left"
+    try:
+        solution = andor.search_tables(tables, formula, budget, seconds, max(deadline.left(), 0.0))
+    except andor.ZeroCost:
+        raise OutOfReach(f"{reason.split(';')[0]}, and the AND-OR search that answers anytime does not take "
+                         "a game with a robot move of 0 units: drop the time limit, or use the forward search "
+                         "(--solver forward)") from None
+    stats = dict(solution.stats) | {"handed_over": reason}
+    if solution.exact and solution.units is None:  # lost, proven by the search: no layered counter play
+        stats["counter_play"] = "not built: the layered solve that builds it would not end within the limit"
+    return dataclasses.replace(solution, stats=stats)
+
+
+def _prepare_search() -> float | None:
+    """The layered solver's kernels and the AND-OR search's, compiled or
+    loaded (a time limit may hand the game over): the seconds, None when
+    this process has them already."""
+    from symsynth.solvers import andor
+
+    return andor.prepare()
 
 
 _compiled = False  # compile_kernels has run in this process

@@ -23,8 +23,10 @@ import numpy as np
 from symsynth.solvers.packed.kernels import (_grow, _human_batch, _human_layer, _insert, _rehash, _robot_batch,
                                              _robot_layer, _room_nodes, _table)
 
-#: progress(h, nodes): called after each batch with the layer and the nodes found so far
-Progress = Callable[[int, int], None]
+#: progress(h, nodes, lo, done): called after each batch with the layer, the nodes found so far,
+#: the layers' first nodes and the end of the batch whose moves were generated (`packed.deadline`
+#: reads them); it may raise to stop exploring, and the arrays go with explore's frame
+Progress = Callable[[int, int, np.ndarray, int], None]
 
 
 def explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_starts, samples_mask,
@@ -85,7 +87,7 @@ def explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_
                              atom_at, free_at, free_all, trans, accepting, class_members, class_offsets,
                              place_rank, rank_place, code_bits)
                 if progress is not None:
-                    progress(h, int(st[1]))
+                    progress(h, int(st[1]), lo, int(b1))
             _robot_layer(st, lo[h], b0, b1, room, keys, hflag, r_off, r_tgt, r_move, table, bits, out, mvb, cnt)
             if st[0] == b1:
                 continue
@@ -117,7 +119,7 @@ def explore(start, n, m, F, pb, eb, gb, qbits, k, anchor_at, anchor_count, home_
                              atom_at, free_at, free_all, trans, accepting, obj_class, obj_pos, class_members,
                              class_offsets, place_rank, rank_place)
                 if progress is not None:
-                    progress(h, int(st[1]))
+                    progress(h, int(st[1]), lo, int(b1))
             _human_layer(st, lo[h - 1], b0, b1, room, keys, h_off, h_tgt, table, bits, out, cnt)
             if st[0] == b1:
                 continue
