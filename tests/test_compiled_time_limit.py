@@ -137,6 +137,37 @@ def test_a_prediction_beyond_the_limit_hands_over_at_once(monkeypatch):
         assert got.exact and got.units == solve_explicit(scene, k=2).units, seed
 
 
+def test_the_memory_prediction_by_hand(monkeypatch):
+    """A million nodes in 100 MB, ten million predicted: 1 GB for the layers
+    and 12 bytes a node to solve them, 1.12 GB in all; more than 80 % of
+    1.2 GB hands over, within 80 % of 2 GB goes on; where the memory is not
+    known, or before a million nodes, nothing is predicted."""
+    def deadline_with(memory):
+        resident = iter([0, 100_000_000]).__next__  # at the start, then at the check
+        return deadline.Deadline(10, clock=lambda: 0.0, memory=memory, resident=resident)
+
+    with pytest.raises(deadline.HandOver, match=r"need about 1\.1 GB for 10,000,000 nodes, more than 80% of the 1\.2 GB"):
+        deadline_with(1_200_000_000)._check_memory(1_000_000, 10_000_000)
+    deadline_with(2_000_000_000)._check_memory(1_000_000, 10_000_000)
+    deadline_with(2_000_000_000)._check_memory(999_999, 10 ** 12)
+    monkeypatch.setattr(deadline, "available_memory", lambda: None)
+    deadline.Deadline(10, clock=lambda: 0.0)._check_memory(10 ** 6, 10 ** 12)
+
+
+def test_a_game_past_the_memory_hands_over(monkeypatch):
+    """The layered solve predicted to need more memory than the machine has
+    (here: 1 kB available, predicted from the first node) hands the game to
+    the search, whose answer holds the exact value, with the reason on the
+    answer."""
+    monkeypatch.setattr(deadline, "available_memory", lambda: 1_000)
+    monkeypatch.setattr(deadline, "MEMORY_AFTER", 1)
+    for seed in (1, 2, 5):
+        scene = _scene(seed)
+        got = compiled.solve_compiled(scene, k=2, time_limit=3600)
+        assert "was predicted to need about" in got.stats["handed_over"], got.stats
+        assert got.exact and got.units == solve_explicit(scene, k=2).units, seed
+
+
 def test_the_layered_arrays_are_gone_when_the_search_runs(monkeypatch):
     """Peak memory: the explored arrays go with the layered solve's frames
     before the search starts (`lo` stands for them)."""

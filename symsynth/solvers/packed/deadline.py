@@ -29,10 +29,21 @@ least what it holds.  The prediction:
 The layered solve goes on while it is predicted to end before the limit
 less `RESERVE` of it, and stops when that time has passed: a prediction
 that is too low costs the search the time spent, never its reserve.
+
+Memory is predicted the same way: the process's resident bytes now, plus
+the bytes per node the exploring has added so far times the nodes still
+to come, with `SOLVE_BYTES` per node for the solve's own arrays.  When
+that passes `MEMORY_SHARE` of the memory the machine had available at the
+start (`available_memory`), the layered solve hands over too (once
+`MEMORY_AFTER` nodes are explored, so that the growth per node is not the
+arrays' first allocation): pattern
+7 x 10 x k = 3 needs 12.9 GB for its layers, where the search that answers
+in its place used about 2 GB.
 """
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable, Sequence
 
@@ -45,6 +56,39 @@ FIRST_RATIO = 1.3
 SOLVE_SHARE = 0.45
 #: Share of the limit always left to the AND-OR search
 RESERVE = 0.1
+#: Share of the memory available at the start the layered solve may be predicted to use
+MEMORY_SHARE = 0.8
+#: Bytes per node of the bottom-up solve's own arrays (its values and choices, 8 + 4)
+SOLVE_BYTES = 12
+#: Nodes explored before memory is predicted: below, the arrays' first allocations
+#: dominate what the process has grown by (and such a game needs little memory)
+MEMORY_AFTER = 1_000_000
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available to a new allocation now: Linux's
+    MemAvailable (free memory and the caches it may reclaim), else the free
+    physical pages; None where the system says neither."""
+    try:
+        with open("/proc/meminfo") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def resident_memory() -> int:
+    """Bytes of this process resident in memory now (0 where the system does not say)."""
+    try:
+        with open("/proc/self/statm") as statm:
+            return int(statm.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        return 0
 
 
 class HandOver(Exception):
@@ -92,16 +136,21 @@ class Deadline:
     before the bottom-up solve; both raise `HandOver` when it would not end
     before `end` (the limit less its reserve)."""
 
-    def __init__(self, limit: float, clock: Callable[[], float] | None = None):
+    def __init__(self, limit: float, clock: Callable[[], float] | None = None, memory: int | None = None,
+                 resident: Callable[[], int] | None = None):
         self.clock = time.perf_counter if clock is None else clock  # read now: tests patch it
         self.start = self.clock()
         self.limit = limit
         self.end = self.start + limit * (1 - RESERVE)
         self.explore_start = self.start  # `exploring` sets it when the exploring starts
+        self.resident = resident_memory if resident is None else resident
+        self.memory = available_memory() if memory is None else memory  # bytes; None: not known
+        self.resident_start = self.resident()
 
     def exploring(self) -> None:
-        """The exploring starts now: its seconds per node are counted from here."""
+        """The exploring starts now: its seconds and bytes per node are counted from here."""
         self.explore_start = self.clock()
+        self.resident_start = self.resident()
 
     def left(self) -> float:
         """Seconds of the whole limit left (the reserve included)."""
@@ -118,6 +167,20 @@ class Deadline:
         if self.explore_start + seconds > self.end:
             raise HandOver(f"was predicted to take about {seconds:.0f} s for {sum(predicted):,.0f} nodes "
                            f"(from {nodes:,} in {now - self.explore_start:.1f} s, layer h = {h} of {k})")
+        self._check_memory(nodes, sum(predicted))
+
+    def _check_memory(self, nodes: int, predicted: float) -> None:
+        """`HandOver` when the layers are predicted to need more than their
+        share of the memory available at the start (module doc)."""
+        if self.memory is None or nodes < MEMORY_AFTER:
+            return
+        now = self.resident()
+        per_node = max(now - self.resident_start, 0) / nodes
+        need = now + per_node * max(predicted - nodes, 0.0) + SOLVE_BYTES * predicted
+        if need > MEMORY_SHARE * self.memory:
+            raise HandOver(f"was predicted to need about {need / 1e9:.1f} GB for {predicted:,.0f} nodes, more "
+                           f"than {MEMORY_SHARE:.0%} of the {self.memory / 1e9:.1f} GB available (from "
+                           f"{nodes:,} nodes in {max(now - self.resident_start, 0) / 1e6:,.0f} MB)")
 
     def check_solve(self, explore_seconds: float, nodes: int) -> None:
         now = self.clock()
