@@ -185,17 +185,23 @@ class Memo:
             why = int(st[sk.ST_ABORT])
             if why == 0:
                 return bool(ok)
-            if why == sk.ABORT_ROOM:
-                self._grow()
-            elif why == sk.ABORT_ZERO:
+            if why == sk.ABORT_ZERO:
                 raise _ZeroCost
-            elif why == sk.ABORT_DEPTH:
-                depth = 2 * int(st[sk.ST_DEPTH])
-                st[sk.ST_DEPTH] = depth
-                self.order = np.empty((depth, self.room + 1), np.int64)
-                self.frames = np.empty((depth, 5), np.int64)
-            elif deadline is not None and time.perf_counter() > deadline:
+            self.recover(why)
+            if why == sk.ABORT_CALLS and deadline is not None and time.perf_counter() > deadline:
                 return None
+
+    def recover(self, why: int) -> None:
+        """Room for a question that stopped for `why` (st[ST_ABORT]): the arrays
+        grown (ABORT_ROOM), the stack deepened (ABORT_DEPTH); nothing else."""
+        st = self.st
+        if why == sk.ABORT_ROOM:
+            self._grow()
+        elif why == sk.ABORT_DEPTH:
+            depth = 2 * int(st[sk.ST_DEPTH])
+            st[sk.ST_DEPTH] = depth
+            self.order = np.empty((depth, self.room + 1), np.int64)
+            self.frames = np.empty((depth, 5), np.int64)
 
     def lo_h(self, i: int) -> int:
         return int(max(self.rec[i, sk.LO_H], self.rec[i, sk.LO_R]))

@@ -1,0 +1,240 @@
+"""Whether the replanning strategy σ pays at most a budget (issue 32):
+`solvers.replan`'s B_k(start) <= T, asked as a question, not computed.
+
+With R_h(p) = B_h(p) - V_0(p) (what σ may pay above its no-human plan),
+`solvers.replan`'s recursion reads
+
+    R_0(p) = 0,
+    R_h(p) = max(0, max over the human turns p_i on σ's plan from p and the
+                 moves m there of V_0(m p_i) - V_0(p_i) + R_{h-1}(m p_i)),
+
+with R = -V_0(p_i) for a move that makes the task hold (B = 0 there).  So
+"R_h(p) <= s?" is, for s >= 0: for every turn i and move m, "R_{h-1}(m p_i)
+<= s - (V_0(m p_i) - V_0(p_i))?".  Two things make it far cheaper than the
+value:
+
+- At h = 1 the question on a move is "V_0(m p_i) <= V_0(p_i) + s?", which the
+  AND-OR search with k = 0 answers on its shared memo without finding V_0:
+  from the node's proven bounds (lo > b: no; hi <= b: yes) when they decide,
+  else by a search for a plan within the budget (`packed.search._ask`, the
+  same question the search asks itself).  All the moves of one plan go to
+  the machine code in one call (`packed.replies`), up to the first "no".
+- A question already answered at (p, h) with a smaller s that said yes, or
+  a larger one that said no, answers it again (R_h(p) is one number).
+
+Above h = 1 the moves' V_0 are found exactly (σ's plan from m p_i is needed
+there) and the moves asked in the order of their rise, largest first, so a
+"no" comes early.  Every answer is exact: "yes" proves B_k(start) <= T,
+whence E_p <= T (σ is a strategy, `solvers.replan`), and "no" proves that σ
+can be made to pay more than T.  σ's actions are the memo's proven ones, as
+in `solvers.replan` (the same oracle may serve both).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from symsynth.game.abstraction import initial_state
+from symsynth.game.solution import OutOfReach
+from symsynth.logic import ast
+from symsynth.scene.model import Scene
+from symsynth.solvers.packed import replies as rk
+from symsynth.solvers.packed import search as sk
+from symsynth.solvers.replan import ORACLE_CHUNK, NoHumanValue, ReplanningStrategy
+
+INF = math.inf
+ZERO = ("a robot move of this game costs 0 units: the AND-OR search that finds the replanning strategy's "
+        "plans does not answer such games")
+
+
+class Deadline(Exception):
+    """The deadline passed before the question was answered."""
+
+
+class BudgetedBound:
+    """"Does σ pay at most T from the start?" for any T, the answers of
+    earlier questions kept (module doc)."""
+
+    def __init__(self, scene: Scene, formula: ast.Formula, k: int, resolution: float = 1.0,
+                 oracle: NoHumanValue | None = None):
+        from symsynth.solvers import andor
+
+        self.k, self._andor = k, andor
+        self.oracle = oracle or NoHumanValue(scene, formula, resolution)
+        self.t, self.memo = self.oracle.t, self.oracle.memo
+        self._values: dict[tuple[int, int], float] = {}
+        self._known: dict[tuple[int, int, int, bool], tuple[float, float]] = {}  # (largest no, least yes)
+        self.deadline: float | None = None
+        self.settled = 0  # moves checked against a budget in machine code
+        v = initial_state(scene)
+        self.start = (self.t.pack(v), self.oracle.start(v))
+        self._keys = np.empty(1024, np.int64)
+        self._turn = np.empty(1024, np.int64)
+        self._plan_key = np.empty(256, np.int64)
+        self._plan_units = np.empty(256, np.int64)
+
+    @property
+    def strategy(self) -> ReplanningStrategy:
+        """σ, the strategy that `within` speaks of."""
+        return ReplanningStrategy(self.oracle)
+
+    @property
+    def v0(self) -> float:
+        """V_0 at the start (units)."""
+        return self.value(*self.start)
+
+    def within(self, target: int, deadline: float | None = None) -> bool:
+        """Whether B_k(start) <= target (units, finite: a budget for the
+        search); `Deadline` when `deadline`
+        (time.perf_counter) passes first (what was answered is kept)."""
+        self.deadline = deadline
+        x, q = self.start
+        if self.t.accepting[q]:
+            return target >= 0
+        v0 = self.value(x, q)
+        return v0 < INF and self._fits(x, q, self.k, target - v0, True)
+
+    def least(self, lower: int, upper: int, deadline: float | None = None) -> float:
+        """B_k(start) exactly when it is at most `upper`, given lower <=
+        B_k(start): the least T in [lower, upper] that `within` says yes to,
+        by bisection; inf when B_k(start) > upper."""
+        v0 = self.v0
+        if v0 >= INF or not self.within(upper, deadline):
+            return INF
+        lower, hi = max(lower, int(v0)), upper
+        while lower < hi:
+            mid = (lower + hi) // 2
+            if self.within(mid, deadline):
+                hi = mid
+            else:
+                lower = mid + 1
+        return lower
+
+    # -- the recursion ---------------------------------------------------------------
+    def _fits(self, x: int, q: int, h: int, s: float, human_first: bool) -> bool:
+        """R_h(x, q) <= s (module doc); V_0(x, q) finite and q not accepting."""
+        if s < 0:
+            return False
+        if h == 0:
+            return True
+        key = (x, q, h, human_first)
+        no, yes = self._known.get(key, (-1.0, INF))
+        if s >= yes:
+            return True
+        if s <= no:
+            return False
+        if self.deadline is not None and time.perf_counter() > self.deadline:
+            raise Deadline
+        xs, qs, left = self._turns(x, q, human_first)
+        count = self._replies(xs, qs)
+        keys, turn = self._keys[:count], self._turn[:count]
+        ok = self._settle(keys, left[turn] + s)
+        if ok and h > 1:
+            ok = self._deeper(keys, left[turn], h, s)
+        self._known[key] = (no, s) if ok else (s, yes)
+        return ok
+
+    def _deeper(self, keys: np.ndarray, left: np.ndarray, h: int, s: float) -> bool:
+        """R_{h-1}(m p_i) <= s - rise for every move (every move's V_0 within its budget)."""
+        hb, qbits = self.memo.hb, self.t.qbits
+        children = []
+        for key, base in zip(keys.tolist(), left.tolist()):
+            if key < 0:
+                continue
+            x2, q2 = key >> (hb + qbits), (key >> hb) & ((1 << qbits) - 1)
+            rise = self.value(x2, q2) - base
+            if rise > s:
+                return False
+            children.append((rise, x2, q2))
+        children.sort(reverse=True)
+        return all(self._fits(x2, q2, h - 1, s - rise, False) for rise, x2, q2 in children)
+
+    # -- the no-human game's memo ----------------------------------------------------------
+    def value(self, x: int, q: int) -> float:
+        """V_0(x, q) in units, exact (inf: the robot cannot win alone; 0: q accepts)."""
+        if self.t.accepting[q]:
+            return 0
+        found = self._values.get((x, q))
+        if found is not None:
+            return found
+        memo = self.memo
+        i = memo.node(memo.key2(x, q, 0))
+        self.oracle.questions += 1
+        if memo.hi_h(i) < sk.INF:
+            value = float(self._bisect(i))
+        else:
+            try:
+                _, upper, _ = self._andor._search(memo, i, None)
+            except self._andor._ZeroCost:
+                raise OutOfReach(ZERO) from None
+            value = INF if upper is None else float(memo.hi_h(i))
+        self._values[(x, q)] = value
+        return value
+
+    def _bisect(self, i: int) -> int:
+        """V_0 at node i, whose upper end is proven (finite): "V_0 <= b?" halving
+        [lo, hi] (each answer proven, so lo <= V_0 <= hi throughout; no trap to
+        look for, since a plan within hi exists)."""
+        memo = self.memo
+        while memo.lo_h(i) < memo.hi_h(i):
+            lo, hi = memo.lo_h(i), memo.hi_h(i)
+            b = (lo + hi) // 2
+            try:
+                ok = memo.ask(i, b, True, None)
+            except self._andor._ZeroCost:
+                raise OutOfReach(ZERO) from None
+            if not ok and memo.lo_h(i) <= b:
+                memo.rec[i, sk.LO_H] = b + 1
+        return memo.hi_h(i)
+
+    def _turns(self, x: int, q: int, human_first: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The human turns on σ's plan from (x, q): packed states, DFA states, V_0 there."""
+        memo, qbits = self.memo, self.t.qbits
+        i = memo.find(memo.key2(x, q, 0))
+        if i is None:  # pragma: no cover - value(x, q) made it
+            raise RuntimeError("internal error: σ's plan asked before its value")
+        while True:
+            count = int(rk._plan(np.int64(i), memo.rec, memo.rm_tgt, memo.rm_move, np.int64(self.t.code_bits),
+                                 np.int64(memo.hb), self._plan_key, self._plan_units))
+            if count >= 0:
+                break
+            self._plan_key = np.empty(2 * len(self._plan_key), np.int64)
+            self._plan_units = np.empty(2 * len(self._plan_units), np.int64)
+        keys = self._plan_key[:count - 1]
+        left = self.value(x, q) - np.cumsum(self._plan_units[:count - 1])
+        xs, qs = keys >> qbits, keys & ((1 << qbits) - 1)
+        if human_first:
+            return np.append(x, xs), np.append(q, qs), np.append(self.value(x, q), left)
+        return xs, qs, left.astype(np.float64)
+
+    def _replies(self, xs: np.ndarray, qs: np.ndarray) -> int:
+        """Every human move at the turns into self._keys / self._turn; their count."""
+        memo = self.memo
+        need = len(xs) * memo.room
+        if len(self._keys) < need:
+            self._keys = np.empty(need, np.int64)
+            self._turn = np.empty(need, np.int64)
+        return int(rk._replies(xs, qs, memo.P, memo.G, memo.S(), self._keys, self._turn))
+
+    def _settle(self, keys: np.ndarray, budgets: np.ndarray) -> bool:
+        """V_0 <= budget for every move (`packed.replies._settle`), up to the first no."""
+        memo, st = self.memo, self.memo.st
+        budgets = np.minimum(budgets, float(1 << 40)).astype(np.int64)
+        first = 0
+        while True:
+            st[sk.ST_ABORT] = 0
+            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + ORACLE_CHUNK
+            first = int(rk._settle(keys, budgets, np.int64(first), memo.P, memo.G, memo.B, memo.M(), memo.S(),
+                                   np.int64(memo.room)))
+            why = int(st[sk.ST_ABORT])
+            if why == 0:
+                self.settled += first
+                return first == len(keys)
+            if why == sk.ABORT_ZERO:
+                raise OutOfReach(ZERO)
+            memo.recover(why)
+            if self.deadline is not None and time.perf_counter() > self.deadline:
+                raise Deadline

@@ -1,0 +1,72 @@
+"""The replanning bound asked as a question (symsynth/solvers/replan_budget.py):
+on generated scenes, "does σ pay at most T?" says yes exactly from the bound
+the enumeration finds for the same σ (solvers/replan.py, sharing its oracle),
+which is what σ pays against the worst human (followed through every human
+behaviour) and never below E_p."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from symsynth.game.solution import OutOfReach
+from symsynth.logic import parse_ltlf
+from symsynth.solvers.explicit import solve_explicit
+from symsynth.solvers.replan import replanning_bound
+from symsynth.solvers.replan_budget import BudgetedBound
+from symsynth.testing.gamegen import alike_scene, random_scene
+from support.games import worst_case_of
+
+
+def _scene(seed):
+    if seed % 4 == 0:
+        return alike_scene(seed, contacts=seed % 8 == 0)
+    return random_scene(9100 + seed, positive=True, contacts=seed % 3 == 0)
+
+
+def test_the_question_says_yes_exactly_from_what_the_strategy_pays():
+    finite = 0
+    for seed in range(60):
+        scene = _scene(seed)
+        k = 1 + seed % 3
+        formula = parse_ltlf(scene.task)
+        try:
+            enumerated = replanning_bound(scene, formula, k)
+        except OutOfReach:  # a zero-cost move (slides): the k = 0 search does not answer
+            continue
+        asked = BudgetedBound(scene, formula, k, oracle=enumerated.oracle)
+        if enumerated.upper == math.inf:
+            assert not asked.within(10 ** 6), seed
+            continue
+        finite += 1
+        upper = int(enumerated.upper)
+        assert asked.within(upper) and not asked.within(upper - 1), seed
+        assert asked.least(0, upper + 50) == upper, seed
+        exact = solve_explicit(scene, k=k)
+        assert exact.units <= upper, seed
+        followed = dataclasses.replace(exact, strategy=enumerated.strategy)
+        assert worst_case_of(scene, followed, formula) == upper, seed
+    assert finite >= 15, finite
+
+
+def test_the_question_alone_finds_what_its_strategy_pays():
+    """Without the enumeration first (its own memo, so its own plans): bisection
+    over the question gives what σ pays, checked against every human behaviour."""
+    checked = 0
+    for seed in range(1, 40, 3):
+        scene = _scene(seed)
+        k = 1 + seed % 3
+        formula = parse_ltlf(scene.task)
+        try:
+            asked = BudgetedBound(scene, formula, k)
+            upper = asked.least(0, 5000)
+        except OutOfReach:
+            continue
+        if upper == math.inf:
+            continue
+        checked += 1
+        exact = solve_explicit(scene, k=k)
+        followed = dataclasses.replace(exact, strategy=asked.strategy)
+        assert worst_case_of(scene, followed, formula) == upper, seed
+        assert exact.units <= upper, seed
+    assert checked >= 5, checked
