@@ -70,3 +70,40 @@ def test_the_question_alone_finds_what_its_strategy_pays():
         assert worst_case_of(scene, followed, formula) == upper, seed
         assert exact.units <= upper, seed
     assert checked >= 5, checked
+
+
+def test_a_repair_is_a_plan_back_so_it_bounds_the_rise():
+    """packed.replies._repair's cost, wherever it finds one, is at least the rise
+    of V_0 over the human move it undoes (V_0 from the k = 0 search, exact), and
+    equal to it on some moves (so a repair that claimed less would be caught)."""
+    import numpy as np
+
+    from symsynth.solvers.packed import replies
+
+    found = tight = 0
+    for seed in range(40):
+        scene = _scene(seed)
+        formula = parse_ltlf(scene.task)
+        try:
+            asked = BudgetedBound(scene, formula, 1)
+            if asked.v0 == math.inf or asked.t.accepting[asked.start[1]]:
+                continue
+        except OutOfReach:
+            continue
+        memo, (x0, q0) = asked.memo, asked.start
+        xs, qs, _ = asked._turns(x0, q0, True)
+        count = asked._replies(xs, qs)
+        hb, qbits = memo.hb, asked.t.qbits
+        for key, j in zip(asked._keys[:count].tolist(), asked._turn[:count].tolist()):
+            if key < 0:
+                continue
+            x, q = int(xs[j]), int(qs[j])
+            w, q2 = key >> (hb + qbits), (key >> hb) & ((1 << qbits) - 1)
+            fix = int(replies._repair(np.int64(x), np.int64(q), np.int64(w), np.int64(q2), memo.P, memo.G, memo.S()))
+            if fix < 0:
+                continue
+            found += 1
+            rise = asked.value(w, q2) - asked.value(x, q)
+            assert rise <= fix, (seed, x, w)
+            tight += rise == fix
+    assert found >= 50 and tight >= 5, (found, tight)

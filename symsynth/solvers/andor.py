@@ -82,7 +82,7 @@ from symsynth.solvers.packed import search as sk
 from symsynth.solvers.packed.kernels import INF, _find, _table
 from symsynth.solvers.packed.lower import BoundTables
 from symsynth.solvers.packed.tables import Tables, check_width
-from symsynth.solvers.replan import ReplanBound, replanning_bound
+from symsynth.solvers.replan_budget import certified_upper
 
 #: Questions between two looks at the clock (and at the arrays' room): a question cut
 #: off there is asked again from the start, its proven parts kept.  Under a time limit a
@@ -93,9 +93,11 @@ CHUNK = 2_000_000
 #: rises by a cycle's cost per round where the robot can circle cheaply (the forward solver
 #: lifts such cycles with `_tighten`, not ported); the pattern family needs at most 89 (7 x 10)
 MAX_ROUNDS = 1024
-#: Share of a time limit the replanning strategy's exact bound may take before the search
-#: (`solvers.replan`): its upper end when the search proves none lower
-REPLAN_SHARE = 0.25
+#: Share of a time limit the search takes (`_search`: half of it for the rounds from below);
+#: then the replanning strategy's bound (`solvers.replan_budget`) is asked for an upper end
+#: until REPLAN_SHARE more of the limit has passed, when the search proved E_p in neither
+SEARCH_SHARE = 0.5
+REPLAN_SHARE = 0.5
 
 
 class Memo:
@@ -257,9 +259,7 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
         return won_at_start(scene, k, resolution, budget, seconds | {"search": 0.0})
     clock = time.perf_counter()
     start = memo.node(memo.key2(tables.canon(tables.pack(v0)), q0, k))
-    deadline = None if time_limit is None else clock + time_limit
-    replan = None if time_limit is None else _replan_first(scene, formula, k, resolution,
-                                                            clock + time_limit * REPLAN_SHARE)
+    deadline = None if time_limit is None else clock + time_limit * SEARCH_SHARE
     try:
         lower, upper, rounds = _search(memo, start, deadline)
     except (_ZeroCost, _TooManyRounds) as why:
@@ -292,37 +292,37 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
                         realizable, k, 2 * memo.count, seconds, strategy, principal, counter,
                         scene.object_names, stats, lower_units=None if exact else lower)
     solution = solution if symmetry is None else symmetry.realize(solution)
-    return solution if replan is None else _replanned(solution, replan, budget)
+    if time_limit is None or solution.exact or k == 0 or lower is None:
+        return solution
+    return _replanned(solution, scene, formula, k, budget, clock + time_limit * (SEARCH_SHARE + REPLAN_SHARE))
 
 
-def _replan_first(scene: Scene, formula: ast.Formula, k: int, resolution: float,
-                  deadline: float) -> ReplanBound | None:
-    """The replanning strategy's exact bound (`solvers.replan`) when it is proven
-    before `deadline`, else None (also for k = 0, where the search is exact)."""
-    if k == 0:
-        return None
-    try:
-        bound = replanning_bound(scene, formula, k, resolution=resolution, deadline=deadline)
-    except OutOfReach:  # a zero-cost move
-        return None
-    return bound if bound.certified and bound.upper is not None and bound.upper < INF else None
-
-
-def _replanned(solution: Solution, replan: ReplanBound, budget: float | None) -> Solution:
-    """An anytime answer whose upper end is the replanning bound when that is lower
-    than the search's own (and E_p when it meets the lower end)."""
-    assert replan.upper is not None  # _replan_first keeps proven bounds only
-    stats = dict(solution.stats) | {"replanning_bound": replan.upper, "replanning_seconds": round(replan.seconds, 2)}
-    upper = int(replan.upper)
-    if solution.exact or (solution.units is not None and solution.units <= upper):
-        return dataclasses.replace(solution, stats=stats)
+def _replanned(solution: Solution, scene: Scene, formula: ast.Formula, k: int, budget: float | None,
+               deadline: float) -> Solution:
+    """An anytime answer whose upper end is the replanning strategy's when that is
+    proven (`replan_budget.certified_upper`) below the search's (and E_p when it
+    meets the lower end).  Its principal play is the strategy's plan with the
+    human passing: the question proves a bound, it does not single out a worst
+    human."""
     lower, r = solution.lower_units, solution.resolution
-    exact = lower is not None and upper <= lower
+    assert lower is not None  # the caller answers exact solutions itself
+    clock = time.perf_counter()
+    try:
+        found = certified_upper(scene, formula, k, lower, None if solution.units is None else int(solution.units),
+                                resolution=r, deadline=deadline)
+    except OutOfReach:  # a zero-cost move
+        found = None
+    stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2)}
+    if found is None:
+        return dataclasses.replace(solution, stats=stats)
+    upper, bound = found
+    exact = upper <= lower
     realizable = bracket_verdict(None if exact else lower, upper, r, budget)
+    principal = bound.passing_play()
     return dataclasses.replace(solution, cost_bound=in_costmap_units(upper, r), units=upper, realizable=realizable,
-                               strategy=replan.strategy, principal_play=replan.principal,
-                               counter_play=replan.principal if exact and realizable is False else None,
-                               stats=stats | {"upper_by": "replanning"}, lower_units=None if exact else lower)
+                               strategy=bound.strategy, principal_play=principal,
+                               counter_play=None, stats=stats | {"replanning_bound": upper, "upper_by": "replanning"},
+                               lower_units=None if exact else lower)
 
 
 def _layered(solution: Solution, why: str) -> Solution:

@@ -37,8 +37,8 @@ import time
 
 import numpy as np
 
-from symsynth.game.abstraction import initial_state
-from symsynth.game.solution import OutOfReach
+from symsynth.game.abstraction import in_costmap_units, initial_state
+from symsynth.game.solution import OutOfReach, Step
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.packed import replies as rk
@@ -67,6 +67,7 @@ class BudgetedBound:
         self.t, self.memo = self.oracle.t, self.oracle.memo
         self._values: dict[tuple[int, int], float] = {}
         self._known: dict[tuple[int, int, int, bool], tuple[float, float]] = {}  # (largest no, least yes)
+        self._at_turn: dict[tuple[int, int, int], tuple[float, float]] = {}  # the same for one turn
         self.deadline: float | None = None
         self.settled = 0  # moves checked against a budget in machine code
         v = initial_state(scene)
@@ -80,6 +81,14 @@ class BudgetedBound:
     def strategy(self) -> ReplanningStrategy:
         """σ, the strategy that `within` speaks of."""
         return ReplanningStrategy(self.oracle)
+
+    def passing_play(self) -> tuple[Step, ...]:
+        """σ's play when the human always passes: its no-human plan from the start."""
+        v = self.oracle.t.unpack(self.start[0])
+        if self.t.accepting[self.start[1]]:
+            return ()
+        r = self.t.resolution
+        return tuple(Step("robot", a, in_costmap_units(u, r), after) for a, u, after, _ in self.oracle.plan(v, self.start[1]))
 
     @property
     def v0(self) -> float:
@@ -129,28 +138,60 @@ class BudgetedBound:
         if self.deadline is not None and time.perf_counter() > self.deadline:
             raise Deadline
         xs, qs, left = self._turns(x, q, human_first)
-        count = self._replies(xs, qs)
-        keys, turn = self._keys[:count], self._turn[:count]
-        ok = self._settle(keys, left[turn] + s)
+        todo = []
+        for j, turn in enumerate(zip(xs.tolist(), qs.tolist())):
+            no_j, yes_j = self._at_turn.get((*turn, h), (-1.0, INF))
+            if s <= no_j:
+                self._known[key] = (s, yes)
+                return False
+            if s < yes_j:
+                todo.append(j)
+        # every move's V_0 within its budget first (R_{h-1} >= 0): all of it at h = 1, a quick no above
+        ok = self._settle_turns(xs[todo], qs[todo], left[todo], s, h)
         if ok and h > 1:
-            ok = self._deeper(keys, left[turn], h, s)
+            ok = self._deeper(xs[todo], qs[todo], left[todo], h, s)
         self._known[key] = (no, s) if ok else (s, yes)
         return ok
 
-    def _deeper(self, keys: np.ndarray, left: np.ndarray, h: int, s: float) -> bool:
-        """R_{h-1}(m p_i) <= s - rise for every move (every move's V_0 within its budget)."""
+    def _record(self, turn: tuple[int, int, int], s: float, ok: bool) -> None:
+        """What was answered at a turn: its moves rise (plus R below) by at most s, or not."""
+        no, yes = self._at_turn.get(turn, (-1.0, INF))
+        self._at_turn[turn] = (no, min(yes, s)) if ok else (max(no, s), yes)
+
+    def _settle_turns(self, xs: np.ndarray, qs: np.ndarray, left: np.ndarray, s: float, h: int) -> bool:
+        """V_0(m p_j) <= V_0(p_j) + s for every turn j and move m there: at h = 1
+        that is the answer at each turn, above it a necessary condition."""
+        count = self._replies(xs, qs)
+        turn = self._turn[:count]
+        r = self._settle(self._keys[:count], left[turn] + s, turn, xs, qs, left)
+        failed = int(turn[r]) if r < count else len(xs)
+        for j in range(failed if h == 1 else 0):
+            self._record((int(xs[j]), int(qs[j]), 1), s, True)
+        if failed < len(xs):
+            self._record((int(xs[failed]), int(qs[failed]), h), s, False)
+            return False
+        return True
+
+    def _deeper(self, xs: np.ndarray, qs: np.ndarray, left: np.ndarray, h: int, s: float) -> bool:
+        """At h >= 2: R_{h-1}(m p_j) + V_0(m p_j) - V_0(p_j) <= s for every turn j
+        and move m (whose V_0 are known to be within V_0(p_j) + s), the moves
+        of every turn asked together, largest rise first (a no comes early)."""
+        count = self._replies(xs, qs)
+        keys, turn = self._keys[:count].tolist(), self._turn[:count].tolist()
         hb, qbits = self.memo.hb, self.t.qbits
         children = []
-        for key, base in zip(keys.tolist(), left.tolist()):
-            if key < 0:
-                continue
-            x2, q2 = key >> (hb + qbits), (key >> hb) & ((1 << qbits) - 1)
-            rise = self.value(x2, q2) - base
-            if rise > s:
-                return False
-            children.append((rise, x2, q2))
+        for key, j in zip(keys, turn):
+            if key >= 0:
+                x2, q2 = key >> (hb + qbits), (key >> hb) & ((1 << qbits) - 1)
+                children.append((self.value(x2, q2) - float(left[j]), x2, q2, j))
         children.sort(reverse=True)
-        return all(self._fits(x2, q2, h - 1, s - rise, False) for rise, x2, q2 in children)
+        for rise, x2, q2, j in children:
+            if not self._fits(x2, q2, h - 1, s - rise, False):
+                self._record((int(xs[j]), int(qs[j]), h), s, False)
+                return False
+        for j in range(len(xs)):
+            self._record((int(xs[j]), int(qs[j]), h), s, True)
+        return True
 
     # -- the no-human game's memo ----------------------------------------------------------
     def value(self, x: int, q: int) -> float:
@@ -219,22 +260,64 @@ class BudgetedBound:
             self._turn = np.empty(need, np.int64)
         return int(rk._replies(xs, qs, memo.P, memo.G, memo.S(), self._keys, self._turn))
 
-    def _settle(self, keys: np.ndarray, budgets: np.ndarray) -> bool:
-        """V_0 <= budget for every move (`packed.replies._settle`), up to the first no."""
+    def _settle(self, keys: np.ndarray, budgets: np.ndarray, turn: np.ndarray, xs: np.ndarray, qs: np.ndarray,
+                left: np.ndarray) -> int:
+        """The first move whose V_0 is above its budget (`packed.replies._settle`),
+        len(keys) when none is; move r is at turn (xs[j], qs[j]) of V_0 left[j], j = turn[r]."""
         memo, st = self.memo, self.memo.st
         budgets = np.minimum(budgets, float(1 << 40)).astype(np.int64)
+        bases = np.minimum(left, float(1 << 40)).astype(np.int64)
         first = 0
         while True:
             st[sk.ST_ABORT] = 0
             st[sk.ST_LIMIT] = st[sk.ST_CALLS] + ORACLE_CHUNK
-            first = int(rk._settle(keys, budgets, np.int64(first), memo.P, memo.G, memo.B, memo.M(), memo.S(),
+            first = int(rk._settle(keys, budgets, turn, xs, qs, bases, np.int64(first), memo.P, memo.G, memo.B, memo.M(), memo.S(),
                                    np.int64(memo.room)))
             why = int(st[sk.ST_ABORT])
             if why == 0:
                 self.settled += first
-                return first == len(keys)
+                return first
             if why == sk.ABORT_ZERO:
                 raise OutOfReach(ZERO)
             memo.recover(why)
             if self.deadline is not None and time.perf_counter() > self.deadline:
                 raise Deadline
+
+
+#: The steps above the lower end at which `certified_upper` asks, as shares of it
+#: (doubling: 1 %, 2 %, 4 %, ...); the first "yes" is then halved towards the last "no"
+FIRST_STEP = 0.01
+#: `certified_upper` asks up to this many times the larger of the lower end and V_0(start)
+#: (a bound beyond it is no use as an upper end, and the budgets of its questions stay small)
+MAX_RATIO = 4
+
+
+def certified_upper(scene: Scene, formula: ast.Formula, k: int, lower: int, ceiling: int | None, *,
+                    resolution: float = 1.0, deadline: float | None = None) -> tuple[int, BudgetedBound] | None:
+    """The least T found before `deadline` with B_k(start) <= T proven, asked at
+    `lower` (E_p >= lower, so a yes there proves E_p = lower) and then 1 %, 2 %,
+    4 %, ... above it while below `ceiling` (an upper end known otherwise, None:
+    none) and
+    `MAX_RATIO` times the lower end; the first yes then bisected towards the
+    last no while time is left.  With the bound (whose `strategy` pays at most
+    T); None when no T was proven in time."""
+    bound = BudgetedBound(scene, formula, k, resolution)
+    no, yes = lower - 1, None
+    try:
+        top = MAX_RATIO * max(lower, int(min(bound.v0, 1 << 40)), 1)
+        cap = top if ceiling is None else min(ceiling - 1, top)
+        target, step = lower, max(1, math.ceil(lower * FIRST_STEP))
+        while target <= cap and yes is None:
+            if bound.within(target, deadline):
+                yes = target
+            else:
+                no, target, step = target, min(lower + step, max(cap, target + 1)), 2 * step
+        while yes is not None and no + 1 < yes:
+            mid = (no + yes) // 2
+            if bound.within(mid, deadline):
+                yes = mid
+            else:
+                no = mid
+    except Deadline:
+        pass
+    return None if yes is None else (yes, bound)

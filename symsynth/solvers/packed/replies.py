@@ -6,8 +6,14 @@ strategy, checked in bulk against budgets on the no-human game's memo
 - `_replies`: every human move at a list of turns (packed state, DFA state),
   as the memo's keys at h = 0 (-1: the move wins), with the turn it is at;
 - `_plan`: σ's plan read back from the memo's chosen actions;
+- `_repair`: the cost of a sequence of robot actions that undoes a human
+  move (puts the moved object back, and the hand where it was), each action
+  generated at the state it is played in, so a plan whose cost bounds V_0
+  from above whatever the game (-1 when the sequence is not legal there or
+  does not come back);
 - `_settle`: each reply's key against its budget b, "V_0 <= b?": answered
-  from the node's proven bounds when they decide it, else by the search
+  from the node's proven bounds when they decide it, else by the repair
+  (V_0(after) <= repair + V_0(turn)), else by the search
   (`packed.search._ask`), until the first "no" or the end; stops with a
   reason in st[ST_ABORT] as `_ask` does, to be called again from where it
   stopped.
@@ -15,9 +21,11 @@ strategy, checked in bulk against budgets on the no-human game's memo
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
-from symsynth.solvers.packed.kernels import _find, _human_moves
+from symsynth.solvers.packed.kernels import (KIND_DROP, KIND_GRAB, KIND_TRANSFER, KIND_TRANSIT, _code, _find,
+                                             _human_moves, _letter, _robot_moves)
 from symsynth.solvers.packed.search import HI_R, KEY, R_OFF, ST_BITS, _ask, _lo_h, _node, _room, _small
 
 # numba's disk cache checks only this file's source (tests/test_numba_cache.py)
@@ -47,14 +55,16 @@ def _replies(xs, qs, P, G, S, out_key, out_turn):
 
 
 @njit(cache=True)
-def _settle(keys, budgets, first, P, G, B, M, S, room):
+def _settle(keys, budgets, turn, xs, qs, bases, first, P, G, B, M, S, room):
     """Whether V_0 <= budgets[r] for every r >= first with keys[r] >= 0 (a
-    node key at h = 0): the index of the first reply answered "no", len(keys)
-    when all are "yes", or the index to go on from when st[ST_ABORT] is set
-    (the arrays full, the questions used up, the stack too shallow, a move of
-    0 units; what was proven is kept)."""
+    node key at h = 0, a human move at the turn (xs[j], qs[j]) whose V_0 is
+    bases[j], j = turn[r]): the index of the first reply answered "no",
+    len(keys) when all are "yes", or the index to go on from when
+    st[ST_ABORT] is set (the arrays full, the questions used up, the stack
+    too shallow, a move of 0 units; what was proven is kept)."""
     table, rec = M[0], M[1]
     st = S[0]
+    hb, qbits = P[7], P[6]
     for r in range(first, len(keys)):
         key, b = keys[r], budgets[r]
         if key < 0:
@@ -65,13 +75,107 @@ def _settle(keys, budgets, first, P, G, B, M, S, room):
                 continue
             if _lo_h(rec, i) > b:
                 return r
-        elif not _room(M, S, room):
-            return r
-        else:
+        j = turn[r]
+        fix = _repair(xs[j], qs[j], (key >> hb) >> qbits, (key >> hb) & ((1 << qbits) - 1), P, G, S)
+        if 0 <= fix <= b - bases[j]:
+            continue
+        if i < 0:
+            if not _room(M, S, room):
+                return r
             i = _node(key, P, B, M, S)
         if not _ask(i, b, True, P, G, B, M, S):
             return r
     return len(keys)
+
+
+@njit(cache=True)
+def _act(y, q, code, P, G, S, out):
+    """The robot's action `code` at (y, q): out = (state after, DFA state
+    after, units); units -1 when it is not available there."""
+    n, m, F, pb, eb, gb, qbits, hb, code_bits, grab_units, drop_units, samples_mask, free_all = P
+    (anchor_at, anchor_count, home_starts, rule_start, rule_count, rule_free, rule_units, slide_start, slide_count,
+     is_grasp, atom_at, free_at, trans) = G[:13]
+    at, free, Sx, Tx, mv_after, mv_units, mv_code = S[1], S[2], S[3], S[4], S[6], S[7], S[8]
+    nm = _robot_moves(y, n, m, F, pb, eb, gb, anchor_at, anchor_count, home_starts, samples_mask, rule_start,
+                      rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp, grab_units, drop_units,
+                      at, free, Sx, Tx, mv_after, mv_units, mv_code)
+    out[2] = -1
+    for e in range(nm):
+        if mv_code[e] == code:
+            out[0] = mv_after[e]
+            out[1] = trans[q, _letter(mv_after[e], n, pb, atom_at, free_at, free_all)]
+            out[2] = mv_units[e]
+            return
+
+
+@njit(cache=True)
+def _repair(x, q, w, q2, P, G, S):
+    """The units of a robot plan from (w, q2), x after one human move, back
+    to (x, q) or to a win: drop what x holds at its location, carry the
+    moved object back from where the human put it, aim (or grab) again as
+    in x; -1 when there is none of this form (x holding over Else, the
+    object taken from Else, an action not available, or another end)."""
+    n, m, F, pb, eb, gb = P[:6]
+    is_grasp, accepting = G[9], G[13]
+    pmask = (1 << pb) - 1
+    eshift = n * pb
+    emask = (1 << eb) - 1
+    ee = (x >> eshift) & emask
+    grip = (x >> (eshift + eb)) & ((1 << gb) - 1)
+    codes = np.empty(8, np.int64)
+    c = 0
+    held = -1
+    if grip != 0:
+        if ee == 0 or ee > m:
+            return -1
+        for i in range(n):
+            if (x >> (i * pb)) & pmask == m + 1:
+                held = i
+        codes[c] = _code(KIND_DROP, held, grip - 1, ee - 1, n, F, m)
+        c += 1
+    moved = -1
+    for i in range(n):
+        if (x >> (i * pb)) & pmask != (w >> (i * pb)) & pmask:
+            moved = i
+    if moved >= 0:
+        a = (x >> (moved * pb)) & pmask
+        if a >= m:
+            return -1
+        g = -1
+        if grip == 0 and ee > m and (ee - 1 - m) // F == moved and is_grasp[(ee - 1 - m) % F]:
+            g = (ee - 1 - m) % F
+        for f in range(F):
+            if g < 0 and is_grasp[f]:
+                g = f
+        if g < 0:
+            return -1
+        codes[c] = _code(KIND_TRANSIT, moved, g, 0, n, F, m)
+        codes[c + 1] = _code(KIND_GRAB, moved, g, 0, n, F, m)
+        codes[c + 2] = _code(KIND_TRANSFER, moved, g, a, n, F, m)
+        codes[c + 3] = _code(KIND_DROP, moved, g, a, n, F, m)
+        c += 4
+        aim = 1 + m + moved * F + g
+    else:
+        aim = (w >> eshift) & emask
+    if held >= 0:
+        codes[c] = _code(KIND_TRANSIT, held, grip - 1, 0, n, F, m)
+        codes[c + 1] = _code(KIND_GRAB, held, grip - 1, 0, n, F, m)
+        c += 2
+    elif aim != ee:
+        if ee == 0:
+            return -1
+        codes[c] = _code(KIND_TRANSIT, (ee - 1 - m) // F, (ee - 1 - m) % F, 0, n, F, m)
+        c += 1
+    out = np.empty(3, np.int64)
+    y, qq, total = w, q2, 0
+    for e in range(c):
+        _act(y, qq, codes[e], P, G, S, out)
+        if out[2] < 0:
+            return -1
+        y, qq, total = out[0], out[1], total + out[2]
+        if accepting[qq]:
+            return total
+    return total if y == x and qq == q else -1
 
 
 @njit(cache=True)
