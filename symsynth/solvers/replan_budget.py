@@ -204,6 +204,10 @@ class BudgetedBound:
         memo = self.memo
         i = memo.node(memo.key2(x, q, 0))
         self.oracle.questions += 1
+        if memo.hi_h(i) >= sk.INF:  # a plan within twice the lower bound first: then halving
+            lo = memo.lo_h(i)
+            if lo < sk.INF:
+                self._ask(i, 2 * lo + 64)
         if memo.hi_h(i) < sk.INF:
             value = float(self._bisect(i))
         else:
@@ -221,15 +225,19 @@ class BudgetedBound:
         look for, since a plan within hi exists)."""
         memo = self.memo
         while memo.lo_h(i) < memo.hi_h(i):
-            lo, hi = memo.lo_h(i), memo.hi_h(i)
-            b = (lo + hi) // 2
-            try:
-                ok = memo.ask(i, b, True, None)
-            except self._andor._ZeroCost:
-                raise OutOfReach(ZERO) from None
-            if not ok and memo.lo_h(i) <= b:
-                memo.rec[i, sk.LO_H] = b + 1
+            self._ask(i, (memo.lo_h(i) + memo.hi_h(i)) // 2)
         return memo.hi_h(i)
+
+    def _ask(self, i: int, b: int) -> bool:
+        """V_0 <= b at node i (answered: lo > b or hi <= b after it)."""
+        memo = self.memo
+        try:
+            ok = memo.ask(i, b, True, None)
+        except self._andor._ZeroCost:
+            raise OutOfReach(ZERO) from None
+        if not ok and memo.lo_h(i) <= b:
+            memo.rec[i, sk.LO_H] = b + 1
+        return bool(ok)
 
     def _turns(self, x: int, q: int, human_first: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The human turns on σ's plan from (x, q): packed states, DFA states, V_0 there."""
