@@ -9,9 +9,12 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
+
 from symsynth.game.solution import OutOfReach
 from symsynth.logic import parse_ltlf
 from symsynth.solvers.explicit import solve_explicit
+from symsynth.solvers.packed import replies
 from symsynth.solvers.replan import replanning_bound
 from symsynth.solvers.replan_budget import BudgetedBound
 from symsynth.testing.gamegen import alike_scene, random_scene
@@ -72,33 +75,38 @@ def test_the_question_alone_finds_what_its_strategy_pays():
     assert checked >= 5, checked
 
 
+def _replies_on_the_plan(seed):
+    """(bound, the start's plan, [(turn, state after, DFA state after)]) for one
+    generated scene at k = 1, None when it has no plan to look at."""
+    scene = _scene(seed)
+    formula = parse_ltlf(scene.task)
+    try:
+        asked = BudgetedBound(scene, formula, 1)
+        if asked.v0 == math.inf or asked.t.accepting[asked.start[1]]:
+            return None
+    except OutOfReach:
+        return None
+    plan = asked._turns(*asked.start, True)
+    count = asked._replies(*plan[:2])
+    hb, qbits = asked.memo.hb, asked.t.qbits
+    moves = [(j, key >> (hb + qbits), (key >> hb) & ((1 << qbits) - 1))
+             for key, j in zip(asked._keys[:count].tolist(), asked._turn[:count].tolist()) if key >= 0]
+    return asked, plan, moves
+
+
 def test_a_repair_is_a_plan_back_so_it_bounds_the_rise():
     """packed.replies._repair's cost, wherever it finds one, is at least the rise
     of V_0 over the human move it undoes (V_0 from the k = 0 search, exact), and
     equal to it on some moves (so a repair that claimed less would be caught)."""
-    import numpy as np
-
-    from symsynth.solvers.packed import replies
-
     found = tight = 0
     for seed in range(40):
-        scene = _scene(seed)
-        formula = parse_ltlf(scene.task)
-        try:
-            asked = BudgetedBound(scene, formula, 1)
-            if asked.v0 == math.inf or asked.t.accepting[asked.start[1]]:
-                continue
-        except OutOfReach:
+        case = _replies_on_the_plan(seed)
+        if case is None:
             continue
-        memo, (x0, q0) = asked.memo, asked.start
-        xs, qs, _ = asked._turns(x0, q0, True)
-        count = asked._replies(xs, qs)
-        hb, qbits = memo.hb, asked.t.qbits
-        for key, j in zip(asked._keys[:count].tolist(), asked._turn[:count].tolist()):
-            if key < 0:
-                continue
+        asked, (xs, qs, _, _), moves = case
+        memo = asked.memo
+        for j, w, q2 in moves:
             x, q = int(xs[j]), int(qs[j])
-            w, q2 = key >> (hb + qbits), (key >> hb) & ((1 << qbits) - 1)
             fix = int(replies._repair(np.int64(x), np.int64(q), np.int64(w), np.int64(q2), memo.P, memo.G, memo.S()))
             if fix < 0:
                 continue
@@ -107,3 +115,29 @@ def test_a_repair_is_a_plan_back_so_it_bounds_the_rise():
             assert rise <= fix, (seed, x, w)
             tight += rise == fix
     assert found >= 50 and tight >= 5, (found, tight)
+
+
+def test_the_plan_followed_after_a_move_bounds_its_value():
+    """packed.replies._follow's bound, wherever it finds one, is at least V_0
+    after the move, and equal to it on some moves."""
+    found = tight = 0
+    for seed in range(40):
+        case = _replies_on_the_plan(seed)
+        if case is None:
+            continue
+        asked, (xs, qs, left, codes), moves = case
+        memo = asked.memo
+        bases = left.astype(np.int64)
+        for j, w, q2 in moves:
+            bound = int(replies._follow(np.int64(j), np.int64(w), np.int64(q2), xs, qs, bases, codes,
+                                        np.int64(1 << 40), memo.P, memo.G, memo.S()))
+            if bound < 0:
+                continue
+            try:
+                value = asked.value(w, q2)
+            except OutOfReach:  # a zero-cost move after it: the k = 0 search does not answer
+                break
+            found += 1
+            assert value <= bound, (seed, w)
+            tight += value == bound
+    assert found >= 50 and tight >= 20, (found, tight)

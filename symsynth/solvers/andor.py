@@ -259,7 +259,8 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
         return won_at_start(scene, k, resolution, budget, seconds | {"search": 0.0})
     clock = time.perf_counter()
     start = memo.node(memo.key2(tables.canon(tables.pack(v0)), q0, k))
-    deadline = None if time_limit is None else clock + time_limit * SEARCH_SHARE
+    begun = clock
+    deadline = None if time_limit is None else begun + time_limit * SEARCH_SHARE
     try:
         lower, upper, rounds = _search(memo, start, deadline)
     except (_ZeroCost, _TooManyRounds) as why:
@@ -294,7 +295,7 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     solution = solution if symmetry is None else symmetry.realize(solution)
     if time_limit is None or solution.exact or k == 0 or lower is None:
         return solution
-    return _replanned(solution, scene, formula, k, budget, clock + time_limit * (SEARCH_SHARE + REPLAN_SHARE))
+    return _replanned(solution, scene, formula, k, budget, begun + time_limit * (SEARCH_SHARE + REPLAN_SHARE))
 
 
 def _replanned(solution: Solution, scene: Scene, formula: ast.Formula, k: int, budget: float | None,
@@ -479,6 +480,7 @@ def prepare() -> float | None:
             if solve_andor(_warm_up_scene()).units is None:
                 raise RuntimeError("internal error: the AND-OR search's warm-up game was not won")
             memo_trap_warm_up()
+            replan_warm_up()
         except BaseException:
             _prepared = False
             raise
@@ -517,6 +519,17 @@ def memo_trap_warm_up() -> None:
     memo.node(memo.key2(tables.pack(initial_state(scene)), 0, 1))
     memo.trap()
     sk._rehash(memo.rec, np.int64(memo.count), np.int64(memo.bits))
+
+
+def replan_warm_up() -> None:
+    """Compile the replanning bound's kernels (`packed.replies`, asked by an anytime
+    answer's upper end) on the warm-up game, so that no time limit pays for them."""
+    from symsynth.solvers.replan_budget import BudgetedBound
+
+    scene = _warm_up_scene()
+    bound = BudgetedBound(scene, task_formula(scene, None), 1)
+    if not bound.within(int(bound.v0) + 1000):
+        raise RuntimeError("internal error: the replanning bound of the AND-OR search's warm-up game was not proven")
 
 
 solve_andor.prepare = prepare  # type: ignore[attr-defined]  # symsynth.solvers.prepare

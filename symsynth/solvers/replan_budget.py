@@ -46,6 +46,11 @@ from symsynth.solvers.packed import search as sk
 from symsynth.solvers.replan import ORACLE_CHUNK, NoHumanValue, ReplanningStrategy
 
 INF = math.inf
+#: Search steps between two looks at the clock within one call of `packed.replies._settle`
+#: under a deadline (2 M took up to 9 s at 7 x 10)
+DEADLINE_CHUNK = 100_000
+#: Calls of the recursion (each a kernel call or a V_0) between two looks at the clock
+LOOK_EVERY = 64
 ZERO = ("a robot move of this game costs 0 units: the AND-OR search that finds the replanning strategy's "
         "plans does not answer such games")
 
@@ -69,13 +74,16 @@ class BudgetedBound:
         self._known: dict[tuple[int, int, int, bool], tuple[float, float]] = {}  # (largest no, least yes)
         self._at_turn: dict[tuple[int, int, int], tuple[float, float]] = {}  # the same for one turn
         self.deadline: float | None = None
+        self._calls = 0
+        #: replies answered by the memo's bounds, by a repair, by σ's plan followed, by the search
+        self.counts = np.zeros(4, np.int64)
         self.settled = 0  # moves checked against a budget in machine code
         v = initial_state(scene)
         self.start = (self.t.pack(v), self.oracle.start(v))
         self._keys = np.empty(1024, np.int64)
         self._turn = np.empty(1024, np.int64)
         self._plan_key = np.empty(256, np.int64)
-        self._plan_units = np.empty(256, np.int64)
+        self._plan_move = np.empty(256, np.int64)
 
     @property
     def strategy(self) -> ReplanningStrategy:
@@ -135,9 +143,9 @@ class BudgetedBound:
             return True
         if s <= no:
             return False
-        if self.deadline is not None and time.perf_counter() > self.deadline:
-            raise Deadline
-        xs, qs, left = self._turns(x, q, human_first)
+        self._look()
+        plan = self._turns(x, q, human_first)
+        xs, qs, left = plan[:3]
         todo = []
         for j, turn in enumerate(zip(xs.tolist(), qs.tolist())):
             no_j, yes_j = self._at_turn.get((*turn, h), (-1.0, INF))
@@ -147,7 +155,7 @@ class BudgetedBound:
             if s < yes_j:
                 todo.append(j)
         # every move's V_0 within its budget first (R_{h-1} >= 0): all of it at h = 1, a quick no above
-        ok = self._settle_turns(xs[todo], qs[todo], left[todo], s, h)
+        ok = self._settle_turns(plan, np.array(todo, np.int64), s, h)
         if ok and h > 1:
             ok = self._deeper(xs[todo], qs[todo], left[todo], h, s)
         self._known[key] = (no, s) if ok else (s, yes)
@@ -158,17 +166,20 @@ class BudgetedBound:
         no, yes = self._at_turn.get(turn, (-1.0, INF))
         self._at_turn[turn] = (no, min(yes, s)) if ok else (max(no, s), yes)
 
-    def _settle_turns(self, xs: np.ndarray, qs: np.ndarray, left: np.ndarray, s: float, h: int) -> bool:
-        """V_0(m p_j) <= V_0(p_j) + s for every turn j and move m there: at h = 1
-        that is the answer at each turn, above it a necessary condition."""
-        count = self._replies(xs, qs)
-        turn = self._turn[:count]
-        r = self._settle(self._keys[:count], left[turn] + s, turn, xs, qs, left)
-        failed = int(turn[r]) if r < count else len(xs)
-        for j in range(failed if h == 1 else 0):
+    def _settle_turns(self, plan: tuple[np.ndarray, ...], todo: np.ndarray, s: float, h: int) -> bool:
+        """V_0(m p_j) <= V_0(p_j) + s for every turn j in todo and move m there
+        (plan: `_turns`' arrays): at h = 1 that is the answer at each turn,
+        above it a necessary condition."""
+        xs, qs, left, codes = plan
+        count = self._replies(xs[todo], qs[todo])
+        turn = todo[self._turn[:count]]
+        r = self._settle(self._keys[:count], left[turn] + s, turn, plan)
+        failed = int(np.searchsorted(todo, turn[r])) if r < count else len(todo)
+        for j in todo[:failed].tolist() if h == 1 else ():
             self._record((int(xs[j]), int(qs[j]), 1), s, True)
-        if failed < len(xs):
-            self._record((int(xs[failed]), int(qs[failed]), h), s, False)
+        if failed < len(todo):
+            j = int(todo[failed])
+            self._record((int(xs[j]), int(qs[j]), h), s, False)
             return False
         return True
 
@@ -193,6 +204,12 @@ class BudgetedBound:
             self._record((int(xs[j]), int(qs[j]), h), s, True)
         return True
 
+    def _look(self, every: int = LOOK_EVERY) -> None:
+        """`Deadline` when the deadline has passed, looked at once in `every` calls."""
+        self._calls += 1
+        if self.deadline is not None and self._calls % every == 0 and time.perf_counter() > self.deadline:
+            raise Deadline
+
     # -- the no-human game's memo ----------------------------------------------------------
     def value(self, x: int, q: int) -> float:
         """V_0(x, q) in units, exact (inf: the robot cannot win alone; 0: q accepts)."""
@@ -201,6 +218,7 @@ class BudgetedBound:
         found = self._values.get((x, q))
         if found is not None:
             return found
+        self._look()
         memo = self.memo
         i = memo.node(memo.key2(x, q, 0))
         self.oracle.questions += 1
@@ -239,25 +257,29 @@ class BudgetedBound:
             memo.rec[i, sk.LO_H] = b + 1
         return bool(ok)
 
-    def _turns(self, x: int, q: int, human_first: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The human turns on σ's plan from (x, q): packed states, DFA states, V_0 there."""
+    def _turns(self, x: int, q: int, human_first: bool) -> tuple[np.ndarray, ...]:
+        """The human turns on σ's plan from (x, q): packed states, DFA states, V_0
+        there, and σ's action there (its code)."""
         memo, qbits = self.memo, self.t.qbits
         i = memo.find(memo.key2(x, q, 0))
         if i is None:  # pragma: no cover - value(x, q) made it
             raise RuntimeError("internal error: σ's plan asked before its value")
         while True:
-            count = int(rk._plan(np.int64(i), memo.rec, memo.rm_tgt, memo.rm_move, np.int64(self.t.code_bits),
-                                 np.int64(memo.hb), self._plan_key, self._plan_units))
+            count = int(rk._plan(np.int64(i), memo.rec, memo.rm_tgt, memo.rm_move, np.int64(memo.hb),
+                                 self._plan_key, self._plan_move))
             if count >= 0:
                 break
             self._plan_key = np.empty(2 * len(self._plan_key), np.int64)
-            self._plan_units = np.empty(2 * len(self._plan_units), np.int64)
-        keys = self._plan_key[:count - 1]
-        left = self.value(x, q) - np.cumsum(self._plan_units[:count - 1])
+            self._plan_move = np.empty(2 * len(self._plan_move), np.int64)
+        keys, moves = self._plan_key[:count - 1], self._plan_move[:count]
+        bits = self.t.code_bits
+        codes = moves & ((1 << bits) - 1)
+        v0 = self.value(x, q)
+        left = v0 - np.cumsum(moves[:count - 1] >> bits)
         xs, qs = keys >> qbits, keys & ((1 << qbits) - 1)
         if human_first:
-            return np.append(x, xs), np.append(q, qs), np.append(self.value(x, q), left)
-        return xs, qs, left.astype(np.float64)
+            return np.append(x, xs), np.append(q, qs), np.append(v0, left), codes
+        return xs, qs, left.astype(np.float64), codes[1:]
 
     def _replies(self, xs: np.ndarray, qs: np.ndarray) -> int:
         """Every human move at the turns into self._keys / self._turn; their count."""
@@ -268,19 +290,19 @@ class BudgetedBound:
             self._turn = np.empty(need, np.int64)
         return int(rk._replies(xs, qs, memo.P, memo.G, memo.S(), self._keys, self._turn))
 
-    def _settle(self, keys: np.ndarray, budgets: np.ndarray, turn: np.ndarray, xs: np.ndarray, qs: np.ndarray,
-                left: np.ndarray) -> int:
+    def _settle(self, keys: np.ndarray, budgets: np.ndarray, turn: np.ndarray, plan: tuple[np.ndarray, ...]) -> int:
         """The first move whose V_0 is above its budget (`packed.replies._settle`),
-        len(keys) when none is; move r is at turn (xs[j], qs[j]) of V_0 left[j], j = turn[r]."""
+        len(keys) when none is; move r is at turn turn[r] of the plan (`_turns`' arrays)."""
         memo, st = self.memo, self.memo.st
+        xs, qs, left, codes = plan
         budgets = np.minimum(budgets, float(1 << 40)).astype(np.int64)
         bases = np.minimum(left, float(1 << 40)).astype(np.int64)
         first = 0
         while True:
             st[sk.ST_ABORT] = 0
-            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + ORACLE_CHUNK
-            first = int(rk._settle(keys, budgets, turn, xs, qs, bases, np.int64(first), memo.P, memo.G, memo.B, memo.M(), memo.S(),
-                                   np.int64(memo.room)))
+            st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (ORACLE_CHUNK if self.deadline is None else DEADLINE_CHUNK)
+            first = int(rk._settle(keys, budgets, turn, xs, qs, bases, codes, np.int64(first), memo.P, memo.G, memo.B, memo.M(), memo.S(),
+                                   np.int64(memo.room), self.counts))
             why = int(st[sk.ST_ABORT])
             if why == 0:
                 self.settled += first
@@ -288,8 +310,7 @@ class BudgetedBound:
             if why == sk.ABORT_ZERO:
                 raise OutOfReach(ZERO)
             memo.recover(why)
-            if self.deadline is not None and time.perf_counter() > self.deadline:
-                raise Deadline
+            self._look(every=1)
 
 
 #: The steps above the lower end at which `certified_upper` asks, as shares of it

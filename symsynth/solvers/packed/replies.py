@@ -11,9 +11,11 @@ strategy, checked in bulk against budgets on the no-human game's memo
   generated at the state it is played in, so a plan whose cost bounds V_0
   from above whatever the game (-1 when the sequence is not legal there or
   does not come back);
+- `_follow`: σ's own next actions played after a human move, until the play
+  meets σ's plan again (or wins): again a plan, so again a bound on V_0;
 - `_settle`: each reply's key against its budget b, "V_0 <= b?": answered
   from the node's proven bounds when they decide it, else by the repair
-  (V_0(after) <= repair + V_0(turn)), else by the search
+  (V_0(after) <= repair + V_0(turn)), else by σ's plan followed, else by the search
   (`packed.search._ask`), until the first "no" or the end; stops with a
   reason in st[ST_ABORT] as `_ask` does, to be called again from where it
   stopped.
@@ -55,13 +57,16 @@ def _replies(xs, qs, P, G, S, out_key, out_turn):
 
 
 @njit(cache=True)
-def _settle(keys, budgets, turn, xs, qs, bases, first, P, G, B, M, S, room):
+def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, room, counts):
     """Whether V_0 <= budgets[r] for every r >= first with keys[r] >= 0 (a
-    node key at h = 0, a human move at the turn (xs[j], qs[j]) whose V_0 is
-    bases[j], j = turn[r]): the index of the first reply answered "no",
+    node key at h = 0, a human move at the turn (xs[j], qs[j]) of σ's plan
+    whose V_0 is bases[j] and whose next action is codes[j], j = turn[r]):
+    the index of the first reply answered "no",
     len(keys) when all are "yes", or the index to go on from when
     st[ST_ABORT] is set (the arrays full, the questions used up, the stack
-    too shallow, a move of 0 units; what was proven is kept)."""
+    too shallow, a move of 0 units; what was proven is kept).  counts: the
+    replies answered by the memo, by a repair, by the plan followed, by the
+    search."""
     table, rec = M[0], M[1]
     st = S[0]
     hb, qbits = P[7], P[6]
@@ -72,13 +77,19 @@ def _settle(keys, budgets, turn, xs, qs, bases, first, P, G, B, M, S, room):
         i = _find(table, st[ST_BITS], key)
         if i >= 0:
             if rec[i, HI_R] <= b:
+                counts[0] += 1
                 continue
             if _lo_h(rec, i) > b:
                 return r
         j = turn[r]
         fix = _repair(xs[j], qs[j], (key >> hb) >> qbits, (key >> hb) & ((1 << qbits) - 1), P, G, S)
         if 0 <= fix <= b - bases[j]:
+            counts[1] += 1
             continue
+        if 0 <= _follow(j, (key >> hb) >> qbits, (key >> hb) & ((1 << qbits) - 1), xs, qs, bases, codes, b, P, G, S):
+            counts[2] += 1
+            continue
+        counts[3] += 1
         if i < 0:
             if not _room(M, S, room):
                 return r
@@ -86,6 +97,30 @@ def _settle(keys, budgets, turn, xs, qs, bases, first, P, G, B, M, S, room):
         if not _ask(i, b, True, P, G, B, M, S):
             return r
     return len(keys)
+
+
+@njit(cache=True)
+def _follow(j, w, q2, xs, qs, bases, codes, b, P, G, S):
+    """An upper bound <= b on V_0(w, q2), w a human move at turn j of σ's plan:
+    σ's next actions (codes[j], codes[j + 1], ...) played from w, each
+    generated where it is played, until the state meets the plan's (then its
+    cost + V_0 there) or the task holds (its cost); -1 when an action is not
+    available, the cost passes b, or the plan ends first."""
+    accepting = G[13]
+    out = np.empty(3, np.int64)
+    y, qq, total = w, q2, 0
+    for step in range(j, len(codes)):
+        _act(y, qq, codes[step], P, G, S, out)
+        if out[2] < 0:
+            return -1
+        y, qq, total = out[0], out[1], total + out[2]
+        if total > b:
+            return -1
+        if accepting[qq]:
+            return total
+        if step + 1 < len(xs) and y == xs[step + 1] and qq == qs[step + 1]:
+            return total + bases[step + 1] if total + bases[step + 1] <= b else -1
+    return -1
 
 
 @njit(cache=True)
@@ -179,15 +214,15 @@ def _repair(x, q, w, q2, P, G, S):
 
 
 @njit(cache=True)
-def _plan(i, rec, rm_tgt, rm_move, code_bits, hb, out_key, out_units):
-    """The chosen actions from node i to the win: their units into out_units
-    and the key (>> hb: packed state << qbits | DFA state) of the node after
-    each but the last (which wins) into out_key; their count, -1 when the
-    arrays are too short."""
+def _plan(i, rec, rm_tgt, rm_move, hb, out_key, out_move):
+    """The chosen actions from node i to the win: their moves (units <<
+    code_bits | code) into out_move and the key (>> hb: packed state << qbits
+    | DFA state) of the node after each but the last (which wins) into
+    out_key; their count, -1 when the arrays are too short."""
     count = 0
-    while count < len(out_units):
+    while count < len(out_move):
         e = rec[i, R_OFF] + _small(rec, i, 32) - 1
-        out_units[count] = rm_move[e] >> code_bits
+        out_move[count] = rm_move[e]
         i = rm_tgt[e]
         count += 1
         if i < 0:
