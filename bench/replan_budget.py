@@ -33,7 +33,8 @@ def _peak_mb() -> float:
 
 def _counts(bound: BudgetedBound) -> dict:
     return {"V_0 found": len(bound._values), "replies settled": bound.settled, "nodes": bound.memo.count,
-            "search steps": int(bound.memo.st[sk.ST_CALLS]), "by memo, repair, plan followed, search": bound.counts.tolist(), "peak_mb": _peak_mb()}
+            "search steps": int(bound.memo.st[sk.ST_CALLS]),
+            "by memo, repair, plan followed, search": bound.counts.tolist(), "peak_mb": _peak_mb()}
 
 
 def within(n: int, m: int, k: int, targets: list[int]) -> None:
@@ -65,7 +66,7 @@ def interval(n: int, m: int, k: int, limit: float) -> None:
                       "ratio": None if found.units is None or not lower else round(found.units / lower, 4),
                       "exact": found.exact, "upper_by": found.stats.get("upper_by", "search"),
                       "replanning_seconds": found.stats.get("replanning_seconds"),
-                      "seconds": round(time.perf_counter() - clock, 1), "by memo, repair, plan followed, search": bound.counts.tolist(), "peak_mb": _peak_mb()}), flush=True)
+                      "seconds": round(time.perf_counter() - clock, 1), "peak_mb": _peak_mb()}), flush=True)
 
 
 def main(argv=None) -> int:

@@ -96,8 +96,8 @@ MAX_ROUNDS = 1024
 #: Share of a time limit the search takes (`_search`: half of it for the rounds from below);
 #: then the replanning strategy's bound (`solvers.replan_budget`) is asked for an upper end
 #: until REPLAN_SHARE more of the limit has passed, when the search proved E_p in neither
-SEARCH_SHARE = 0.5
-REPLAN_SHARE = 0.5
+SEARCH_SHARE = 0.75
+REPLAN_SHARE = 0.25
 
 
 class Memo:
