@@ -12,7 +12,8 @@ strategy, checked in bulk against budgets on the no-human game's memo
   from above whatever the game (-1 when the sequence is not legal there or
   does not come back);
 - `_follow`: σ's own next actions played after a human move, until the play
-  meets σ's plan again (or wins): again a plan, so again a bound on V_0;
+  meets σ's plan again (or wins), the moved object parked out of σ's way
+  once if it blocks an action: again a plan, so again a bound on V_0;
 - `_settle`: each reply's key against its budget b, "V_0 <= b?": answered
   from the node's proven bounds when they decide it, else by the repair
   (V_0(after) <= repair + V_0(turn)), else by σ's plan followed, else by the search
@@ -104,23 +105,180 @@ def _follow(j, w, q2, xs, qs, bases, codes, b, P, G, S):
     """An upper bound <= b on V_0(w, q2), w a human move at turn j of σ's plan:
     σ's next actions (codes[j], codes[j + 1], ...) played from w, each
     generated where it is played, until the state meets the plan's (then its
-    cost + V_0 there) or the task holds (its cost); -1 when an action is not
+    cost + V_0 there), the task holds (its cost), or, once the hand is free,
+    a repair (`_repair`) brings it back to the plan's state.  The moved
+    object is parked out of σ's way (`_park`) when it stands where σ will
+    carry something, or blocks an action (`_swap` when the hand is full).
+    -1 when an action is still not
     available, the cost passes b, or the plan ends first."""
+    gb, eb, n, pb = P[5], P[4], P[0], P[3]
     accepting = G[13]
     out = np.empty(3, np.int64)
     y, qq, total = w, q2, 0
-    for step in range(j, len(codes)):
+    parked = _park(y, qq, xs[j], codes, j, True, P, G, S, out)
+    if parked:
+        y, qq, total = out[0], out[1], out[2]
+    repaired = False
+    step = j
+    while step < len(codes):
         _act(y, qq, codes[step], P, G, S, out)
         if out[2] < 0:
-            return -1
+            x = xs[step] if step < len(xs) else -1
+            if parked or not (_park(y, qq, x, codes, step, False, P, G, S, out)
+                              or _swap(y, qq, x, codes, step, P, G, S, out)):
+                return -1
+            parked = True
+        else:
+            step += 1
         y, qq, total = out[0], out[1], total + out[2]
         if total > b:
             return -1
         if accepting[qq]:
             return total
-        if step + 1 < len(xs) and y == xs[step + 1] and qq == qs[step + 1]:
-            return total + bases[step + 1] if total + bases[step + 1] <= b else -1
+        if step < len(xs) and y == xs[step] and qq == qs[step]:
+            return total + bases[step] if total + bases[step] <= b else -1
+        if step < len(xs) and not repaired and (y >> (n * pb + eb)) & ((1 << gb) - 1) == 0:
+            repaired = True
+            fix = _repair(xs[step], qs[step], y, qq, P, G, S)
+            if 0 <= fix and total + fix + bases[step] <= b:
+                return total + fix + bases[step]
     return -1
+
+
+@njit(cache=True)
+def _park(y, q, x, codes, step, only_in_the_way, P, G, S, out):
+    """The object the human moved (where y and σ's plan state x differ) carried
+    to a free location that σ's actions codes[step:] never carry anything to,
+    the cheapest, and the hand aimed again as at y: out = (state, DFA state,
+    units) after it; whether there is such a plan (not: the hand full or
+    aimed at Else, the object not on a location, no such place; and with
+    `only_in_the_way`, when the object does not stand where σ carries
+    something)."""
+    n, m, F, pb, eb, gb = P[:6]
+    is_grasp = G[9]
+    pmask = (1 << pb) - 1
+    eshift = n * pb
+    emask = (1 << eb) - 1
+    out[2] = -1
+    ee = (y >> eshift) & emask
+    if (y >> (eshift + eb)) & ((1 << gb) - 1) != 0 or ee == 0 or x < 0:
+        return False
+    moved = -1
+    for i in range(n):
+        if (x >> (i * pb)) & pmask != (y >> (i * pb)) & pmask:
+            moved = i
+    if moved < 0:
+        return False
+    t = (y >> (moved * pb)) & pmask
+    if t >= m:
+        return False
+    ahead = 0
+    for e in range(step, len(codes)):  # where σ carries things from here on
+        if codes[e] // ((m + 2) * (F + 1) * (n + 1)) == KIND_TRANSFER:
+            ahead |= 1 << (codes[e] % (m + 2))
+    if only_in_the_way and not ahead >> t & 1:
+        return False
+    blocked = ahead | 1 << t
+    for i in range(n):
+        if (y >> (i * pb)) & pmask < m:
+            blocked |= 1 << ((y >> (i * pb)) & pmask)
+    g = -1
+    for f in range(F):
+        if g < 0 and is_grasp[f]:
+            g = f
+    if g < 0:
+        return False
+    codes_ = np.empty(5, np.int64)
+    trial = np.empty(3, np.int64)
+    for f in range(m):
+        if blocked >> f & 1:
+            continue
+        codes_[0] = _code(KIND_TRANSIT, moved, g, 0, n, F, m)
+        codes_[1] = _code(KIND_GRAB, moved, g, 0, n, F, m)
+        codes_[2] = _code(KIND_TRANSFER, moved, g, f, n, F, m)
+        codes_[3] = _code(KIND_DROP, moved, g, f, n, F, m)
+        c = 4
+        if ee != 1 + m + moved * F + g:
+            codes_[4] = _code(KIND_TRANSIT, (ee - 1 - m) // F, (ee - 1 - m) % F, 0, n, F, m)
+            c = 5
+        z, qz, total = y, q, 0
+        for e in range(c):
+            _act(z, qz, codes_[e], P, G, S, trial)
+            if trial[2] < 0:
+                total = -1
+                break
+            z, qz, total = trial[0], trial[1], total + trial[2]
+        if total >= 0 and (out[2] < 0 or total < out[2]):
+            out[0], out[1], out[2] = z, qz, total
+    return out[2] >= 0
+
+
+@njit(cache=True)
+def _swap(y, q, x, codes, step, P, G, S, out):
+    """With the hand full and the object the human moved (where y and σ's plan
+    state x differ) in the way: what the hand holds put on a free location
+    f, the moved object carried back where x has it (or, when x has it at
+    Else, to another free location), the held object taken up again from f:
+    out = (state, DFA state, units) after it, the cheapest over f; whether
+    there is such a plan.  Locations σ's actions codes[step:] carry things
+    to are not used."""
+    n, m, F, pb, eb, gb = P[:6]
+    is_grasp = G[9]
+    pmask = (1 << pb) - 1
+    eshift = n * pb
+    out[2] = -1
+    grip = (y >> (eshift + eb)) & ((1 << gb) - 1)
+    if grip == 0 or x < 0:
+        return False
+    held = moved = -1
+    occupied = 0
+    for i in range(n):
+        p = (y >> (i * pb)) & pmask
+        if p == m + 1:
+            held = i
+        elif p < m:
+            occupied |= 1 << p
+        if (x >> (i * pb)) & pmask != p:
+            moved = i
+    if moved < 0 or held < 0 or (y >> (moved * pb)) & pmask >= m:
+        return False
+    ahead = 0
+    for e in range(step, len(codes)):
+        if codes[e] // ((m + 2) * (F + 1) * (n + 1)) == KIND_TRANSFER:
+            ahead |= 1 << (codes[e] % (m + 2))
+    back = (x >> (moved * pb)) & pmask
+    g = -1
+    for f in range(F):
+        if g < 0 and is_grasp[f]:
+            g = f
+    if g < 0:
+        return False
+    plan = np.empty(8, np.int64)
+    trial = np.empty(3, np.int64)
+    for f in range(m):
+        if (occupied | ahead) >> f & 1 or f == back:
+            continue
+        for to in range(m):
+            if back < m and to != back or back >= m and ((occupied | ahead) >> to & 1 or to == f):
+                continue
+            plan[0] = _code(KIND_TRANSFER, held, grip - 1, f, n, F, m)
+            plan[1] = _code(KIND_DROP, held, grip - 1, f, n, F, m)
+            plan[2] = _code(KIND_TRANSIT, moved, g, 0, n, F, m)
+            plan[3] = _code(KIND_GRAB, moved, g, 0, n, F, m)
+            plan[4] = _code(KIND_TRANSFER, moved, g, to, n, F, m)
+            plan[5] = _code(KIND_DROP, moved, g, to, n, F, m)
+            plan[6] = _code(KIND_TRANSIT, held, grip - 1, 0, n, F, m)
+            plan[7] = _code(KIND_GRAB, held, grip - 1, 0, n, F, m)
+            z, qz, total = y, q, 0
+            for e in range(8):
+                _act(z, qz, plan[e], P, G, S, trial)
+                if trial[2] < 0:
+                    total = -1
+                    break
+                z, qz, total = trial[0], trial[1], total + trial[2]
+            if total >= 0 and (out[2] < 0 or total < out[2]):
+                out[0], out[1], out[2] = z, qz, total
+    return out[2] >= 0
 
 
 @njit(cache=True)
