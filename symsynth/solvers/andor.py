@@ -93,11 +93,15 @@ CHUNK = 2_000_000
 #: rises by a cycle's cost per round where the robot can circle cheaply (the forward solver
 #: lifts such cycles with `_tighten`, not ported); the pattern family needs at most 89 (7 x 10)
 MAX_ROUNDS = 1024
-#: Share of a time limit the search takes (`_search`: half of it for the rounds from below);
-#: then the replanning strategy's bound (`solvers.replan_budget`) is asked for an upper end
-#: until REPLAN_SHARE more of the limit has passed, when the search proved E_p in neither
-SEARCH_SHARE = 0.75
-REPLAN_SHARE = 0.25
+#: Shares of a time limit: the search's rounds from below until ROUNDS_SHARE of it has
+#: passed, its rounds from above until SEARCH_SHARE; then, when the search proved E_p in
+#: neither, the replanning strategy's bound (`solvers.replan_budget`) is asked for an upper
+#: end until REPLAN_SHARE more of the limit has passed.  The rounds from below are what
+#: proves E_p where the search can (6 x 8 x k = 3 at 60 s lost it with a quarter of the limit
+#: for them); above it, the bound's upper end is the tighter one (issue 32's measurements)
+ROUNDS_SHARE = 0.5
+SEARCH_SHARE = 0.6
+REPLAN_SHARE = 0.4
 
 
 class Memo:
@@ -262,7 +266,8 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
     begun = clock
     deadline = None if time_limit is None else begun + time_limit * SEARCH_SHARE
     try:
-        lower, upper, rounds = _search(memo, start, deadline)
+        lower, upper, rounds = _search(memo, start, deadline,
+                                       None if time_limit is None else begun + time_limit * ROUNDS_SHARE)
     except (_ZeroCost, _TooManyRounds) as why:
         if time_limit is not None:  # (rounds run out only without a limit)
             raise OutOfReach("a robot move of this game costs 0 units, which the AND-OR search hands to the "
@@ -331,13 +336,17 @@ def _layered(solution: Solution, why: str) -> Solution:
     return dataclasses.replace(solution, stats={**solution.stats, "answered_by": "compiled", "why": why})
 
 
-def _search(memo: Memo, start: int, deadline: float | None) -> tuple[int | None, int | None, int]:
+def _search(memo: Memo, start: int, deadline: float | None,
+            rounds_until: float | None = None) -> tuple[int | None, int | None, int]:
     """(lower, upper, rounds): lower None when E_p = upper is proven (upper
     None: infinite); else lower <= E_p <= upper (upper None: no strategy
-    proven in time).  Half the time goes to the rounds from below; then
-    "val <= b?" for b 5%, 10%, 20%, ... above lo, as `forward._anytime`."""
+    proven in time).  The rounds from below go on until `rounds_until` (by
+    default half the time); then "val <= b?" for b 5%, 10%, 20%, ... above
+    lo, as `forward._anytime`."""
     rounds = 0
-    half = None if deadline is None else time.perf_counter() + (deadline - time.perf_counter()) / 2
+    half = rounds_until
+    if deadline is not None and half is None:
+        half = time.perf_counter() + (deadline - time.perf_counter()) / 2
     while True:
         b = memo.lo_h(start)
         if b >= INF:
