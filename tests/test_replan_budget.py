@@ -17,14 +17,11 @@ from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers.packed import replies
 from symsynth.solvers.replan import replanning_bound
 from symsynth.solvers.replan_budget import BudgetedBound
-from symsynth.testing.gamegen import alike_scene, random_scene
-from support.games import worst_case_of
+from support.games import planning_scene, worst_case_of
 
 
 def _scene(seed):
-    if seed % 4 == 0:
-        return alike_scene(seed, contacts=seed % 8 == 0)
-    return random_scene(9100 + seed, positive=True, contacts=seed % 3 == 0)
+    return planning_scene(seed, 9100)
 
 
 def test_the_question_says_yes_exactly_from_what_the_strategy_pays():

@@ -201,15 +201,9 @@ def _park(y, q, x, codes, step, only_in_the_way, P, G, S, out):
         if ee != 1 + m + moved * F + g:
             codes_[4] = _code(KIND_TRANSIT, (ee - 1 - m) // F, (ee - 1 - m) % F, 0, n, F, m)
             c = 5
-        z, qz, total = y, q, 0
-        for e in range(c):
-            _act(z, qz, codes_[e], P, G, S, trial)
-            if trial[2] < 0:
-                total = -1
-                break
-            z, qz, total = trial[0], trial[1], total + trial[2]
-        if total >= 0 and (out[2] < 0 or total < out[2]):
-            out[0], out[1], out[2] = z, qz, total
+        _play(y, q, codes_, c, P, G, S, trial)
+        if trial[2] >= 0 and (out[2] < 0 or trial[2] < out[2]):
+            out[:] = trial
     return out[2] >= 0
 
 
@@ -269,16 +263,27 @@ def _swap(y, q, x, codes, step, P, G, S, out):
             plan[5] = _code(KIND_DROP, moved, g, to, n, F, m)
             plan[6] = _code(KIND_TRANSIT, held, grip - 1, 0, n, F, m)
             plan[7] = _code(KIND_GRAB, held, grip - 1, 0, n, F, m)
-            z, qz, total = y, q, 0
-            for e in range(8):
-                _act(z, qz, plan[e], P, G, S, trial)
-                if trial[2] < 0:
-                    total = -1
-                    break
-                z, qz, total = trial[0], trial[1], total + trial[2]
-            if total >= 0 and (out[2] < 0 or total < out[2]):
-                out[0], out[1], out[2] = z, qz, total
+            _play(y, q, plan, 8, P, G, S, trial)
+            if trial[2] >= 0 and (out[2] < 0 or trial[2] < out[2]):
+                out[:] = trial
     return out[2] >= 0
+
+
+@njit(cache=True)
+def _play(y, q, plan, count, P, G, S, out):
+    """The robot's actions plan[:count] played from (y, q), up to a win: out =
+    (state, DFA state, units) after them; units -1 when one is not available."""
+    accepting = G[13]
+    step = np.empty(3, np.int64)
+    out[0], out[1], out[2] = y, q, 0
+    for e in range(count):
+        _act(out[0], out[1], plan[e], P, G, S, step)
+        if step[2] < 0:
+            out[2] = -1
+            return
+        out[0], out[1], out[2] = step[0], step[1], out[2] + step[2]
+        if accepting[out[1]]:
+            return
 
 
 @njit(cache=True)
@@ -360,15 +365,10 @@ def _repair(x, q, w, q2, P, G, S):
         codes[c] = _code(KIND_TRANSIT, (ee - 1 - m) // F, (ee - 1 - m) % F, 0, n, F, m)
         c += 1
     out = np.empty(3, np.int64)
-    y, qq, total = w, q2, 0
-    for e in range(c):
-        _act(y, qq, codes[e], P, G, S, out)
-        if out[2] < 0:
-            return -1
-        y, qq, total = out[0], out[1], total + out[2]
-        if accepting[qq]:
-            return total
-    return total if y == x and qq == q else -1
+    _play(w, q2, codes, c, P, G, S, out)
+    if out[2] >= 0 and (accepting[out[1]] or out[0] == x and out[1] == q):
+        return out[2]
+    return -1
 
 
 @njit(cache=True)
