@@ -146,6 +146,25 @@ def _follow(j, w, q2, xs, qs, bases, codes, b, P, G, S):
 
 
 @njit(cache=True)
+def _ahead(codes, step, n, m, F):
+    """The locations σ's actions codes[step:] carry something to, as a bit mask."""
+    mask = 0
+    for e in range(step, len(codes)):
+        if codes[e] // ((m + 2) * (F + 1) * (n + 1)) == KIND_TRANSFER:
+            mask |= 1 << (codes[e] % (m + 2))
+    return mask
+
+
+@njit(cache=True)
+def _first_grasp(is_grasp):
+    """The first preimage that is a grasp, -1 when none is."""
+    for f in range(len(is_grasp)):
+        if is_grasp[f]:
+            return f
+    return -1
+
+
+@njit(cache=True)
 def _park(y, q, x, codes, step, only_in_the_way, P, G, S, out):
     """The object the human moved (where y and σ's plan state x differ) carried
     to a free location that σ's actions codes[step:] never carry anything to,
@@ -172,22 +191,14 @@ def _park(y, q, x, codes, step, only_in_the_way, P, G, S, out):
     t = (y >> (moved * pb)) & pmask
     if t >= m:
         return False
-    ahead = 0
-    for e in range(step, len(codes)):  # where σ carries things from here on
-        if codes[e] // ((m + 2) * (F + 1) * (n + 1)) == KIND_TRANSFER:
-            ahead |= 1 << (codes[e] % (m + 2))
-    if only_in_the_way and not ahead >> t & 1:
+    ahead = _ahead(codes, step, n, m, F)
+    g = _first_grasp(is_grasp)
+    if only_in_the_way and not ahead >> t & 1 or g < 0:
         return False
     blocked = ahead | 1 << t
     for i in range(n):
         if (y >> (i * pb)) & pmask < m:
             blocked |= 1 << ((y >> (i * pb)) & pmask)
-    g = -1
-    for f in range(F):
-        if g < 0 and is_grasp[f]:
-            g = f
-    if g < 0:
-        return False
     codes_ = np.empty(5, np.int64)
     trial = np.empty(3, np.int64)
     for f in range(m):
@@ -236,15 +247,9 @@ def _swap(y, q, x, codes, step, P, G, S, out):
             moved = i
     if moved < 0 or held < 0 or (y >> (moved * pb)) & pmask >= m:
         return False
-    ahead = 0
-    for e in range(step, len(codes)):
-        if codes[e] // ((m + 2) * (F + 1) * (n + 1)) == KIND_TRANSFER:
-            ahead |= 1 << (codes[e] % (m + 2))
+    ahead = _ahead(codes, step, n, m, F)
     back = (x >> (moved * pb)) & pmask
-    g = -1
-    for f in range(F):
-        if g < 0 and is_grasp[f]:
-            g = f
+    g = _first_grasp(is_grasp)
     if g < 0:
         return False
     plan = np.empty(8, np.int64)
@@ -339,12 +344,9 @@ def _repair(x, q, w, q2, P, G, S):
         a = (x >> (moved * pb)) & pmask
         if a >= m:
             return -1
-        g = -1
+        g = _first_grasp(is_grasp)
         if grip == 0 and ee > m and (ee - 1 - m) // F == moved and is_grasp[(ee - 1 - m) % F]:
             g = (ee - 1 - m) % F
-        for f in range(F):
-            if g < 0 and is_grasp[f]:
-                g = f
         if g < 0:
             return -1
         codes[c] = _code(KIND_TRANSIT, moved, g, 0, n, F, m)
