@@ -68,6 +68,8 @@ def test_the_question_alone_finds_what_its_strategy_pays():
         exact = solve_explicit(scene, k=k)
         followed = dataclasses.replace(exact, strategy=asked.strategy)
         assert worst_case_of(scene, followed, formula) == upper, seed
+        play = asked.worst_play(int(upper))
+        assert sum(step.cost for step in play) == upper and sum(step.who == "human" for step in play) <= k, seed
         assert exact.units <= upper, seed
     assert checked >= 5, checked
 

@@ -307,9 +307,9 @@ def _replanned(solution: Solution, scene: Scene, formula: ast.Formula, k: int, b
                deadline: float) -> Solution:
     """An anytime answer whose upper end is the replanning strategy's when that is
     proven (`replan_budget.certified_upper`) below the search's (and E_p when it
-    meets the lower end).  Its principal play is the strategy's plan with the
-    human passing: the question proves a bound, it does not single out a worst
-    human."""
+    meets the lower end).  Its principal play is the strategy against a human
+    who makes it pay that much when the bisection showed it is what σ pays,
+    else σ's plan with the human passing."""
     lower, r = solution.lower_units, solution.resolution
     assert lower is not None  # the caller answers exact solutions itself
     clock = time.perf_counter()
@@ -324,10 +324,12 @@ def _replanned(solution: Solution, scene: Scene, formula: ast.Formula, k: int, b
     upper, bound = found
     exact = upper <= lower
     realizable = bracket_verdict(None if exact else lower, upper, r, budget)
-    principal = bound.passing_play()
+    worst = bound.answered(upper - 1) is False  # upper is what σ pays against the worst human
+    principal = bound.worst_play(upper) if worst else bound.passing_play()
     return dataclasses.replace(solution, cost_bound=in_costmap_units(upper, r), units=upper, realizable=realizable,
                                strategy=bound.strategy, principal_play=principal,
-                               counter_play=None, stats=stats | {"replanning_bound": upper, "upper_by": "replanning"},
+                               counter_play=principal if exact and realizable is False else None,
+                               stats=stats | {"replanning_bound": upper, "upper_by": "replanning"},
                                lower_units=None if exact else lower)
 
 

@@ -51,7 +51,7 @@ import time
 
 import numpy as np
 
-from symsynth.game.abstraction import in_costmap_units, initial_state
+from symsynth.game.abstraction import in_costmap_units, initial_state, legal_human_moves
 from symsynth.game.solution import OutOfReach, Step
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
@@ -103,6 +103,54 @@ class BudgetedBound:
     def strategy(self) -> ReplanningStrategy:
         """σ, the strategy that `within` speaks of."""
         return ReplanningStrategy(self.oracle)
+
+    def answered(self, target: int) -> bool | None:
+        """What `within(target)` said or would say from what is known, None when unknown."""
+        x, q = self.start
+        if self.t.accepting[q] or self.value(x, q) >= INF:
+            return target >= 0 if self.t.accepting[q] else False
+        no, yes = self._known.get((x, q, self.k, True), (-1.0, INF))
+        s = target - self.value(x, q)
+        return True if s >= yes else False if s < 0 or s <= no else None
+
+    def worst_play(self, upper: int) -> tuple[Step, ...]:
+        """σ against a human who makes it pay `upper`, when `upper` is B_k(start)
+        (`within(upper)` yes, `within(upper - 1)` no): at each position, σ's plan
+        up to the turn of a move whose rise plus what σ can be made to pay after
+        it exceeds what is left of upper - 1, that move, and on from there."""
+        t, r = self.t, self.t.resolution
+        x, q = self.start
+        h, human_first = self.k, True
+        s = upper - 1 - self.value(x, q)
+        steps: list[Step] = []
+        while not t.accepting[q]:
+            found = self._exceeding(x, q, h, s, human_first) if h > 0 and s >= 0 else None
+            v = t.unpack(x)
+            plan = [Step("robot", a, in_costmap_units(u, r), after) for a, u, after, _ in self.oracle.plan(v, q)]
+            if found is None:
+                return tuple(steps + plan)
+            j, w, q2, rise = found
+            robot = j if human_first else j + 1  # σ's actions before the human's turn j
+            steps += plan[:robot]
+            here = plan[robot - 1].state if robot > 0 else v
+            move = next(mv for mv in legal_human_moves(self.oracle.scene, here) if t.pack(mv.after) == w)
+            steps.append(Step("human", move.action, 0.0, move.after))
+            x, q, h, human_first, s = w, q2, h - 1, False, s - rise
+        return tuple(steps)
+
+    def _exceeding(self, x: int, q: int, h: int, s: float, human_first: bool) -> tuple[int, int, int, float] | None:
+        """A move (turn, state after, DFA state after, rise) on σ's plan from
+        (x, q) after which σ can be made to pay more than s above V_0(x, q)."""
+        xs, qs, left, _ = self._turns(x, q, human_first)
+        count = self._replies(xs, qs)
+        hb, qbits = self.memo.hb, self.t.qbits
+        for key, j in zip(self._keys[:count].tolist(), self._turn[:count].tolist()):
+            if key >= 0:
+                w, q2 = key >> (hb + qbits), (key >> hb) & ((1 << qbits) - 1)
+                rise = self.value(w, q2) - float(left[j])
+                if rise > s or not self._fits(w, q2, h - 1, s - rise, False):
+                    return j, w, q2, rise
+        return None
 
     def passing_play(self) -> tuple[Step, ...]:
         """σ's play when the human always passes: its no-human plan from the start."""
