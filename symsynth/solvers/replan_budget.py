@@ -140,16 +140,27 @@ class BudgetedBound:
 
     def _exceeding(self, x: int, q: int, h: int, s: float, human_first: bool) -> tuple[int, int, int, float] | None:
         """A move (turn, state after, DFA state after, rise) on σ's plan from
-        (x, q) after which σ can be made to pay more than s above V_0(x, q)."""
-        xs, qs, left, _ = self._turns(x, q, human_first)
+        (x, q) after which σ can be made to pay more than s above V_0(x, q):
+        asked in the order `_fits` asks them (a rise above s first, then the
+        largest rises first), so that its answers are read back, not searched."""
+        plan = self._turns(x, q, human_first)
+        xs, qs, left, _ = plan
         count = self._replies(xs, qs)
+        keys, turn = self._keys[:count].copy(), self._turn[:count].copy()
+        r = self._settle(keys, left[turn] + s, turn, plan)
         hb, qbits = self.memo.hb, self.t.qbits
-        for key, j in zip(self._keys[:count].tolist(), self._turn[:count].tolist()):
+        moves = []
+        for key, j in zip(keys.tolist()[:r + 1], turn.tolist()):
             if key >= 0:
                 w, q2 = key >> (hb + qbits), (key >> hb) & ((1 << qbits) - 1)
-                rise = self.value(w, q2) - float(left[j])
-                if rise > s or not self._fits(w, q2, h - 1, s - rise, False):
-                    return j, w, q2, rise
+                moves.append((self.value(w, q2) - float(left[j]), w, q2, j))
+        if r < count:  # that move's V_0 is above its budget
+            rise, w, q2, j = moves[-1]
+            return j, w, q2, rise
+        moves.sort(reverse=True)
+        for rise, w, q2, j in moves:
+            if not self._fits(w, q2, h - 1, s - rise, False):
+                return j, w, q2, rise
         return None
 
     def passing_play(self) -> tuple[Step, ...]:
