@@ -14,14 +14,11 @@ from symsynth.game.solution import OutOfReach
 from symsynth.logic import parse_ltlf
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers.replan import replanning_bound
-from symsynth.testing.gamegen import alike_scene, random_scene
-from support.games import cut_answer, worst_case_of
+from support.games import planning_scene, cut_answer, worst_case_of
 
 
 def _scene(seed):
-    if seed % 4 == 0:
-        return alike_scene(seed, contacts=seed % 8 == 0)
-    return random_scene(8000 + seed, positive=True, contacts=seed % 3 == 0)
+    return planning_scene(seed, 8000)
 
 
 def test_the_bound_is_what_the_strategy_pays_and_never_below_e_p():

@@ -82,7 +82,7 @@ from symsynth.solvers.packed import search as sk
 from symsynth.solvers.packed.kernels import INF, _find, _table
 from symsynth.solvers.packed.lower import BoundTables
 from symsynth.solvers.packed.tables import Tables, check_width
-from symsynth.solvers.replan import ReplanBound, replanning_bound
+from symsynth.solvers.replan_budget import certified_upper
 
 #: Questions between two looks at the clock (and at the arrays' room): a question cut
 #: off there is asked again from the start, its proven parts kept.  Under a time limit a
@@ -93,9 +93,15 @@ CHUNK = 2_000_000
 #: rises by a cycle's cost per round where the robot can circle cheaply (the forward solver
 #: lifts such cycles with `_tighten`, not ported); the pattern family needs at most 89 (7 x 10)
 MAX_ROUNDS = 1024
-#: Share of a time limit the replanning strategy's exact bound may take before the search
-#: (`solvers.replan`): its upper end when the search proves none lower
-REPLAN_SHARE = 0.25
+#: Shares of a time limit: the search's rounds from below until ROUNDS_SHARE of it has
+#: passed, its rounds from above until SEARCH_SHARE; then, when the search proved E_p in
+#: neither, the replanning strategy's bound (`solvers.replan_budget`) is asked for an upper
+#: end until REPLAN_SHARE more of the limit has passed.  The rounds from below are what
+#: proves E_p where the search can (6 x 8 x k = 3 at 60 s lost it with a quarter of the limit
+#: for them); above it, the bound's upper end is the tighter one (issue 32's measurements)
+ROUNDS_SHARE = 0.5
+SEARCH_SHARE = 0.6
+REPLAN_SHARE = 0.4
 
 
 class Memo:
@@ -188,19 +194,25 @@ class Memo:
             why = int(st[sk.ST_ABORT])
             if why == 0:
                 return bool(ok)
-            if why == sk.ABORT_ROOM:
-                self._grow()
-            elif why == sk.ABORT_ZERO:
+            if why == sk.ABORT_ZERO:
                 raise ZeroCost
-            elif why == sk.ABORT_DEPTH:
-                depth = 2 * int(st[sk.ST_DEPTH])
-                st[sk.ST_DEPTH] = depth
-                self.order = np.empty((depth, self.room + 1), np.int64)
-                self.frames = np.empty((depth, 5), np.int64)
-            elif deadline is not None and time.perf_counter() > deadline:
+            self.recover(why)
+            if why == sk.ABORT_CALLS and deadline is not None and time.perf_counter() > deadline:
                 return None
-            elif self.cutoff is not None and time.perf_counter() > self.cutoff:
+            if why == sk.ABORT_CALLS and self.cutoff is not None and time.perf_counter() > self.cutoff:
                 raise CutOff
+
+    def recover(self, why: int) -> None:
+        """Room for a question that stopped for `why` (st[ST_ABORT]): the arrays
+        grown (ABORT_ROOM), the stack deepened (ABORT_DEPTH); nothing else."""
+        st = self.st
+        if why == sk.ABORT_ROOM:
+            self._grow()
+        elif why == sk.ABORT_DEPTH:
+            depth = 2 * int(st[sk.ST_DEPTH])
+            st[sk.ST_DEPTH] = depth
+            self.order = np.empty((depth, self.room + 1), np.int64)
+            self.frames = np.empty((depth, 5), np.int64)
 
     def lo_h(self, i: int) -> int:
         return int(max(self.rec[i, sk.LO_H], self.rec[i, sk.LO_R]))
@@ -284,10 +296,10 @@ def search_tables(tables: Tables, formula: ast.Formula, budget: float | None, se
         return won_at_start(scene, k, resolution, budget, seconds | {"search": 0.0})
     clock = time.perf_counter()
     start = memo.node(memo.key2(tables.canon(tables.pack(v0)), q0, k))
-    deadline = None if time_limit is None else clock + time_limit
-    replan = None if time_limit is None else _replan_first(scene, formula, k, resolution,
-                                                            clock + time_limit * REPLAN_SHARE)
-    lower, upper, rounds = _search(memo, start, deadline)
+    begun = clock
+    deadline = None if time_limit is None else begun + time_limit * SEARCH_SHARE
+    lower, upper, rounds = _search(memo, start, deadline,
+                                   None if time_limit is None else begun + time_limit * ROUNDS_SHARE)
     seconds["search"] = time.perf_counter() - clock
     clock = time.perf_counter()
     proof = Proof(memo)
@@ -308,37 +320,39 @@ def search_tables(tables: Tables, formula: ast.Formula, budget: float | None, se
                         realizable, k, 2 * memo.count, seconds, strategy, principal, counter,
                         scene.object_names, stats, lower_units=None if exact else lower)
     solution = solution if symmetry is None else symmetry.realize(solution)
-    return solution if replan is None else _replanned(solution, replan, budget)
+    if time_limit is None or solution.exact or k == 0 or lower is None:
+        return solution
+    return _replanned(solution, scene, formula, k, budget, begun + time_limit * (SEARCH_SHARE + REPLAN_SHARE))
 
 
-def _replan_first(scene: Scene, formula: ast.Formula, k: int, resolution: float,
-                  deadline: float) -> ReplanBound | None:
-    """The replanning strategy's exact bound (`solvers.replan`) when it is proven
-    before `deadline`, else None (also for k = 0, where the search is exact)."""
-    if k == 0:
-        return None
-    try:
-        bound = replanning_bound(scene, formula, k, resolution=resolution, deadline=deadline)
-    except OutOfReach:  # a zero-cost move
-        return None
-    return bound if bound.certified and bound.upper is not None and bound.upper < INF else None
-
-
-def _replanned(solution: Solution, replan: ReplanBound, budget: float | None) -> Solution:
-    """An anytime answer whose upper end is the replanning bound when that is lower
-    than the search's own (and E_p when it meets the lower end)."""
-    assert replan.upper is not None  # _replan_first keeps proven bounds only
-    stats = dict(solution.stats) | {"replanning_bound": replan.upper, "replanning_seconds": round(replan.seconds, 2)}
-    upper = int(replan.upper)
-    if solution.exact or (solution.units is not None and solution.units <= upper):
-        return dataclasses.replace(solution, stats=stats)
+def _replanned(solution: Solution, scene: Scene, formula: ast.Formula, k: int, budget: float | None,
+               deadline: float) -> Solution:
+    """An anytime answer whose upper end is the replanning strategy's when that is
+    proven (`replan_budget.certified_upper`) below the search's (and E_p when it
+    meets the lower end).  Its principal play is the strategy against a human
+    who makes it pay that much when the bisection showed it is what σ pays,
+    else σ's plan with the human passing."""
     lower, r = solution.lower_units, solution.resolution
-    exact = lower is not None and upper <= lower
+    assert lower is not None  # the caller answers exact solutions itself
+    clock = time.perf_counter()
+    try:
+        found = certified_upper(scene, formula, k, lower, None if solution.units is None else int(solution.units),
+                                resolution=r, deadline=deadline)
+    except OutOfReach:  # a zero-cost move
+        found = None
+    stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2)}
+    if found is None:
+        return dataclasses.replace(solution, stats=stats)
+    upper, bound = found
+    exact = upper <= lower
     realizable = bracket_verdict(None if exact else lower, upper, r, budget)
+    worst = bound.answered(upper - 1) is False  # upper is what σ pays against the worst human
+    principal = bound.worst_play(upper) if worst else bound.passing_play()
     return dataclasses.replace(solution, cost_bound=in_costmap_units(upper, r), units=upper, realizable=realizable,
-                               strategy=replan.strategy, principal_play=replan.principal,
-                               counter_play=replan.principal if exact and realizable is False else None,
-                               stats=stats | {"upper_by": "replanning"}, lower_units=None if exact else lower)
+                               strategy=bound.strategy, principal_play=principal,
+                               counter_play=principal if exact and realizable is False else None,
+                               stats=stats | {"replanning_bound": upper, "upper_by": "replanning"},
+                               lower_units=None if exact else lower)
 
 
 def _layered(solution: Solution, why: str) -> Solution:
@@ -346,13 +360,17 @@ def _layered(solution: Solution, why: str) -> Solution:
     return dataclasses.replace(solution, stats={**solution.stats, "answered_by": "compiled", "why": why})
 
 
-def _search(memo: Memo, start: int, deadline: float | None) -> tuple[int | None, int | None, int]:
+def _search(memo: Memo, start: int, deadline: float | None,
+            rounds_until: float | None = None) -> tuple[int | None, int | None, int]:
     """(lower, upper, rounds): lower None when E_p = upper is proven (upper
     None: infinite); else lower <= E_p <= upper (upper None: no strategy
-    proven in time).  Half the time goes to the rounds from below; then
-    "val <= b?" for b 5%, 10%, 20%, ... above lo, as `forward._anytime`."""
+    proven in time).  The rounds from below go on until `rounds_until` (by
+    default half the time); then "val <= b?" for b 5%, 10%, 20%, ... above
+    lo, as `forward._anytime`."""
     rounds = 0
-    half = None if deadline is None else time.perf_counter() + (deadline - time.perf_counter()) / 2
+    half = rounds_until
+    if deadline is not None and half is None:
+        half = time.perf_counter() + (deadline - time.perf_counter()) / 2
     while True:
         b = memo.lo_h(start)
         if b >= INF:
@@ -495,6 +513,7 @@ def prepare() -> float | None:
             if solve_andor(_warm_up_scene()).units is None:
                 raise RuntimeError("internal error: the AND-OR search's warm-up game was not won")
             memo_trap_warm_up()
+            replan_warm_up()
         except BaseException:
             _prepared = False
             raise
@@ -533,6 +552,17 @@ def memo_trap_warm_up() -> None:
     memo.node(memo.key2(tables.pack(initial_state(scene)), 0, 1))
     memo.trap()
     sk._rehash(memo.rec, np.int64(memo.count), np.int64(memo.bits))
+
+
+def replan_warm_up() -> None:
+    """Compile the replanning bound's kernels (`packed.replies`, asked by an anytime
+    answer's upper end) on the warm-up game, so that no time limit pays for them."""
+    from symsynth.solvers.replan_budget import BudgetedBound
+
+    scene = _warm_up_scene()
+    bound = BudgetedBound(scene, task_formula(scene, None), 1)
+    if not bound.within(int(bound.v0) + 1000):
+        raise RuntimeError("internal error: the replanning bound of the AND-OR search's warm-up game was not proven")
 
 
 solve_andor.prepare = prepare  # type: ignore[attr-defined]  # symsynth.solvers.prepare

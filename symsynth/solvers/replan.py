@@ -31,7 +31,9 @@ cost at least one unit (V_0 finite where σ goes; else B is infinite and there i
 no bound).  `replanning_bound` evaluates it with `levels` levels of the recursion
 enumerated; each level multiplies the V_0 questions by the plan length times the
 human's moves (about 30 x 50 at pattern 8 x 12), so `levels = k` is only
-affordable for small games or k <= 1.
+affordable for small games or k <= 1.  `solvers.replan_budget` asks "B_k <= T?"
+instead, which scales further (it is what `solvers.andor` uses for an anytime
+answer's upper end).
 
 Below the enumerated levels a **tail** D may stand in: if every human move at
 every position σ meets rises V_0 by at most D, then B_h(p) <= V_0(p) + h D

@@ -164,3 +164,13 @@ def cut_answer(monkeypatch, scene, k, chunk, limit, **andor_settings):
         return andor.solve_andor(scene, k=k, time_limit=limit)
     finally:
         monkeypatch.undo()
+
+
+def planning_scene(seed, base):
+    """A generated scene for the replanning bound's tests: alike objects (with
+    contacts every eighth) at every fourth seed, else a random one from base + seed."""
+    from symsynth.testing.gamegen import alike_scene, random_scene
+
+    if seed % 4 == 0:
+        return alike_scene(seed, contacts=seed % 8 == 0)
+    return random_scene(base + seed, positive=True, contacts=seed % 3 == 0)

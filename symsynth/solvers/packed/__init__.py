@@ -8,13 +8,15 @@
   kernels, and reports progress;
 - `graph`: the explored and solved nodes read back, for strategies and plays;
 - `search`, `lower`: the AND-OR search's kernels (`solvers.andor`) and the
-  lower bound's tables they read.
+  lower bound's tables they read;
+- `replies`: the replanning bound's kernels (`solvers.replan_budget`): the
+  human's replies on a plan, checked in bulk against budgets.
 
 The kernels are one module because numba's disk cache is invalidated by the
 source of the module a kernel lives in only: a kernel calling into another
 module would keep its cached machine code after that module changed.
-`search` is the exception (it calls the move kernels): it is compiled
-together with them by `andor.prepare`, and carries `kernels`' SHA-256 in
-`COMPILED_WITH`, so that a change to `kernels` must change `search` too
+`search` and `replies` are the exceptions (they call the move kernels): they are compiled
+together with them by `andor.prepare`, and carry their callees' SHA-256 in
+`COMPILED_WITH`, so that a change to `kernels` must change them too
 (tests/test_numba_cache.py).
 """

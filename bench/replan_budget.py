@@ -1,0 +1,86 @@
+"""Issue 32: the replanning strategy σ's bound asked as a question
+(symsynth/solvers/replan_budget.py), on the pattern family (distinct blocks):
+
+    python bench/replan_budget.py within N M K T [T ...]   "B_k(start) <= T?" in turn, one process
+    python bench/replan_budget.py least N M K LO HI        B_k(start) exactly, given LO <= B_k <= HI
+    python bench/replan_budget.py interval N M K S         solve_andor(time_limit=S): the certified
+                                                           interval, the upper end from σ when the
+                                                           search proves none lower
+
+One line of JSON per question or run, with the seconds and the peak memory of the process.
+"""
+
+from __future__ import annotations
+
+import json
+import resource
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from gamefamily import pattern_scene  # noqa: E402
+from symsynth.game.solution import task_formula  # noqa: E402
+from symsynth.solvers.andor import prepare, solve_andor  # noqa: E402
+from symsynth.solvers.packed import search as sk  # noqa: E402
+from symsynth.solvers.replan_budget import BudgetedBound  # noqa: E402
+
+
+def _peak_mb() -> float:
+    return round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)
+
+
+def _counts(bound: BudgetedBound) -> dict:
+    return {"V_0 found": len(bound._values), "replies settled": bound.settled, "nodes": bound.memo.count,
+            "search steps": int(bound.memo.st[sk.ST_CALLS]),
+            "by memo, repair, plan followed, search": bound.counts.tolist(), "peak_mb": _peak_mb()}
+
+
+def within(n: int, m: int, k: int, targets: list[int]) -> None:
+    scene = pattern_scene(n, m, k, 0)
+    bound = BudgetedBound(scene, task_formula(scene, None), k)
+    print(json.dumps({"size": f"{n}x{m}", "k": k, "V_0": bound.v0}), flush=True)
+    for target in targets:
+        clock = time.perf_counter()
+        answer = bound.within(target)
+        print(json.dumps({"T": target, "B_k <= T": answer, "seconds": round(time.perf_counter() - clock, 2)}
+                         | _counts(bound)), flush=True)
+
+
+def least(n: int, m: int, k: int, lo: int, hi: int) -> None:
+    scene = pattern_scene(n, m, k, 0)
+    clock = time.perf_counter()
+    bound = BudgetedBound(scene, task_formula(scene, None), k)
+    value = bound.least(lo, hi)
+    print(json.dumps({"size": f"{n}x{m}", "k": k, "V_0": bound.v0, "B_k": value,
+                      "seconds": round(time.perf_counter() - clock, 2)} | _counts(bound)), flush=True)
+
+
+def interval(n: int, m: int, k: int, limit: float) -> None:
+    scene = pattern_scene(n, m, k, 0)
+    clock = time.perf_counter()
+    found = solve_andor(scene, k=k, time_limit=limit)
+    lower = found.units if found.exact else found.lower_units
+    print(json.dumps({"size": f"{n}x{m}", "k": k, "limit": limit, "lower": lower, "upper": found.units,
+                      "ratio": None if found.units is None or not lower else round(found.units / lower, 4),
+                      "exact": found.exact, "upper_by": found.stats.get("upper_by", "search"),
+                      "replanning_seconds": found.stats.get("replanning_seconds"),
+                      "seconds": round(time.perf_counter() - clock, 1), "peak_mb": _peak_mb()}), flush=True)
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    prepare()
+    mode, n, m, k, rest = argv[0], int(argv[1]), int(argv[2]), int(argv[3]), argv[4:]
+    if mode == "within":
+        within(n, m, k, [int(a) for a in rest])
+    elif mode == "least":
+        least(n, m, k, int(rest[0]), int(rest[1]))
+    else:
+        interval(n, m, k, float(rest[0]))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

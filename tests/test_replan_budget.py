@@ -1,0 +1,142 @@
+"""The replanning bound asked as a question (symsynth/solvers/replan_budget.py):
+on generated scenes, "does σ pay at most T?" says yes exactly from the bound
+the enumeration finds for the same σ (solvers/replan.py, sharing its oracle),
+which is what σ pays against the worst human (followed through every human
+behaviour) and never below E_p."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from symsynth.game.solution import OutOfReach
+from symsynth.logic import parse_ltlf
+from symsynth.solvers.explicit import solve_explicit
+from symsynth.solvers.packed import replies
+from symsynth.solvers.replan import replanning_bound
+from symsynth.solvers.replan_budget import BudgetedBound
+from support.games import planning_scene, worst_case_of
+
+
+def _scene(seed):
+    return planning_scene(seed, 9100)
+
+
+def test_the_question_says_yes_exactly_from_what_the_strategy_pays():
+    finite = 0
+    for seed in range(60):
+        scene = _scene(seed)
+        k = 1 + seed % 3
+        formula = parse_ltlf(scene.task)
+        try:
+            enumerated = replanning_bound(scene, formula, k)
+        except OutOfReach:  # a zero-cost move (slides): the k = 0 search does not answer
+            continue
+        asked = BudgetedBound(scene, formula, k, oracle=enumerated.oracle)
+        if enumerated.upper == math.inf:
+            assert not asked.within(10 ** 6), seed
+            continue
+        finite += 1
+        upper = int(enumerated.upper)
+        assert asked.within(upper) and not asked.within(upper - 1), seed
+        assert asked.least(0, upper + 50) == upper, seed
+        exact = solve_explicit(scene, k=k)
+        assert exact.units <= upper, seed
+        followed = dataclasses.replace(exact, strategy=enumerated.strategy)
+        assert worst_case_of(scene, followed, formula) == upper, seed
+    assert finite >= 15, finite
+
+
+def test_the_question_alone_finds_what_its_strategy_pays():
+    """Without the enumeration first (its own memo, so its own plans): bisection
+    over the question gives what σ pays, checked against every human behaviour."""
+    checked = 0
+    for seed in range(1, 40, 3):
+        scene = _scene(seed)
+        k = 1 + seed % 3
+        formula = parse_ltlf(scene.task)
+        try:
+            asked = BudgetedBound(scene, formula, k)
+            upper = asked.least(0, 5000)
+        except OutOfReach:
+            continue
+        if upper == math.inf:
+            continue
+        checked += 1
+        exact = solve_explicit(scene, k=k)
+        followed = dataclasses.replace(exact, strategy=asked.strategy)
+        assert worst_case_of(scene, followed, formula) == upper, seed
+        play = asked.worst_play(int(upper))
+        assert sum(step.cost for step in play) == upper and sum(step.who == "human" for step in play) <= k, seed
+        assert exact.units <= upper, seed
+    assert checked >= 5, checked
+
+
+def _replies_on_the_plan(seed):
+    """(bound, the start's plan, [(turn, state after, DFA state after)]) for one
+    generated scene at k = 1, None when it has no plan to look at."""
+    scene = _scene(seed)
+    formula = parse_ltlf(scene.task)
+    try:
+        asked = BudgetedBound(scene, formula, 1)
+        if asked.v0 == math.inf or asked.t.accepting[asked.start[1]]:
+            return None
+    except OutOfReach:
+        return None
+    plan = asked._turns(*asked.start, True)
+    count = asked._replies(*plan[:2])
+    hb, qbits = asked.memo.hb, asked.t.qbits
+    moves = [(j, key >> (hb + qbits), (key >> hb) & ((1 << qbits) - 1))
+             for key, j in zip(asked._keys[:count].tolist(), asked._turn[:count].tolist()) if key >= 0]
+    return asked, plan, moves
+
+
+def test_a_repair_is_a_plan_back_so_it_bounds_the_rise():
+    """packed.replies._repair's cost, wherever it finds one, is at least the rise
+    of V_0 over the human move it undoes (V_0 from the k = 0 search, exact), and
+    equal to it on some moves (so a repair that claimed less would be caught)."""
+    found = tight = 0
+    for seed in range(40):
+        case = _replies_on_the_plan(seed)
+        if case is None:
+            continue
+        asked, (xs, qs, _, _), moves = case
+        memo = asked.memo
+        for j, w, q2 in moves:
+            x, q = int(xs[j]), int(qs[j])
+            fix = int(replies._repair(np.int64(x), np.int64(q), np.int64(w), np.int64(q2), memo.P, memo.G, memo.S()))
+            if fix < 0:
+                continue
+            found += 1
+            rise = asked.value(w, q2) - asked.value(x, q)
+            assert rise <= fix, (seed, x, w)
+            tight += rise == fix
+    assert found >= 50 and tight >= 5, (found, tight)
+
+
+def test_the_plan_followed_after_a_move_bounds_its_value():
+    """packed.replies._follow's bound, wherever it finds one, is at least V_0
+    after the move, and equal to it on some moves."""
+    found = tight = 0
+    for seed in range(40):
+        case = _replies_on_the_plan(seed)
+        if case is None:
+            continue
+        asked, (xs, qs, left, codes), moves = case
+        memo = asked.memo
+        bases = left.astype(np.int64)
+        for j, w, q2 in moves:
+            bound = int(replies._follow(np.int64(j), np.int64(w), np.int64(q2), xs, qs, bases, codes,
+                                        np.int64(1 << 40), memo.P, memo.G, memo.S()))
+            if bound < 0:
+                continue
+            try:
+                value = asked.value(w, q2)
+            except OutOfReach:  # a zero-cost move after it: the k = 0 search does not answer
+                break
+            found += 1
+            assert value <= bound, (seed, w)
+            tight += value == bound
+    assert found >= 50 and tight >= 20, (found, tight)
