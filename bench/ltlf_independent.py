@@ -37,7 +37,7 @@ SIZES = (10, 20, 40, 80, 160, 300)
 WORKER = r"""
 import json, sys, time
 sys.path.insert(0, sys.argv[1])
-from symsynth.automata.compose import compile_ltlf
+from symsynth.automata import compile_ltlf
 n = int(sys.argv[2])
 compile_ltlf("G(a -> X b) & G(c -> X d)")  # warm-up: imports, grammar
 text = " & ".join(f"G(a{i} -> X b{i})" for i in range(n))

@@ -48,9 +48,10 @@ def test_zero_cost_moves_go_to_the_layered_solver():
 
 
 def test_zero_cost_moves_under_a_time_limit_are_out_of_reach():
-    """The layered solver, which answers zero-cost games, takes no time
-    limit: under one, such a game is out of the search's reach (auto then
-    goes on), every other game is answered within its interval."""
+    """The layered solver, which answers zero-cost games, has no anytime
+    answer of its own: under a limit, such a game is out of the search's
+    reach (auto then goes on), every other game is answered within its
+    interval."""
     from symsynth.game.solution import OutOfReach
 
     refused = 0

@@ -10,6 +10,7 @@ import dataclasses
 import math
 
 import numpy as np
+import pytest
 
 from symsynth.game.solution import OutOfReach
 from symsynth.logic import parse_ltlf
@@ -140,3 +141,33 @@ def test_the_plan_followed_after_a_move_bounds_its_value():
             assert value <= bound, (seed, w)
             tight += value == bound
     assert found >= 50 and tight >= 20, (found, tight)
+
+
+def test_the_question_and_its_no_human_searches_keep_the_deadline(monkeypatch):
+    """Under a deadline, the question's own V_0 searches stop at it too (one V_0
+    at sorting 8 x 12 took 111 s of a 15 s share): with the clock past the
+    deadline and the searches' questions cut every 16 steps (64 / 4 under a
+    deadline), `certified_upper` gives up before V_0 at the start is proven
+    (52 steps there) and answers nothing; after it, the memo keeps no cutoff.
+    Given time, the same question is answered."""
+    import sys
+    from pathlib import Path
+
+    from symsynth.solvers import andor, replan, replan_budget
+    from support.games import TickClock
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
+    from gamefamily import pattern_scene
+
+    scene = pattern_scene(4, 6, k=2)
+    formula = parse_ltlf(scene.task)
+    andor.prepare()
+    assert replan_budget.certified_upper(scene, formula, 2, 1, None) is not None
+    monkeypatch.setattr(replan, "ORACLE_CHUNK", 64)
+    monkeypatch.setattr(andor.time, "perf_counter", TickClock())
+    bound = BudgetedBound(scene, formula, 2)
+    with pytest.raises(replan_budget.Deadline):
+        with bound.limited(0.0):
+            bound.v0
+    assert bound.memo.cutoff is None and bound.deadline is None
+    assert replan_budget.certified_upper(scene, formula, 2, 1, None, deadline=0.0) is None

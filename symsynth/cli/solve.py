@@ -194,7 +194,7 @@ def _report_problem(scene: Scene, task: str, solver: str, solution: Solution) ->
 def _upper_strategy(solution: Solution) -> str:
     if solution.stats.get("upper_by") == "replanning":
         return ("replanning strategy (after each human move, the least-cost plan with no human move "
-                "left; what it pays at most, found by enumeration: solvers/replan.py)")
+                "left; what it pays at most, proven by asking 'does it pay at most T?': solvers/replan_budget.py)")
     return "strategy below"
 
 

@@ -82,7 +82,7 @@ from symsynth.solvers.packed import search as sk
 from symsynth.solvers.packed.kernels import INF, _find, _table
 from symsynth.solvers.packed.lower import BoundTables
 from symsynth.solvers.packed.tables import Tables, check_width
-from symsynth.solvers.replan_budget import certified_upper
+from symsynth.solvers.replan_budget import Deadline, certified_upper
 
 #: Questions between two looks at the clock (and at the arrays' room): a question cut
 #: off there is asked again from the start, its proven parts kept.  Under a time limit a
@@ -102,6 +102,9 @@ MAX_ROUNDS = 1024
 ROUNDS_SHARE = 0.5
 SEARCH_SHARE = 0.6
 REPLAN_SHARE = 0.4
+#: Seconds past the limit the replanning upper end's principal play may take (it reads the
+#: question's answers back, a search only where one is missing)
+PLAY_GRACE = 1.0
 
 
 class Memo:
@@ -273,6 +276,9 @@ def solve_andor(scene: Scene, formula: str | ast.Formula | None = None, *,
                              "use the forward search (--solver forward)") from None
         return _layered(solve_compiled(scene, formula, k=k, budget=budget, resolution=resolution,
                                        symmetric=symmetric), why.__doc__ or "")
+    if solution.exact and solution.units is None and time_limit is not None:  # lost, within the limit
+        return dataclasses.replace(solution, stats=dict(solution.stats) | {
+            "counter_play": "not built: the layered solve that builds it takes no time limit"})
     if solution.exact and solution.units is None:  # lost: the layered solver's counter play
         return _layered(solve_compiled(scene, formula, k=k, budget=budget, resolution=resolution,
                                        symmetric=symmetric), "The robot loses: the layered solver's counter play.")
@@ -346,8 +352,12 @@ def _replanned(solution: Solution, scene: Scene, formula: ast.Formula, k: int, b
     upper, bound = found
     exact = upper <= lower
     realizable = bracket_verdict(None if exact else lower, upper, r, budget)
-    worst = bound.answered(upper - 1) is False  # upper is what σ pays against the worst human
-    principal = bound.worst_play(upper) if worst else bound.passing_play()
+    try:  # σ against the worst human, read back from the answers; its plan if that runs long
+        with bound.limited(deadline + PLAY_GRACE):
+            worst = bound.answered(upper - 1) is False  # upper is what σ pays against the worst human
+            principal = bound.worst_play(upper) if worst else bound.passing_play()
+    except Deadline:
+        principal = bound.passing_play()
     return dataclasses.replace(solution, cost_bound=in_costmap_units(upper, r), units=upper, realizable=realizable,
                                strategy=bound.strategy, principal_play=principal,
                                counter_play=principal if exact and realizable is False else None,

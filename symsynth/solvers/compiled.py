@@ -306,7 +306,8 @@ def kernels_cached(andor: bool = False) -> bool:
     or loaded the kernels already, or numba's disk cache holds machine code
     for every kernel as it is now (an index entry for this source file, this
     CPU and the kernel's bytecode, as numba itself checks before loading).
-    With `andor`, the AND-OR search's kernels (`packed.search`) too.  False
+    With `andor`, the AND-OR search's kernels (`packed.search`, and
+    `packed.replies` for its replanning upper end) too.  False
     when numba's cache cannot be read this way (its layout is numba's own):
     then the compile is expected."""
     from symsynth.solvers import andor as andor_search
@@ -316,9 +317,10 @@ def kernels_cached(andor: bool = False) -> bool:
     try:
         from numba.core.registry import CPUDispatcher
 
-        from symsynth.solvers.packed import search
+        from symsynth.solvers.packed import replies, search
 
-        extra = [v for v in vars(search).values() if isinstance(v, CPUDispatcher)] if andor else []
+        extra = [v for module in (search, replies) for v in vars(module).values()
+                 if isinstance(v, CPUDispatcher)] if andor else []
         return all(_cached(kernel) for kernel in kernels.dispatchers() + extra)
     except (AttributeError, TypeError, OSError):  # numba's private cache layout changed
         return False

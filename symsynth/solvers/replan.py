@@ -44,6 +44,10 @@ bound D+ from the costmap"); one of its cases, C5 (an object the human puts from
 Else onto a location), has no constant bound (the notes say why), so D+ is not
 proven and a bound that uses a tail is reported as **conditional**, never as the
 upper end of a certified interval (`ReplanBound.certified`).
+
+The solver asks `solvers.replan_budget`'s question ("does σ pay at most T?")
+instead of enumerating; `replanning_bound` stays as its reference (the tests
+compare the two on generated scenes) and for `bench/replan_interval.py`.
 """
 
 from __future__ import annotations

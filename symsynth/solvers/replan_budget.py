@@ -48,6 +48,8 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -98,6 +100,20 @@ class BudgetedBound:
         self._turn = np.empty(1024, np.int64)
         self._plan_key = np.empty(256, np.int64)
         self._plan_move = np.empty(256, np.int64)
+
+    @contextmanager
+    def limited(self, deadline: float | None) -> Iterator[None]:
+        """Every question inside ends by `deadline` (time.perf_counter; None: no
+        end): the bound's own loops look at it, and the no-human searches stop
+        where a chunk of their steps ends past it (`Memo.cutoff`); `Deadline`
+        then, and when a no-human search gives up its rounds."""
+        self.deadline, self.memo.cutoff = deadline, deadline
+        try:
+            yield
+        except (self._andor.CutOff, self._andor._TooManyRounds):
+            raise Deadline from None
+        finally:
+            self.deadline, self.memo.cutoff = None, None
 
     @property
     def strategy(self) -> ReplanningStrategy:
@@ -407,20 +423,21 @@ def certified_upper(scene: Scene, formula: ast.Formula, k: int, lower: int, ceil
     bound = BudgetedBound(scene, formula, k, resolution)
     no, yes = lower - 1, None
     try:
-        top = MAX_RATIO * max(lower, int(min(bound.v0, 1 << 40)), 1)
-        cap = top if ceiling is None else min(ceiling - 1, top)
-        target, step = lower, max(1, math.ceil(lower * FIRST_STEP))
-        while target <= cap and yes is None:
-            if bound.within(target, deadline):
-                yes = target
-            else:
-                no, target, step = target, min(lower + step, max(cap, target + 1)), 2 * step
-        while yes is not None and no + 1 < yes:
-            mid = (no + yes) // 2
-            if bound.within(mid, deadline):
-                yes = mid
-            else:
-                no = mid
+        with bound.limited(deadline):
+            top = MAX_RATIO * max(lower, int(min(bound.v0, 1 << 40)), 1)
+            cap = top if ceiling is None else min(ceiling - 1, top)
+            target, step = lower, max(1, math.ceil(lower * FIRST_STEP))
+            while target <= cap and yes is None:
+                if bound.within(target, deadline):
+                    yes = target
+                else:
+                    no, target, step = target, min(lower + step, max(cap, target + 1)), 2 * step
+            while yes is not None and no + 1 < yes:  # (an interrupted bisection keeps the least yes)
+                mid = (no + yes) // 2
+                if bound.within(mid, deadline):
+                    yes = mid
+                else:
+                    no = mid
     except Deadline:
         pass
     return None if yes is None else (yes, bound)

@@ -30,7 +30,8 @@ The layered solve goes on while it is predicted to end before the limit
 less `RESERVE` of it, and stops when that time has passed: a prediction
 that is too low costs the search the time spent, never its reserve.
 
-Memory is predicted the same way: the process's resident bytes now, plus
+Memory is predicted the same way: what the process has grown by since the
+start, plus
 the bytes per node the exploring has added so far times the nodes still
 to come, with `SOLVE_BYTES` per node for the solve's own arrays.  When
 that passes `MEMORY_SHARE` of the memory the machine had available at the
@@ -145,7 +146,7 @@ class Deadline:
         self.explore_start = self.start  # `exploring` sets it when the exploring starts
         self.resident = resident_memory if resident is None else resident
         self.memory = available_memory() if memory is None else memory  # bytes; None: not known
-        self.resident_start = self.resident()
+        self.resident_start = self.resident_init = self.resident()
 
     def exploring(self) -> None:
         """The exploring starts now: its seconds and bytes per node are counted from here."""
@@ -176,7 +177,8 @@ class Deadline:
             return
         now = self.resident()
         per_node = max(now - self.resident_start, 0) / nodes
-        need = now + per_node * max(predicted - nodes, 0.0) + SOLVE_BYTES * predicted
+        # (what the process held at the start is outside the memory then available)
+        need = max(now - self.resident_init, 0) + per_node * max(predicted - nodes, 0.0) + SOLVE_BYTES * predicted
         if need > MEMORY_SHARE * self.memory:
             raise HandOver(f"was predicted to need about {need / 1e9:.1f} GB for {predicted:,.0f} nodes, more "
                            f"than {MEMORY_SHARE:.0%} of the {self.memory / 1e9:.1f} GB available (from "
