@@ -156,10 +156,10 @@ def test_the_memory_prediction_by_hand(monkeypatch):
 
 def test_a_game_past_the_memory_hands_over(monkeypatch):
     """The layered solve predicted to need more memory than the machine has
-    (here: 1 kB available, predicted from the first node) hands the game to
-    the search, whose answer holds the exact value, with the reason on the
-    answer."""
-    monkeypatch.setattr(deadline, "available_memory", lambda: 1_000)
+    (here: 1 byte available, less than the solve's own arrays for one node,
+    predicted from the first node) hands the game to the search, whose
+    answer holds the exact value, with the reason on the answer."""
+    monkeypatch.setattr(deadline, "available_memory", lambda: 1)
     monkeypatch.setattr(deadline, "MEMORY_AFTER", 1)
     for seed in (1, 2, 5):
         scene = _scene(seed)
