@@ -161,6 +161,10 @@ class Memo:
     def key2(self, x: int, q: int, h: int) -> int:
         return (self.t.key(x, q) << self.hb) | h
 
+    def position(self, key2: int) -> tuple[int, int]:
+        """(x, q) of a key made by `key2`."""
+        return key2 >> (self.hb + self.t.qbits), (key2 >> self.hb) & ((1 << self.t.qbits) - 1)
+
     def node(self, key2: int) -> int:
         """The node of key2, created when new (the arrays have room: called between questions)."""
         self._grow()

@@ -164,12 +164,7 @@ class BudgetedBound:
         count = self._replies(xs, qs)
         keys, turn = self._keys[:count].copy(), self._turn[:count].copy()
         r = self._settle(keys, left[turn] + s, turn, plan)
-        hb, qbits = self.memo.hb, self.t.qbits
-        moves = []
-        for key, j in zip(keys.tolist()[:r + 1], turn.tolist()):
-            if key >= 0:
-                w, q2 = key >> (hb + qbits), (key >> hb) & ((1 << qbits) - 1)
-                moves.append((self.value(w, q2) - float(left[j]), w, q2, j))
+        moves = self._rises(keys[:r + 1], turn, left)
         if r < count:  # that move's V_0 is above its budget
             rise, w, q2, j = moves[-1]
             return j, w, q2, rise
@@ -278,13 +273,7 @@ class BudgetedBound:
         and move m (whose V_0 are known to be within V_0(p_j) + s), the moves
         of every turn asked together, largest rise first (a no comes early)."""
         count = self._replies(xs, qs)
-        keys, turn = self._keys[:count].tolist(), self._turn[:count].tolist()
-        hb, qbits = self.memo.hb, self.t.qbits
-        children = []
-        for key, j in zip(keys, turn):
-            if key >= 0:
-                x2, q2 = key >> (hb + qbits), (key >> hb) & ((1 << qbits) - 1)
-                children.append((self.value(x2, q2) - float(left[j]), x2, q2, j))
+        children = self._rises(self._keys[:count], self._turn[:count], left)
         children.sort(reverse=True)
         for rise, x2, q2, j in children:
             if not self._fits(x2, q2, h - 1, s - rise, False):
@@ -293,6 +282,16 @@ class BudgetedBound:
         for j in range(len(xs)):
             self._record((int(xs[j]), int(qs[j]), h), s, True)
         return True
+
+    def _rises(self, keys: np.ndarray, turn: np.ndarray, left: np.ndarray) -> list[tuple[float, int, int, int]]:
+        """(rise of V_0, x, q after, turn) of each reply (`keys`, a move that wins: < 0,
+        skipped), `left` V_0 at each turn of the plan."""
+        out = []
+        for key, j in zip(keys.tolist(), turn.tolist()):
+            if key >= 0:
+                x, q = self.memo.position(key)
+                out.append((self.value(x, q) - float(left[j]), x, q, j))
+        return out
 
     def _look(self, every: int = LOOK_EVERY) -> None:
         """`Deadline` when the deadline has passed, looked at once in `every` calls."""
