@@ -89,3 +89,35 @@ def test_time_limit_interval_holds_the_exact_value(monkeypatch):
             assert exact is not None and exact <= found.units, seed
             assert worst_case_of(scene, found, parse_ltlf(scene.task)) <= found.units, seed
     assert cut >= 3 and upper >= 1, (cut, upper)
+
+
+def test_a_lost_game_under_a_time_limit_is_not_handed_to_the_unlimited_layered_solve(monkeypatch):
+    """Without a limit, a game the search proves lost gets the layered
+    solver's counter play; with one, that solve (which takes no limit) is
+    not started: the search's own answer, E_p infinite, says why it has no
+    counter play."""
+    from symsynth.game.solution import OutOfReach
+    from symsynth.solvers import andor, compiled
+
+    andor.prepare()  # (its warm-up runs the layered solver)
+    lost = []
+    for seed in range(40):
+        scene = random_scene(7000 + seed, positive=False)
+        if solve_explicit(scene, k=1).units is None:
+            lost.append(scene)
+    assert len(lost) >= 3, len(lost)
+
+    def refused(*args, **kwargs):
+        raise AssertionError("the layered solver was started under a time limit")
+
+    monkeypatch.setattr(compiled, "solve_compiled", refused)
+    checked = 0
+    for scene in lost:
+        try:
+            got = solve_andor(scene, k=1, time_limit=3600)
+        except OutOfReach:  # a zero-cost move: out of the search's reach under a limit
+            continue
+        checked += 1
+        assert got.exact and got.units is None
+        assert got.stats["counter_play"].startswith("not built"), got.stats
+    assert checked >= 3, checked
