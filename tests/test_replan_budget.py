@@ -171,3 +171,28 @@ def test_the_question_and_its_no_human_searches_keep_the_deadline(monkeypatch):
             bound.v0
     assert bound.memo.cutoff is None and bound.deadline is None
     assert replan_budget.certified_upper(scene, formula, 2, 1, None, deadline=0.0) is None
+
+
+def test_a_worst_play_past_the_deadline_falls_back_to_the_plan(monkeypatch):
+    """The replanning upper end's principal play is σ against the worst human
+    when that is found in time; past its grace, σ's plan with the human
+    passing (robot steps only), and the answer keeps its upper end."""
+    from symsynth.solvers import replan_budget
+    from support.games import cut_answer
+
+    def late(self, upper):
+        raise replan_budget.Deadline
+
+    monkeypatch.setattr(BudgetedBound, "worst_play", late)
+    fell_back = 0
+    for seed in (s for s in range(40) if s % 4):
+        scene = _scene(seed)
+        k = 1 + seed % 3
+        found = cut_answer(monkeypatch, scene, k, 10, 3, REPLAN_SHARE=1e12)
+        monkeypatch.setattr(BudgetedBound, "worst_play", late)  # (cut_answer undoes every patch)
+        if found.stats.get("upper_by") != "replanning":
+            continue
+        fell_back += 1
+        assert found.principal_play and all(step.who == "robot" for step in found.principal_play), seed
+        assert found.units is not None and found.units >= solve_explicit(scene, k=k).units, seed
+    assert fell_back >= 3, fell_back
