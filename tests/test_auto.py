@@ -93,3 +93,17 @@ def test_a_time_limit_goes_to_an_exact_solver_when_the_game_fits_it():
                   refused={"compiled"})[0] == "forward"
     name, reason = choose(large, task_formula(large, None), time_limit=3600, compiled_ready=True)
     assert name == "compiled" and "well above" in reason
+
+
+def test_the_search_kernels_counted_ready_include_the_replanning_replies(monkeypatch):
+    """`kernels_cached(andor=True)` asks numba's cache for every kernel a
+    limit may run: the AND-OR search's and the replanning bound's replies
+    (`packed.replies`); one of the latter missing is a compile to come."""
+    from symsynth.solvers import andor, compiled
+    from symsynth.solvers.packed import replies
+
+    missing = replies._settle
+    monkeypatch.setattr(compiled, "_compiled", False)
+    monkeypatch.setattr(andor, "_prepared", False)
+    monkeypatch.setattr(compiled, "_cached", lambda kernel: kernel is not missing)
+    assert compiled.kernels_cached() and not compiled.kernels_cached(andor=True)
