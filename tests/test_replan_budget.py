@@ -16,9 +16,8 @@ from symsynth.game.solution import OutOfReach
 from symsynth.logic import parse_ltlf
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers.packed import replies
-from symsynth.solvers.replan import replanning_bound
 from symsynth.solvers.replan_budget import BudgetedBound
-from support.games import planning_scene, worst_case_of
+from support.games import enumerated_bounds, planning_scene, worst_case_of
 
 
 def _scene(seed):
@@ -27,14 +26,7 @@ def _scene(seed):
 
 def test_the_question_says_yes_exactly_from_what_the_strategy_pays():
     finite = 0
-    for seed in range(60):
-        scene = _scene(seed)
-        k = 1 + seed % 3
-        formula = parse_ltlf(scene.task)
-        try:
-            enumerated = replanning_bound(scene, formula, k)
-        except OutOfReach:  # a zero-cost move (slides): the k = 0 search does not answer
-            continue
+    for seed, scene, k, formula, enumerated in enumerated_bounds(range(60), 9100):
         asked = BudgetedBound(scene, formula, k, oracle=enumerated.oracle)
         if enumerated.upper == math.inf:
             assert not asked.within(10 ** 6), seed

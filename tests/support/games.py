@@ -166,6 +166,24 @@ def cut_answer(monkeypatch, scene, k, chunk, limit, **andor_settings):
         monkeypatch.undo()
 
 
+def enumerated_bounds(seeds, base):
+    """(seed, scene, k, formula, the replanning bound by enumeration) over
+    `planning_scene`s, k = 1 + seed % 3; scenes with a zero-cost move
+    (slides: the k = 0 search does not answer them) left out."""
+    from symsynth.game.solution import OutOfReach
+    from symsynth.logic import parse_ltlf
+    from symsynth.solvers.replan import replanning_bound
+
+    for seed in seeds:
+        scene = planning_scene(seed, base)
+        k = 1 + seed % 3
+        formula = parse_ltlf(scene.task)
+        try:
+            yield seed, scene, k, formula, replanning_bound(scene, formula, k)
+        except OutOfReach:
+            continue
+
+
 def planning_scene(seed, base):
     """A generated scene for the replanning bound's tests: alike objects (with
     contacts every eighth) at every fourth seed, else a random one from base + seed."""
