@@ -89,3 +89,33 @@ def test_the_no_human_value_keeps_the_deadline(monkeypatch):
     monkeypatch.setattr(andor.time, "perf_counter", TickClock())
     bound = replanning_bound(scene, formula, 2, deadline=0.0)
     assert not bound.complete and bound.upper is None and math.isnan(bound.v0)
+
+
+def test_the_no_human_value_is_exact_where_the_rounds_give_up(monkeypatch):
+    """V_0 at the start equals the explicit solver's k = 0 value with the
+    search's rounds cut to one (`MAX_ROUNDS`): where they give up, the value is
+    found by doubling and halving the budget (it raised `_TooManyRounds` to the
+    caller before).  Scenes with contacts have no lower bound (lo starts at 0),
+    so the first budget tried, 2 lo + 64, is short and the doubling is reached."""
+    from symsynth.game.abstraction import initial_state
+    from symsynth.game.solution import OutOfReach
+    from symsynth.solvers import andor, replan
+
+    andor.prepare()
+    monkeypatch.setattr(andor, "MAX_ROUNDS", 1)
+    doubled = []
+    real = replan.NoHumanValue._doubled
+    monkeypatch.setattr(replan.NoHumanValue, "_doubled", lambda self, i: doubled.append(i) or real(self, i))
+    compared = 0
+    for seed in range(60):
+        scene = _scene(seed)
+        try:
+            oracle = replan.NoHumanValue(scene, parse_ltlf(scene.task))
+            v = initial_state(scene)
+            value = oracle.value(v, oracle.start(v))
+        except OutOfReach:  # a zero-cost move
+            continue
+        exact = solve_explicit(scene, k=0).units
+        assert value == (math.inf if exact is None else exact), seed
+        compared += 1
+    assert compared >= 40 and len(doubled) >= 5, (compared, len(doubled))

@@ -61,8 +61,12 @@ from symsynth.game.abstraction import State, in_costmap_units, legal_human_moves
 from symsynth.game.solution import OutOfReach, Position, Step
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
+from symsynth.solvers.packed.kernels import INF as INF_UNITS
+from symsynth.solvers.packed.search import LO_H
 
 INF = math.inf
+ZERO_COST = ("a robot move of this game costs 0 units: the AND-OR search that finds the replanning strategy's "
+             "plans does not answer such games")
 
 
 #: Questions between two returns of the search's kernel for V_0 (a quarter of it under a
@@ -104,15 +108,58 @@ class NoHumanValue:
         i = memo.node(memo.key2(self.t.pack(v), q, 0))
         self.questions += 1
         try:
-            lower, upper, _ = self._andor._search(memo, i, None)
-        except self._andor.ZeroCost:
-            raise OutOfReach("a robot move of this game costs 0 units: the AND-OR search that finds the "
-                             "replanning strategy's plans does not answer such games") from None
+            return i if self.settle(i) else None
         except self._andor.CutOff:  # past the enumeration's deadline (`replanning_bound`)
             raise _Deadline from None
-        if lower is not None:  # pragma: no cover - the search without a deadline is exact
-            raise RuntimeError("internal error: the k = 0 search did not prove V_0")
-        return None if upper is None else i
+
+    def settle(self, i: int) -> bool:
+        """Prove V_0 at memo node i (lo = hi after it); False when it is infinite.
+        "V_0 <= 2 lo + 64?" first, a plan within about twice the lower bound,
+        then halving [lo, hi].  Without one, the search's rounds from below; where
+        they give up (`andor.MAX_ROUNDS`: V_0 far above the lower bound, a cheap
+        cycle raising lo one unit a round), b doubling above lo until a yes, the
+        trap check every 8, 16, 32, ... questions ending it with lo infinite when
+        there is no plan (the no-human game is finite, and a question with a
+        larger budget expands more of it), then halving.  Every answer is proven,
+        so lo <= V_0 <= hi throughout."""
+        andor, memo = self._andor, self.memo
+        if memo.hi_h(i) >= INF_UNITS > memo.lo_h(i):
+            self.ask(i, 2 * memo.lo_h(i) + 64)
+        if memo.hi_h(i) >= INF_UNITS:
+            try:
+                if andor._search(memo, i, None)[1] is None:
+                    return False
+            except andor.ZeroCost:
+                raise OutOfReach(ZERO_COST) from None
+            except andor._TooManyRounds:
+                if not self._doubled(i):
+                    return False
+        while memo.lo_h(i) < memo.hi_h(i):
+            self.ask(i, (memo.lo_h(i) + memo.hi_h(i)) // 2)
+        return True
+
+    def _doubled(self, i: int) -> bool:
+        """"V_0 <= 2 lo + 64?" until a yes (True) or lo is infinite (False)."""
+        memo, asked = self.memo, 0
+        while memo.hi_h(i) >= INF_UNITS:
+            if memo.lo_h(i) >= INF_UNITS:
+                return False
+            self.ask(i, 2 * memo.lo_h(i) + 64)
+            asked += 1
+            if asked >= 8 and asked & (asked - 1) == 0:
+                memo.trap()
+        return True
+
+    def ask(self, i: int, b: int) -> bool:
+        """V_0 <= b at node i, answered: lo > b or hi <= b after it."""
+        memo = self.memo
+        try:
+            ok = memo.ask(i, b, False, None)
+        except self._andor.ZeroCost:
+            raise OutOfReach(ZERO_COST) from None
+        if not ok and memo.lo_h(i) <= b:
+            memo.rec[i, LO_H] = b + 1
+        return bool(ok)
 
     def value(self, v: State, q: int) -> float:
         """V_0(v, q) in units (inf when the robot cannot win alone); 0 when q accepts."""

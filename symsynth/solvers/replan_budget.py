@@ -59,7 +59,7 @@ from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.packed import replies as rk
 from symsynth.solvers.packed import search as sk
-from symsynth.solvers.replan import ORACLE_CHUNK, NoHumanValue, ReplanningStrategy
+from symsynth.solvers.replan import ORACLE_CHUNK, ZERO_COST, NoHumanValue, ReplanningStrategy
 
 INF = math.inf
 #: Search steps between two looks at the clock within one call of `packed.replies._settle`
@@ -67,8 +67,6 @@ INF = math.inf
 DEADLINE_CHUNK = 100_000
 #: Calls of the recursion (each a kernel call or a V_0) between two looks at the clock
 LOOK_EVERY = 64
-ZERO = ("a robot move of this game costs 0 units: the AND-OR search that finds the replanning strategy's "
-        "plans does not answer such games")
 
 
 class Deadline(Exception):
@@ -311,40 +309,9 @@ class BudgetedBound:
         memo = self.memo
         i = memo.node(memo.key2(x, q, 0))
         self.oracle.questions += 1
-        if memo.hi_h(i) >= sk.INF:  # a plan within twice the lower bound first: then halving
-            lo = memo.lo_h(i)
-            if lo < sk.INF:
-                self._ask(i, 2 * lo + 64)
-        if memo.hi_h(i) < sk.INF:
-            value = float(self._bisect(i))
-        else:
-            try:
-                _, upper, _ = self._andor._search(memo, i, None)
-            except self._andor.ZeroCost:
-                raise OutOfReach(ZERO) from None
-            value = INF if upper is None else float(memo.hi_h(i))
+        value = float(memo.hi_h(i)) if self.oracle.settle(i) else INF
         self._values[(x, q)] = value
         return value
-
-    def _bisect(self, i: int) -> int:
-        """V_0 at node i, whose upper end is proven (finite): "V_0 <= b?" halving
-        [lo, hi] (each answer proven, so lo <= V_0 <= hi throughout; no trap to
-        look for, since a plan within hi exists)."""
-        memo = self.memo
-        while memo.lo_h(i) < memo.hi_h(i):
-            self._ask(i, (memo.lo_h(i) + memo.hi_h(i)) // 2)
-        return memo.hi_h(i)
-
-    def _ask(self, i: int, b: int) -> bool:
-        """V_0 <= b at node i (answered: lo > b or hi <= b after it)."""
-        memo = self.memo
-        try:
-            ok = memo.ask(i, b, True, None)
-        except self._andor.ZeroCost:
-            raise OutOfReach(ZERO) from None
-        if not ok and memo.lo_h(i) <= b:
-            memo.rec[i, sk.LO_H] = b + 1
-        return bool(ok)
 
     def _turns(self, x: int, q: int, human_first: bool) -> tuple[np.ndarray, ...]:
         """The human turns on σ's plan from (x, q): packed states, DFA states, V_0
@@ -397,7 +364,7 @@ class BudgetedBound:
                 self.settled += first
                 return first
             if why == sk.ABORT_ZERO:
-                raise OutOfReach(ZERO)
+                raise OutOfReach(ZERO_COST)
             memo.recover(why)
             self._look(every=1)
 
