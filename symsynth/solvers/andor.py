@@ -332,22 +332,24 @@ def search_tables(tables: Tables, formula: ast.Formula, budget: float | None, se
     solution = solution if symmetry is None else symmetry.realize(solution)
     if time_limit is None or solution.exact or k == 0 or lower is None:
         return solution
-    return _replanned(solution, scene, formula, k, budget, begun + time_limit * (SEARCH_SHARE + REPLAN_SHARE))
+    return _replanned(solution, scene, formula, k, budget, begun + time_limit * (SEARCH_SHARE + REPLAN_SHARE),
+                      memo if symmetry is None else None)
 
 
 def _replanned(solution: Solution, scene: Scene, formula: ast.Formula, k: int, budget: float | None,
-               deadline: float) -> Solution:
+               deadline: float, memo: Memo | None = None) -> Solution:
     """An anytime answer whose upper end is the replanning strategy's when that is
     proven (`replan_budget.certified_upper`) below the search's (and E_p when it
     meets the lower end).  Its principal play is the strategy against a human
     who makes it pay that much when the bisection showed it is what σ pays,
-    else σ's plan with the human passing."""
+    else σ's plan with the human passing.  `memo`: the search's, whose proven
+    bounds at h = 0 the strategy's no-human questions start from."""
     lower, r = solution.lower_units, solution.resolution
     assert lower is not None  # the caller answers exact solutions itself
     clock = time.perf_counter()
     try:
         found = certified_upper(scene, formula, k, lower, None if solution.units is None else int(solution.units),
-                                resolution=r, deadline=deadline)
+                                resolution=r, deadline=deadline, memo=memo)
     except OutOfReach:  # a zero-cost move
         found = None
     stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2)}

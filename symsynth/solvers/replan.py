@@ -56,6 +56,7 @@ import math
 import time
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from symsynth.game.abstraction import State, in_costmap_units, legal_human_moves
 from symsynth.game.solution import OutOfReach, Position, Step
@@ -63,6 +64,9 @@ from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.packed.kernels import INF as INF_UNITS
 from symsynth.solvers.packed.search import LO_H
+
+if TYPE_CHECKING:
+    from symsynth.solvers.andor import Memo
 
 INF = math.inf
 ZERO_COST = ("a robot move of this game costs 0 units: the AND-OR search that finds the replanning strategy's "
@@ -79,15 +83,23 @@ class NoHumanValue:
     """V_0 and σ's action at any (state, DFA state): the AND-OR search with k = 0
     from there (exact: it proves lower = upper), over one memo."""
 
-    def __init__(self, scene: Scene, formula: ast.Formula, resolution: float = 1.0):
+    def __init__(self, scene: Scene, formula: ast.Formula, resolution: float = 1.0, memo: Memo | None = None):
+        """With `memo`, an AND-OR search's memo of the same game at `resolution`
+        over tables without symmetry (any k: V_0 is read at its h = 0 nodes),
+        whose proven bounds it starts from; else a new one with k = 0."""
         from symsynth.solvers import andor
         from symsynth.solvers.packed.lower import BoundTables
         from symsynth.solvers.packed.tables import Tables
 
         andor.prepare()
         self.scene, self._andor = scene, andor
-        self.t = Tables(scene, formula, resolution, None, 0)
-        self.memo = andor.Memo(self.t, BoundTables(self.t, formula), 0)
+        if memo is None:
+            tables = Tables(scene, formula, resolution, None, 0)
+            memo = andor.Memo(tables, BoundTables(tables, formula), 0)
+        elif memo.t.symmetry is not None:
+            raise ValueError("the replanning strategy reads V_0 at real positions: a memo over canonical ones "
+                             "does not serve")
+        self.t, self.memo = memo.t, memo
         self.memo.chunk = ORACLE_CHUNK
         self.proof = andor.Proof(self.memo)
         self.questions = 0

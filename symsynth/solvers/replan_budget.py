@@ -50,6 +50,7 @@ import math
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -60,6 +61,9 @@ from symsynth.scene.model import Scene
 from symsynth.solvers.packed import replies as rk
 from symsynth.solvers.packed import search as sk
 from symsynth.solvers.replan import ORACLE_CHUNK, ZERO_COST, NoHumanValue, ReplanningStrategy
+
+if TYPE_CHECKING:
+    from symsynth.solvers.andor import Memo
 
 INF = math.inf
 #: Search steps between two looks at the clock within one call of `packed.replies._settle`
@@ -378,15 +382,17 @@ MAX_RATIO = 4
 
 
 def certified_upper(scene: Scene, formula: ast.Formula, k: int, lower: int, ceiling: int | None, *,
-                    resolution: float = 1.0, deadline: float | None = None) -> tuple[int, BudgetedBound] | None:
+                    resolution: float = 1.0, deadline: float | None = None,
+                    memo: Memo | None = None) -> tuple[int, BudgetedBound] | None:
     """The least T found before `deadline` with B_k(start) <= T proven, asked at
     `lower` (E_p >= lower, so a yes there proves E_p = lower) and then 1 %, 2 %,
     4 %, ... above it while below `ceiling` (an upper end known otherwise, None:
     none) and
     `MAX_RATIO` times the lower end; the first yes then bisected towards the
     last no while time is left.  With the bound (whose `strategy` pays at most
-    T); None when no T was proven in time."""
-    bound = BudgetedBound(scene, formula, k, resolution)
+    T); None when no T was proven in time.  `memo`: a search's memo to start
+    the no-human questions from (`NoHumanValue`)."""
+    bound = BudgetedBound(scene, formula, k, resolution, NoHumanValue(scene, formula, resolution, memo))
     no, yes = lower - 1, None
     try:
         with bound.limited(deadline):

@@ -192,3 +192,29 @@ def planning_scene(seed, base):
     if seed % 4 == 0:
         return alike_scene(seed, contacts=seed % 8 == 0)
     return random_scene(base + seed, positive=True, contacts=seed % 3 == 0)
+
+
+def explicit_and_paid(scene, formula, k, strategy):
+    """(E_p by the explicit solver, what `strategy` pays against the worst human
+    there): the replanning tests' check of a strategy behind an upper end."""
+    import dataclasses
+
+    from symsynth.solvers.explicit import solve_explicit
+
+    exact = solve_explicit(scene, k=k)
+    return exact.units, worst_case_of(scene, dataclasses.replace(exact, strategy=strategy), formula)
+
+
+def asked_least(scene, formula, k, oracle=None):
+    """(the replanning question on the scene, with `oracle` when given, and
+    B_k found by bisection over it in [0, 5000]); None when the k = 0 search
+    does not answer the game (a zero-cost move) or B_k is infinite."""
+    from symsynth.game.solution import OutOfReach
+    from symsynth.solvers.replan_budget import BudgetedBound
+
+    try:
+        asked = BudgetedBound(scene, formula, k, oracle=oracle)
+        upper = asked.least(0, 5000)
+    except OutOfReach:
+        return None
+    return None if upper == math.inf else (asked, upper)
