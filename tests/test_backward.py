@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from support.reference import all_traces, distinguishing_trace, minimal_num_states, reference_dfa
 from support.strategies import formulas, traces
 from symsynth.automata import compile_ltlf
-from symsynth.automata.backward import Backward, _walk, backward_dfa
+from symsynth.automata.backward import Backward, backward_dfa
 from symsynth.automata.bdd import cofactor, exits
 from symsynth.automata.normal import nnf
 from symsynth.automata.progression import Progression, TooLarge
@@ -127,10 +127,10 @@ def test_the_obligations_on_the_least_nested_operands_come_first():
 @settings(max_examples=60, deadline=None)
 @given(formulas(max_depth=4))
 def test_the_walk_meets_the_successors_as_exits_does_and_lists_nodes_children_first(formula):
-    """`_walk` numbers the states (the order it gives the successors in)
-    and lists the nodes the moves are made from: the same successors in
-    the same order as `exits`, and every listed node after its children
-    (a successor, or a node listed before it)."""
+    """`exits` with `inner` numbers the states (the order it gives the
+    successors in) and lists the nodes the moves are made from: the same
+    successors in the same order as without it, and every listed node
+    after its children (a successor, or a node listed before it)."""
     progression = Progression(keys(formula))
     automaton = Backward(progression, nnf(formula))
     bdd, top = progression.bdd, len(progression.atom_keys)
@@ -140,7 +140,7 @@ def test_the_walk_meets_the_successors_as_exits_does_and_lists_nodes_children_fi
     inner: list = []
     for state in order[:40]:
         t = automaton.successors(state)
-        met = list(_walk(bdd, t, top, walked, inner))
+        met = list(exits(bdd, t, top, walked, inner))
         assert met == list(exits(bdd, t, top, seen)), to_string(formula)
         order += [node for node in met if node not in order]
     done = set(order)

@@ -63,10 +63,8 @@ between letters and states.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 from symsynth.automata import moves as moves_
-from symsynth.automata.bdd import BDD, Function, and_exists, branches, children_first, swap
+from symsynth.automata.bdd import Function, and_exists, branches, children_first, exits, swap
 from symsynth.automata.growth import grew
 from symsynth.automata.progression import GuardedDFA, Progression, TooLarge
 from symsynth.logic import ast
@@ -175,7 +173,7 @@ class Backward:
     def accepts(self, state: Function) -> bool:
         """END in S: S's path under END's values, the answer remembered for
         every node on it (sets share nodes: urright14's 169,542 states take
-        0.3 s this way, 1.3 s as one cofactor each; load 3.5)."""
+        0.3 s this way, 1.3-1.7 s as one cofactor each; load 3)."""
         bdd, known, end = self.bdd, self._at_end, self.end
         path = []
         node = state
@@ -198,10 +196,10 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
     The successors of a state are numbered as a depth-first walk (high
     branch first) of T meets them; nodes at atom levels met for an earlier
     state are not walked again (every successor below them has its number).
-    The walk lists those nodes children first (`_walk`), and the moves are
-    made from the list at the end, when the number of bits is known: T with
-    each successor's node replaced by the cube of its number, one `ite` per
-    node at atom levels.  No guard is made: urright12 has 1.45 million
+    The walk lists those nodes children first (`exits` given `inner`), and
+    the moves are made from the list at the end, when the number of bits is
+    known: T with each successor's node replaced by the cube of its number,
+    one `ite` per node at atom levels.  No guard is made: urright12 has 1.45 million
     edges, 8,898 states and 63,148 such nodes.  (Walking T's nodes a second
     time for the moves, children first, took urright14's construction
     5.7 s where the list takes 2.5 s, and the walk 0.9 s more; load 3.5.)"""
@@ -218,7 +216,7 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
         grew(len(order))
         top = automaton.successors(state)
         tops.append(top)
-        for node in _walk(bdd, top, num_atoms, walked, inner):  # the successors, each node walked once in all
+        for node in exits(bdd, top, num_atoms, walked, inner):  # the successors, each node walked once in all
             if node not in index:
                 if max_states is not None and len(order) >= max_states:
                     raise TooLarge(f"more than {max_states} states")
@@ -233,26 +231,3 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
     del inner
     return GuardedDFA(bdd, 0, [automaton.accepts(s) for s in order], moves=[written[t] for t in tops])
 
-
-def _walk(bdd: BDD, root: Function, top: int, seen: set[Function],
-          inner: list[tuple[Function, Function, Function, Function]]) -> Iterator[Function]:
-    """`exits(bdd, root, top, seen)`, the same nodes in the same order,
-    appending to `inner` each node it walks above `top` as `(its variable,
-    node, low, high)` once its children are walked or given: children
-    first over all calls sharing `seen` and `inner`.  (On the stack a
-    tuple is such a node, its subtree done.)"""
-    true, false = bdd.true, bdd.false
-    stack: list = [root]
-    while stack:
-        node = stack.pop()
-        if type(node) is tuple:
-            inner.append(node)
-            continue
-        if node in seen:
-            continue
-        seen.add(node)
-        if node == true or node == false or node.level >= top:
-            yield node
-        else:
-            low, high = branches(bdd, node)
-            stack += [(bdd.var(node.var), node, low, high), low, high]  # high first, as in `exits`

@@ -8,9 +8,10 @@ The bits (lowest first) write a state's number; the codes past the last
 state are no state's.  The transition functions may take any value there
 (`by_state(..., unreached=True)`): no reachable state leads to them, and
 the tree has a node less for each code without a state under its split
-(urright14, 169,542 states in 18 bits: 92,602 codes past the last state
-under the deepest split, 1.6 million of its 13.2 million nodes).  The
-acceptance and the reachable set are exact: false there.
+(urright14, 169,542 states in 18 bits, has 92,602 such splits on its
+deepest bit: its DFA has 11.97 million nodes where it had 13.15 million
+with false there).  The acceptance and the reachable set are exact: false
+there.
 """
 
 from __future__ import annotations
