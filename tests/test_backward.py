@@ -15,7 +15,7 @@ from support.reference import all_traces, distinguishing_trace, minimal_num_stat
 from support.strategies import formulas, traces
 from symsynth.automata import compile_ltlf
 from symsynth.automata.backward import Backward, backward_dfa
-from symsynth.automata.bdd import cofactor
+from symsynth.automata.bdd import cofactor, exits
 from symsynth.automata.normal import nnf
 from symsynth.automata.progression import Progression, TooLarge
 from symsynth.logic import ast, atoms, holds, parse_ltlf, to_string
@@ -122,3 +122,28 @@ def test_the_obligations_on_the_least_nested_operands_come_first():
     assert depths == sorted(depths) and len(set(depths)) == len(depths) == 5
     assert names[-1] == bdd.support(automaton.start).pop()  # X phi, phi the whole formula
     assert [bdd.level_of_var(key) for key in keys(formula)] == list(range(6))
+
+
+@settings(max_examples=60, deadline=None)
+@given(formulas(max_depth=4))
+def test_the_walk_meets_the_successors_as_exits_does_and_lists_nodes_children_first(formula):
+    """`exits` with `inner` numbers the states (the order it gives the
+    successors in) and lists the nodes the moves are made from: the same
+    successors in the same order as without it, and every listed node
+    after its children (a successor, or a node listed before it)."""
+    progression = Progression(keys(formula))
+    automaton = Backward(progression, nnf(formula))
+    bdd, top = progression.bdd, len(progression.atom_keys)
+    order = [automaton.initial()]
+    walked: set = set()
+    seen: set = set()
+    inner: list = []
+    for state in order[:40]:
+        t = automaton.successors(state)
+        met = list(exits(bdd, t, top, walked, inner))
+        assert met == list(exits(bdd, t, top, seen)), to_string(formula)
+        order += [node for node in met if node not in order]
+    done = set(order)
+    for var, node, low, high in inner:
+        assert low in done and high in done and node not in done and bdd.var(node.var) == var
+        done.add(node)

@@ -103,6 +103,17 @@ def test_numbers_lists_every_member_of_a_set_with_absent_bits():
     assert moves.numbers(bdd, bdd.false, names) == []
 
 
+@given(st.integers(1, 7), st.integers(0, 130))
+def test_cubes_are_the_cube_of_each_number(width, count):
+    """moves.cubes, made from the cubes of the numbers halved, against the
+    conjunction of every bit's literal (a wrong literal or a number left
+    out fails here)."""
+    bdd = Progression(KEYS).bdd
+    names = moves.bits(bdd, "z", width)
+    count = min(count, 1 << width)
+    assert moves.cubes(bdd, names, count) == [moves.cube(bdd, names, value) for value in range(count)]
+
+
 @settings(max_examples=200, deadline=None)
 @given(formulas(max_depth=3), bounded(), st.sampled_from(["and", "or"]))
 def test_the_prefix_product_of_moves_is_the_minimal_dfa_of_the_combination(big_formula, small_formula, op):

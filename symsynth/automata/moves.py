@@ -78,6 +78,29 @@ def cube(bdd: BDD, names: Sequence[str], value: int) -> Function:
     return bdd.cube({name: bool(value >> i & 1) for i, name in enumerate(names)})
 
 
+def cubes(bdd: BDD, names: Sequence[str], count: int) -> list[Function]:
+    """`[cube(bdd, names, value) for value in range(count)]`, each cube
+    made from the one of `value >> 1` over the bits below its first (the
+    top node of its cube over bits i, i+1, ... is remembered by
+    `(i, value >> i)`): an `ite` or two a value, where `cube` asks CUDD
+    for one conjunction a bit (1.2 s for urright14's 169,542 states,
+    0.48 s this way; load 3.5)."""
+    below: dict[tuple[int, int], Function] = {(len(names), 0): bdd.true}
+    bit = [bdd.var(name) for name in names]
+    false = bdd.false
+    result = []
+    for value in range(count):
+        i = 0
+        while (i, value >> i) not in below:  # (ends: value >> len(names) is 0)
+            i += 1
+        node = below[i, value >> i]
+        for k in reversed(range(i)):
+            node = below[k, value >> k] = bdd.ite(bit[k], node, false) if value >> k & 1 else \
+                bdd.ite(bit[k], false, node)  # z_k /\ rest, or !z_k /\ rest
+        result.append(node)
+    return result
+
+
 def atom_vars(bdd: BDD) -> list[str]:
     """The variables above the bits (the atoms, and any others declared
     before), but for the row bits (rows.py)."""

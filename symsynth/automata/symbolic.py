@@ -25,10 +25,9 @@ from contextlib import AbstractContextManager, nullcontext
 
 from symsynth.automata.bdd import (BDD, Function, and_exists, children_first, cofactor, exists, fixed_order,
                                    format_cubes, is_constant, isop, lexmin, restrict, shared_size)
-from symsynth.automata import moves as moves_
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.progression import GuardedDFA
-from symsynth.automata.rows import each
+from symsynth.automata.single import bit_functions, by_state
 
 State = tuple[bool, ...]
 Letter = Collection[str]
@@ -478,9 +477,9 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
             # bit j set, merged over the states by a decision tree on the bits
             # (a bit all successors agree on needs no disjunction: most bits
             # of most states, the successors of a state being few and near)
-            delta.update(_single_delta(bdd, comp, names))
-            accepts.append(_by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
-            reachable = _by_state(bdd, names, [bdd.true] * comp.num_states)  # every state of an explicit DFA
+            delta.update(bit_functions(bdd, comp, names))
+            accepts.append(by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
+            reachable = by_state(bdd, names, [bdd.true] * comp.num_states)  # every state of an explicit DFA
             continue
         # several components: the manager reorders while they are built, and
         # disjunctions of state codes fare better there than the tree above
@@ -509,79 +508,6 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
         for comp_acc in accepts:
             accepting &= comp_acc
     return SymbolicDFA(bdd, atoms, bits, delta, initial, accepting, reachable=reachable, local=local)
-
-
-def _single_delta(bdd: BDD, comp: GuardedDFA, names: Sequence[str]) -> dict[str, Function]:
-    """The transition function of each bit `names[j]` of the explicit
-    `comp` alone: the letters into successors with bit j set, merged over
-    the states by a decision tree on the bits (`_by_state`).
-
-    A DFA given by its moves in `bdd` itself, its bits above the atoms:
-    the moves merged over the states the same way are the transition
-    relation R(q, a, z), and bit j's function is \\E z: R /\\ z_j, one
-    relational product per bit.  (One `and_exists` per state and bit cost
-    urright12 1.3 to 2.1 s, 124,584 calls; per bit, 0.2 to 0.55 s.)"""
-    if comp.bdd is bdd and not comp.has_edges():
-        zs = moves_.bits(bdd, "z", len(names))
-        relation = _by_state(bdd, names, comp.moves)  # R(q, a, z): T_q(a, z)
-        return {n: and_exists(bdd, relation, bdd.var(z), zs) for n, z in zip(names, zs)}  # \E z: R /\ z_j
-    ones = _next_bits(bdd, comp, len(names))
-    return {n: _by_state(bdd, names, ones[j]) for j, n in enumerate(names)}
-
-
-def _next_bits(bdd: BDD, comp: GuardedDFA, width: int) -> list[list[Function]]:
-    """`ones[j][s]`: the letters (in `bdd`) after which state `s` of the
-    explicit `comp` goes to a successor with bit `j` set."""
-    ones: list[list[Function]] = [[bdd.false] * comp.num_states for _ in range(width)]
-    if not comp.has_edges():  # given by its moves: bit j's letters in one step for all states
-        # (on the moves' stack, rows.py: one step per state was 3 s of Nim nim_06_01's 819 states)
-        zs = moves_.bits(comp.bdd, "z", width)
-        for j in range(width):
-            bit = comp.bdd.var(zs[j])
-            found = each(comp.bdd, lambda t: and_exists(comp.bdd, t, bit, zs), comp.moves)  # \E z: T_s & z_j
-            ones[j] = [_copied(u, bdd) for u in found]
-        return ones
-    copied: dict[Function, Function] = {}
-    for s, out in enumerate(comp.edges):
-        every, some = -1, 0
-        for succ in out:
-            every &= succ
-            some |= succ
-        for j in range(width):
-            if every >> j & 1:
-                ones[j][s] = bdd.true
-            elif some >> j & 1:  # the guards are disjoint and cover every letter:
-                # the fewer of those into a 1 and into a 0 suffice
-                set_ = [guard for succ, guard in out.items() if succ >> j & 1]
-                clear = len(set_) * 2 > len(out)
-                if clear:
-                    set_ = [guard for succ, guard in out.items() if not succ >> j & 1]
-                value = bdd.false
-                for guard in set_:
-                    here = copied.get(guard)
-                    if here is None:
-                        here = copied[guard] = _copied(guard, bdd)
-                    value = value | here
-                ones[j][s] = ~value if clear else value
-    return ones
-
-
-def _copied(u: Function, bdd: BDD) -> Function:
-    """`u` in `bdd` (itself when it is there already)."""
-    return u if u.bdd is bdd else u.bdd.copy(u, bdd)
-
-
-def _by_state(bdd: BDD, names: Sequence[str], values: Sequence[Function]) -> Function:
-    """The function that is `values[s]` where the bits `names` (lowest
-    first) encode `s`, and false on the codes past the last state: a
-    decision tree on the bits, merged bottom-up by `ite` (one node per
-    pair when the values lie below the bits; no disjunction grows)."""
-    width = len(names)
-    level = list(values) + [bdd.false] * ((1 << width) - len(values))
-    for j in reversed(range(width)):  # the last bit is the deepest split
-        bit, half = bdd.var(names[j]), 1 << j
-        level = [bdd.ite(bit, level[m + half], level[m]) for m in range(half)]
-    return level[0]
 
 
 def _atoms_read(comp: GuardedDFA, atoms: Sequence[str]) -> list[str]:
