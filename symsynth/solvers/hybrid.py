@@ -199,7 +199,7 @@ class Hybrid:
             self.no_h[i] = max(b, self.no_h.get(i, -1))
             return False
         hi = max([self.hi_r[i][0]] + [self.leaf[t] if below == self.j else self.hi_r[t][0] for t in order])
-        self.hi_h[i] = min(hi, self.hi_h.get(i, INF))  # (a question below this one may have set a lower one)
+        self.hi_h[i] = min(hi, self.hi_h.get(i, hi))  # (a question below this one may have set a lower one)
         return True
 
     def _leaf(self, i: int, b: int) -> bool:
@@ -216,7 +216,7 @@ class Hybrid:
         x, q = memo.position(int(memo.rec[i, sk.KEY]))
         ok = self.bound.within_from(x, q, self.j, b)
         if ok:
-            self.leaf[i] = min(b, self.leaf.get(i, INF))
+            self.leaf[i] = min(b, self.leaf.get(i, b))
         else:
             self.no_leaf[i] = max(b, self.no_leaf.get(i, -1))
         return ok
