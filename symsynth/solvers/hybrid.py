@@ -59,8 +59,8 @@ from symsynth.solvers.packed import search as sk
 from symsynth.solvers.replan_budget import BudgetedBound, Deadline
 
 INF = math.inf
-#: Questions between two looks at the clock
-LOOK_EVERY = 256
+#: Questions between two looks at the clock (a leaf, σ's question, took up to 6 ms at 8 x 12)
+LOOK_EVERY = 8
 #: j of the anytime answer's τ_j: σ takes over when the human has this many moves left
 #: (issue 32's measurements: W_1 = E_p where it was measured, W_2 above it)
 HAND_OVER = 1
