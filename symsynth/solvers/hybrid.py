@@ -101,17 +101,10 @@ class Hybrid:
 
     def least(self, lower: int, upper: int, deadline: float | None = None) -> float:
         """W_j(start) when it is at most `upper`, given lower <= W_j(start): the
-        least b in [lower, upper] that `within` says yes to; inf when above upper."""
-        if not self.within(upper, deadline):
-            return INF
-        hi = upper
-        while lower < hi:
-            mid = (lower + hi) // 2
-            if self.within(mid, deadline):
-                hi = mid
-            else:
-                lower = mid + 1
-        return lower
+        least b in [lower, upper] that `within` says yes to; inf when above upper
+        (or when the deadline passed before one was found)."""
+        yes, _ = _tightened(self, lower, upper + 1, deadline)
+        return INF if yes is None else yes
 
     @property
     def strategy(self) -> HybridStrategy:
@@ -302,9 +295,9 @@ class HybridStrategy(Mapping):
 def hybrid_answer(solution: Solution, memo, start: int, formula: ast.Formula, deadline: float,
                   bound: BudgetedBound | None = None) -> Solution:
     """An anytime answer tightened by τ_j (j = `HAND_OVER`, below k): "W_j <= b?"
-    asked at the lower end (a yes proves E_p = lower), then halving the gap to
-    the upper end, each yes a new upper end with τ_j as its strategy (module
-    doc), until `deadline`; the stats say what was asked.  σ's questions go to
+    asked as `_tightened` says, the least yes a new upper end with τ_j as its
+    strategy (module doc; at the lower end E_p is proven), until `deadline`;
+    the stats say what was asked.  σ's questions go to
     `bound` (σ's bound of the same game, its answers reused) or a new one.
     Not asked when the game's positions are reduced by a symmetry (σ's are
     not) or the deadline has passed."""
@@ -330,20 +323,24 @@ def hybrid_answer(solution: Solution, memo, start: int, formula: ast.Formula, de
                                lower_units=None if exact else lower)
 
 
-def _tightened(hybrid: Hybrid, lower: int, upper: int | None, deadline: float) -> tuple[int | None, int]:
-    """(the least b found with W_j <= b, below `upper`, or None; the largest b
-    found with W_j > b): asked at `lower`, then bisecting [lower, upper)."""
+def _tightened(hybrid: Hybrid, lower: int, upper: int | None, deadline: float | None) -> tuple[int | None, int]:
+    """(the least b found with W_j <= b, below `upper` (None: none), or None; the
+    largest b found with W_j > b): asked just below the upper end first (a yes
+    there is quick, and already a better upper end), then at `lower` (a yes
+    proves E_p), then bisecting between, until `deadline`."""
+    top = lower if upper is None else upper - 1  # the largest b worth asking
     yes, no = None, lower - 1
     try:
-        if hybrid.within(lower, deadline):
-            return lower, no
-        no, top = lower, (upper or lower + 1) - 1
-        while no < top:
-            mid = (no + 1 + top) // 2
-            if hybrid.within(mid, deadline):
-                yes, top = mid, mid - 1
+        if top > lower:
+            if not hybrid.within(top, deadline):
+                return None, top
+            yes = top
+        while no + 1 < (top + 1 if yes is None else yes):
+            b = lower if no < lower else (no + (top + 1 if yes is None else yes)) // 2
+            if hybrid.within(b, deadline):
+                yes = b
             else:
-                no = mid
+                no = b
     except (Deadline, OutOfReach):  # (OutOfReach: a zero-cost move in a no-human search)
         pass
     return yes, no
