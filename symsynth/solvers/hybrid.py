@@ -20,11 +20,13 @@ the positions with h > j, on the AND-OR search's nodes and moves
   question started at that position);
 - a move or action that makes the task hold costs nothing more.
 
-Only "yes" is a proof.  A "no" says that nothing was certified within b
-(a leaf σ cannot certify may still be within b for a better strategy), so
-it is kept only to skip the same question with a budget no larger; it never
-raises the search's lower bounds.  The memo's `lo` (proven lower bounds on
-the game's value val) prune: W_j >= val >= lo everywhere.
+The memo's `lo` (proven lower bounds on the game's value val) prune:
+W_j >= val >= lo everywhere.  Both answers are exact for W_j: the search
+above h = j tries every action within those bounds, and σ's question is
+exact (`solvers.replan_budget`).  A "no" is not a bound on val, though (a
+leaf σ cannot certify may be within b for a better strategy).  So it is
+kept only to skip the same question with a budget no larger, and the
+search's lower bounds are never raised from it.
 
 Soundness of a yes
 ------------------
@@ -32,14 +34,26 @@ Each certified robot turn keeps (hi, action) with hi >= u + hi_H(after); each
 certified human turn keeps hi_H >= the pass's hi and every move's hi (a
 leaf's hi: the budget σ was certified within; a win: 0).  A value is
 written only when the question it answers was certified, and only ever
-lowered (a question with a budget at least the kept hi is answered from it),
-so these inequalities hold at all times.  Along any play of τ_j from a
+lowered.  A question with a budget at least the kept hi is answered from it.
+A question asked deeper at the same node (the game has cycles, and budgets
+fall along them) may have kept a lower hi while this one ran, and that one
+is kept.  So these inequalities hold at all times.  Along any play of τ_j from a
 certified human turn: every robot action lowers hi by its cost u >= 1
 (search.py's rule: zero-cost games are refused), a pass or a move does not
 raise it, and a move into h = j hands over to σ, which pays at most the
 leaf's hi.  So the play wins and its cost is at most hi_H(start).  τ_j is
 memoryless over (state, DFA state, h): at h > j the kept action of the
 node, at h <= j σ's action (the same at every h).
+
+Use and measurements
+--------------------
+`hybrid_answer` tightens an anytime answer of `solvers.andor` after σ's
+upper end, with τ_1 (`HAND_OVER`).  It reuses σ's bound, whose answers make
+the leaves cheap.  On the pattern family, W_1 = E_p wherever it was decided
+(6 x 8 x k = 2 and 3, 8 x 12 x k = 2, where σ pays 0.3-2.2 % more), and
+W_2 is above E_p.  The cost is σ's question at each leaf (0.25-6 ms).  At 7 x
+10 x k = 3, "W_1 <= 740?" was still unanswered after 900 s
+(bench/results/hybrid.md).
 """
 
 from __future__ import annotations
