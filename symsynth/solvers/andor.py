@@ -82,7 +82,8 @@ from symsynth.solvers.packed import search as sk
 from symsynth.solvers.packed.kernels import INF, _find, _table
 from symsynth.solvers.packed.lower import BoundTables
 from symsynth.solvers.packed.tables import Tables, check_width
-from symsynth.solvers.replan_budget import Deadline, certified_upper
+from symsynth.solvers.hybrid import hybrid_answer
+from symsynth.solvers.replan_budget import BudgetedBound, Deadline, certified_upper
 
 #: Questions between two looks at the clock (and at the arrays' room): a question cut
 #: off there is asked again from the start, its proven parts kept.  Under a time limit a
@@ -332,18 +333,22 @@ def search_tables(tables: Tables, formula: ast.Formula, budget: float | None, se
     solution = solution if symmetry is None else symmetry.realize(solution)
     if time_limit is None or solution.exact or k == 0 or lower is None:
         return solution
-    return _replanned(solution, scene, formula, k, budget, begun + time_limit * (SEARCH_SHARE + REPLAN_SHARE),
-                      memo if symmetry is None else None)
+    end = begun + time_limit * (SEARCH_SHARE + REPLAN_SHARE)
+    solution, bound = _replanned(solution, scene, formula, k, budget, end, memo if symmetry is None else None)
+    if solution.exact:
+        return solution
+    return hybrid_answer(solution, memo, start, formula, end, bound)
 
 
 def _replanned(solution: Solution, scene: Scene, formula: ast.Formula, k: int, budget: float | None,
-               deadline: float, memo: Memo | None = None) -> Solution:
+               deadline: float, memo: Memo | None = None) -> tuple[Solution, BudgetedBound | None]:
     """An anytime answer whose upper end is the replanning strategy's when that is
     proven (`replan_budget.certified_upper`) below the search's (and E_p when it
-    meets the lower end).  Its principal play is the strategy against a human
-    who makes it pay that much when the bisection showed it is what σ pays,
-    else σ's plan with the human passing.  `memo`: the search's, whose proven
-    bounds at h = 0 the strategy's no-human questions start from."""
+    meets the lower end), with σ's bound (None when none was proven).  Its
+    principal play is the strategy against a human who makes it pay that much
+    when the bisection showed it is what σ pays, else σ's plan with the human
+    passing.  `memo`: the search's, whose proven bounds at h = 0 the strategy's
+    no-human questions start from."""
     lower, r = solution.lower_units, solution.resolution
     assert lower is not None  # the caller answers exact solutions itself
     clock = time.perf_counter()
@@ -354,7 +359,7 @@ def _replanned(solution: Solution, scene: Scene, formula: ast.Formula, k: int, b
         found = None
     stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2)}
     if found is None:
-        return dataclasses.replace(solution, stats=stats)
+        return dataclasses.replace(solution, stats=stats), None
     upper, bound = found
     exact = upper <= lower
     realizable = bracket_verdict(None if exact else lower, upper, r, budget)
@@ -368,7 +373,7 @@ def _replanned(solution: Solution, scene: Scene, formula: ast.Formula, k: int, b
                                strategy=bound.strategy, principal_play=principal,
                                counter_play=principal if exact and realizable is False else None,
                                stats=stats | {"replanning_bound": upper, "upper_by": "replanning"},
-                               lower_units=None if exact else lower)
+                               lower_units=None if exact else lower), bound
 
 
 def _layered(solution: Solution, why: str) -> Solution:

@@ -201,6 +201,14 @@ class BudgetedBound:
         v0 = self.value(x, q)
         return v0 < INF and self._fits(x, q, self.k, target - v0, True)
 
+    def within_from(self, x: int, q: int, h: int, target: int) -> bool:
+        """Whether σ pays at most target from the robot turn at (x, q) (packed
+        state, DFA index) with h human moves left: B_h there <= target."""
+        if self.t.accepting[q]:
+            return target >= 0
+        v0 = self.value(x, q)
+        return v0 <= target and self._fits(x, q, h, target - v0, False)
+
     def least(self, lower: int, upper: int, deadline: float | None = None) -> float:
         """B_k(start) exactly when it is at most `upper`, given lower <=
         B_k(start): the least T in [lower, upper] that `within` says yes to,
