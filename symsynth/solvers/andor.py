@@ -96,13 +96,17 @@ CHUNK = 2_000_000
 MAX_ROUNDS = 1024
 #: Shares of a time limit: the search's rounds from below until ROUNDS_SHARE of it has
 #: passed, its rounds from above until SEARCH_SHARE; then, when the search proved E_p in
-#: neither, the replanning strategy's bound (`solvers.replan_budget`) is asked for an upper
-#: end until REPLAN_SHARE more of the limit has passed.  The rounds from below are what
-#: proves E_p where the search can (6 x 8 x k = 3 at 60 s lost it with a quarter of the limit
-#: for them); above it, the bound's upper end is the tighter one (issue 32's measurements)
-ROUNDS_SHARE = 0.5
-SEARCH_SHARE = 0.6
-REPLAN_SHARE = 0.4
+#: neither, the replanning strategy's bound (`solvers.replan_budget`) and the hybrid's
+#: (`solvers.hybrid`) are asked for an upper end until REPLAN_SHARE more of the limit has
+#: passed.  The rounds from below are what proves E_p where the search can (6 x 8 x k = 3 at
+#: 60 s lost it with a quarter of the limit for them), and the hybrid's question is quick
+#: only at b = E_p, so the lower end must get there first (8 x 12 x k = 2: 712 with half of
+#: a 60 s limit, 718 with 0.65, load 4); the rounds from above never answered at 7 x 10 and
+#: beyond, so they get no share of their own, and σ's question needs 13-17 s of the rest at
+#: 7 x 10 (issue 32's measurements, bench/results/game-notes.md)
+ROUNDS_SHARE = 0.65
+SEARCH_SHARE = 0.65
+REPLAN_SHARE = 0.35
 #: Seconds past the limit the replanning upper end's principal play may take (it reads the
 #: question's answers back, a search only where one is missing)
 PLAY_GRACE = 1.0
