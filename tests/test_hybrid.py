@@ -15,7 +15,7 @@ import pytest
 from symsynth.game.abstraction import initial_state
 from symsynth.game.solution import OutOfReach
 from symsynth.logic import parse_ltlf
-from symsynth.solvers import andor
+from symsynth.solvers import andor, replan_budget
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers.hybrid import Hybrid
 from symsynth.solvers.packed.lower import BoundTables
@@ -86,7 +86,7 @@ def test_an_anytime_answer_tightened_by_the_hybrid_holds_the_value(monkeypatch, 
 
     monkeypatch.setattr(andor, "_search", from_below)
     if drop == 0:
-        monkeypatch.setattr(andor, "certified_upper", lambda *args, **kwargs: None)
+        monkeypatch.setattr(replan_budget, "certified_upper", lambda *args, **kwargs: None)
     tightened = 0
     for seed, scene, k, formula, exact, _ in _games(range(1, 120)):
         if k == 1:

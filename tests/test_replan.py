@@ -94,18 +94,36 @@ def test_the_no_human_value_keeps_the_deadline(monkeypatch):
 def test_the_no_human_value_is_exact_where_the_rounds_give_up(monkeypatch):
     """V_0 at the start equals the explicit solver's k = 0 value with the
     search's rounds cut to one (`MAX_ROUNDS`): where they give up, the value is
-    found by doubling and halving the budget (it raised `_TooManyRounds` to the
-    caller before).  Scenes with contacts have no lower bound (lo starts at 0),
-    so the first budget tried, 2 lo + 64, is short and the doubling is reached."""
+    found by doubling the budget (it raised `_TooManyRounds` to the caller
+    before).  Scenes with contacts have no lower bound (lo starts at 0), so the
+    first budget tried, 2 lo + 64, is short and the doubling is reached; where
+    V_0 is infinite there, the trap check after the first no ends it (held back
+    to the 8th question, the budget, and the search's depth, grew 2^8-fold)."""
     from symsynth.game.abstraction import initial_state
     from symsynth.game.solution import OutOfReach
     from symsynth.solvers import andor, replan
 
     andor.prepare()
     monkeypatch.setattr(andor, "MAX_ROUNDS", 1)
-    doubled = []
-    real = replan.NoHumanValue._doubled
-    monkeypatch.setattr(replan.NoHumanValue, "_doubled", lambda self, i: doubled.append(i) or real(self, i))
+    asked: list[int] = []  # the questions each doubling asked
+    doubling = [False]
+    real_doubled, real_ask = replan.NoHumanValue._doubled, replan.NoHumanValue.ask
+
+    def counted_doubled(self, i):
+        asked.append(0)
+        doubling[0] = True
+        try:
+            return real_doubled(self, i)
+        finally:
+            doubling[0] = False
+
+    def counted_ask(self, i, b):
+        if doubling[0]:
+            asked[-1] += 1
+        return real_ask(self, i, b)
+
+    monkeypatch.setattr(replan.NoHumanValue, "_doubled", counted_doubled)
+    monkeypatch.setattr(replan.NoHumanValue, "ask", counted_ask)
     compared = 0
     for seed in range(60):
         scene = _scene(seed)
@@ -118,4 +136,5 @@ def test_the_no_human_value_is_exact_where_the_rounds_give_up(monkeypatch):
         exact = solve_explicit(scene, k=0).units
         assert value == (math.inf if exact is None else exact), seed
         compared += 1
-    assert compared >= 40 and len(doubled) >= 5, (compared, len(doubled))
+    assert compared >= 40 and len(asked) >= 5, (compared, asked)
+    assert max(asked) <= 2, asked

@@ -85,6 +85,8 @@ def cubes(bdd: BDD, names: Sequence[str], count: int) -> list[Function]:
     `(i, value >> i)`): an `ite` or two a value, where `cube` asks CUDD
     for one conjunction a bit (1.2 s for urright14's 169,542 states,
     0.48 s this way; load 3.5)."""
+    if count > 1 << len(names):
+        raise ValueError(f"{count} values do not fit {len(names)} bits")
     below: dict[tuple[int, int], Function] = {(len(names), 0): bdd.true}
     bit = [bdd.var(name) for name in names]
     false = bdd.false

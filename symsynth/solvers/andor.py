@@ -83,7 +83,7 @@ from symsynth.solvers.packed.kernels import INF, _find, _table
 from symsynth.solvers.packed.lower import BoundTables
 from symsynth.solvers.packed.tables import Tables, check_width
 from symsynth.solvers.hybrid import hybrid_answer
-from symsynth.solvers.replan_budget import BudgetedBound, Deadline, certified_upper
+from symsynth.solvers.replan_budget import replanned_answer
 
 #: Questions between two looks at the clock (and at the arrays' room): a question cut
 #: off there is asked again from the start, its proven parts kept.  Under a time limit a
@@ -107,9 +107,6 @@ MAX_ROUNDS = 1024
 ROUNDS_SHARE = 0.65
 SEARCH_SHARE = 0.65
 REPLAN_SHARE = 0.35
-#: Seconds past the limit the replanning upper end's principal play may take (it reads the
-#: question's answers back, a search only where one is missing)
-PLAY_GRACE = 1.0
 
 
 class Memo:
@@ -324,11 +321,7 @@ def search_tables(tables: Tables, formula: ast.Formula, budget: float | None, se
     realizable = bracket_verdict(lower, upper, resolution, budget)
     counter = principal if realizable is False and exact else None
     seconds["plays"] = time.perf_counter() - clock
-    st = memo.st
-    stats = {"nodes": memo.count, "calls": int(st[sk.ST_CALLS]), "rounds": rounds,
-             "robot_moves": int(st[sk.ST_NE]), "human_moves": int(st[sk.ST_NH]),
-             "peak_nodes_mb": round((memo.rec.nbytes + memo.table.nbytes + memo.rm_tgt.nbytes
-                                     + memo.rm_move.nbytes + memo.hm_tgt.nbytes) / 1e6, 1)}
+    stats: dict[str, int | float | None] = {"rounds": rounds, **_sizes(memo)}
     if not exact:
         stats["lower_units"] = lower
     solution = Solution(None if upper is None else in_costmap_units(upper, resolution), upper, resolution, budget,
@@ -338,46 +331,22 @@ def search_tables(tables: Tables, formula: ast.Formula, budget: float | None, se
     if time_limit is None or solution.exact or k == 0 or lower is None:
         return solution
     end = begun + time_limit * (SEARCH_SHARE + REPLAN_SHARE)
-    solution, bound = _replanned(solution, scene, formula, k, budget, end, memo if symmetry is None else None)
-    if solution.exact:
-        return solution
-    return hybrid_answer(solution, memo, start, formula, end, bound)
+    solution, bound = replanned_answer(solution, scene, formula, k, budget, end, memo if symmetry is None else None)
+    if not solution.exact:
+        solution = hybrid_answer(solution, memo, start, formula, end, bound)
+    if isinstance(solution.strategy, ProvenStrategy):  # σ's searches on the memo may have moved its actions at h = 0
+        solution = dataclasses.replace(solution, principal_play=proof.play(start),
+                                       stats=dict(solution.stats) | _sizes(memo))
+    return solution
 
 
-def _replanned(solution: Solution, scene: Scene, formula: ast.Formula, k: int, budget: float | None,
-               deadline: float, memo: Memo | None = None) -> tuple[Solution, BudgetedBound | None]:
-    """An anytime answer whose upper end is the replanning strategy's when that is
-    proven (`replan_budget.certified_upper`) below the search's (and E_p when it
-    meets the lower end), with σ's bound (None when none was proven).  Its
-    principal play is the strategy against a human who makes it pay that much
-    when the bisection showed it is what σ pays, else σ's plan with the human
-    passing.  `memo`: the search's, whose proven bounds at h = 0 the strategy's
-    no-human questions start from."""
-    lower, r = solution.lower_units, solution.resolution
-    assert lower is not None  # the caller answers exact solutions itself
-    clock = time.perf_counter()
-    try:
-        found = certified_upper(scene, formula, k, lower, None if solution.units is None else int(solution.units),
-                                resolution=r, deadline=deadline, memo=memo)
-    except OutOfReach:  # a zero-cost move
-        found = None
-    stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2)}
-    if found is None:
-        return dataclasses.replace(solution, stats=stats), None
-    upper, bound = found
-    exact = upper <= lower
-    realizable = bracket_verdict(None if exact else lower, upper, r, budget)
-    try:  # σ against the worst human, read back from the answers; its plan if that runs long
-        with bound.limited(deadline + PLAY_GRACE):
-            worst = bound.answered(upper - 1) is False  # upper is what σ pays against the worst human
-            principal = bound.worst_play(upper) if worst else bound.passing_play()
-    except Deadline:
-        principal = bound.passing_play()
-    return dataclasses.replace(solution, cost_bound=in_costmap_units(upper, r), units=upper, realizable=realizable,
-                               strategy=bound.strategy, principal_play=principal,
-                               counter_play=principal if exact and realizable is False else None,
-                               stats=stats | {"replanning_bound": upper, "upper_by": "replanning"},
-                               lower_units=None if exact else lower), bound
+def _sizes(memo: Memo) -> dict[str, int | float]:
+    """The memo's nodes, questions, moves and arrays (MB), for a solution's stats."""
+    st = memo.st
+    return {"nodes": memo.count, "calls": int(st[sk.ST_CALLS]), "robot_moves": int(st[sk.ST_NE]),
+            "human_moves": int(st[sk.ST_NH]),
+            "peak_nodes_mb": round((memo.rec.nbytes + memo.table.nbytes + memo.rm_tgt.nbytes
+                                    + memo.rm_move.nbytes + memo.hm_tgt.nbytes) / 1e6, 1)}
 
 
 def _layered(solution: Solution, why: str) -> Solution:

@@ -4,8 +4,10 @@ The **replanning strategy** σ plays, at every robot turn, the first action of a
 least-cost plan of the game with no human move left: with V_0(v, q) that game's
 value (the no-human value), σ takes an action a with V_0(p) = c(a) + V_0(after a).
 It is memoryless (the same at every h) and needs no table: `NoHumanValue` finds
-the action by the AND-OR search with k = 0 from the position (`solvers.andor`),
-one memo for every question, so a plan once proven is read back, not searched.
+the action by the AND-OR search with no human move left from the position
+(`solvers.andor`), one memo for every question (a new one with k = 0, or an
+AND-OR search's memo of the game, read at its h = 0 nodes), so a plan once
+proven is read back, not searched.
 
 σ is well defined: the action read back at a node is the memo's proven one, and along a
 proven plan every node's upper end is exact (c + hi(after) <= V_0(p) <= c + V_0(after)),
@@ -69,6 +71,8 @@ if TYPE_CHECKING:
     from symsynth.solvers.andor import Memo
 
 INF = math.inf
+#: The largest budget the no-human questions ask (the kernel sorts by budget << 16 in 64 bits)
+MAX_BUDGET = 1 << 40
 ZERO_COST = ("a robot move of this game costs 0 units: the AND-OR search that finds the replanning strategy's "
              "plans does not answer such games")
 
@@ -80,8 +84,8 @@ ORACLE_CHUNK = 2_000_000
 
 
 class NoHumanValue:
-    """V_0 and σ's action at any (state, DFA state): the AND-OR search with k = 0
-    from there (exact: it proves lower = upper), over one memo."""
+    """V_0 and σ's action at any (state, DFA state): the AND-OR search with no
+    human move left from there (exact: it proves lower = upper), over one memo."""
 
     def __init__(self, scene: Scene, formula: ast.Formula, resolution: float = 1.0, memo: Memo | None = None):
         """With `memo`, an AND-OR search's memo of the same game at `resolution`
@@ -99,6 +103,8 @@ class NoHumanValue:
         elif memo.t.symmetry is not None:
             raise ValueError("the replanning strategy reads V_0 at real positions: a memo over canonical ones "
                              "does not serve")
+        elif memo.t.resolution != resolution or memo.t.scene is not scene:
+            raise ValueError("the search's memo is of another game (scene or resolution)")
         self.t, self.memo = memo.t, memo
         self.memo.chunk = ORACLE_CHUNK
         self.proof = andor.Proof(self.memo)
@@ -127,13 +133,10 @@ class NoHumanValue:
     def settle(self, i: int) -> bool:
         """Prove V_0 at memo node i (lo = hi after it); False when it is infinite.
         "V_0 <= 2 lo + 64?" first, a plan within about twice the lower bound,
-        then halving [lo, hi].  Without one, the search's rounds from below; where
-        they give up (`andor.MAX_ROUNDS`: V_0 far above the lower bound, a cheap
-        cycle raising lo one unit a round), b doubling above lo until a yes, the
-        trap check every 8, 16, 32, ... questions ending it with lo infinite when
-        there is no plan (the no-human game is finite, and a question with a
-        larger budget expands more of it), then halving.  Every answer is proven,
-        so lo <= V_0 <= hi throughout."""
+        then halving [lo, hi].  Without one, the search's rounds from below, and
+        where they give up (`andor.MAX_ROUNDS`: V_0 far above the lower bound, a
+        cheap cycle raising lo one unit a round) `_doubled`.  Every answer is
+        proven, so lo <= V_0 <= hi throughout."""
         andor, memo = self._andor, self.memo
         if memo.hi_h(i) >= INF_UNITS > memo.lo_h(i):
             self.ask(i, 2 * memo.lo_h(i) + 64)
@@ -151,14 +154,26 @@ class NoHumanValue:
         return True
 
     def _doubled(self, i: int) -> bool:
-        """"V_0 <= 2 lo + 64?" until a yes (True) or lo is infinite (False)."""
-        memo, asked = self.memo, 0
+        """"V_0 <= 2 lo + 64?" until a yes (True) or lo is infinite (False), the
+        trap check after every no.  It ends: a no that expands no new node is
+        followed by the trap check, which, once every node a plan could use is
+        expanded, proves lo infinite where no plan exists (the no-human game is
+        finite); while nodes are left, a larger budget expands more of them.
+        Calling the trap after each no (not every 8, 16, ... as the rounds do)
+        keeps the budget, and so the search's depth, near what the game needs:
+        a budget far above it sends the depth-first search round cheap cycles
+        (a review measured 1.8 GB of stack at b = 4.3 M with the trap held back).
+        Only reached where the rounds gave up, so the trap's pass over the memo
+        is rare.  Budgets stop at `MAX_BUDGET`: past it V_0 is out of reach."""
+        memo = self.memo
         while memo.hi_h(i) >= INF_UNITS:
-            if memo.lo_h(i) >= INF_UNITS:
+            lo = memo.lo_h(i)
+            if lo >= INF_UNITS:
                 return False
-            self.ask(i, 2 * memo.lo_h(i) + 64)
-            asked += 1
-            if asked >= 8 and asked & (asked - 1) == 0:
+            if lo > MAX_BUDGET:
+                raise OutOfReach(f"a no-human value above {MAX_BUDGET} units: rescale the costmap "
+                                 "(a coarser --resolution)")
+            if not self.ask(i, min(2 * lo + 64, MAX_BUDGET)):
                 memo.trap()
         return True
 

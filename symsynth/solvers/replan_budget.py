@@ -18,8 +18,9 @@ value:
   plan) or a proof that none exists.  All the moves of the turns of one plan
   go to the machine code in one call (`packed.replies._settle`), up to the
   first "no", and each is answered by the first of:
-  1. the k = 0 search's shared memo, when the node's proven bounds decide
-     it (lo > b: no; hi <= b: yes);
+  1. the no-human searches' shared memo (`NoHumanValue`'s: a k = 0 one, or
+     the AND-OR search's own at its h = 0 nodes), when the node's proven
+     bounds decide it (lo > b: no; hi <= b: yes);
   2. a repair: the moved object carried back and the hand put where it was,
      ending in p_i itself, so V_0(m p_i) <= its cost + V_0(p_i);
   3. σ's own next actions played from m p_i until the play meets σ's plan
@@ -46,6 +47,7 @@ question read stay σ's plans.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Iterator
@@ -55,7 +57,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from symsynth.game.abstraction import in_costmap_units, initial_state, legal_human_moves
-from symsynth.game.solution import OutOfReach, Step
+from symsynth.game.solution import OutOfReach, Solution, Step, bracket_verdict
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
 from symsynth.solvers.packed import replies as rk
@@ -71,6 +73,10 @@ INF = math.inf
 DEADLINE_CHUNK = 100_000
 #: Calls of the recursion (each a kernel call or a V_0) between two looks at the clock
 LOOK_EVERY = 64
+
+#: Seconds past the limit the replanning upper end's principal play may take (it reads the
+#: question's answers back, a search only where one is missing)
+PLAY_GRACE = 1.0
 
 
 class Deadline(Exception):
@@ -108,11 +114,12 @@ class BudgetedBound:
         """Every question inside ends by `deadline` (time.perf_counter; None: no
         end): the bound's own loops look at it, and the no-human searches stop
         where a chunk of their steps ends past it (`Memo.cutoff`); `Deadline`
-        then, and when a no-human search gives up its rounds."""
+        then (a no-human search that gives up its rounds goes on by doubling its
+        budget, `NoHumanValue.settle`)."""
         self.deadline, self.memo.cutoff = deadline, deadline
         try:
             yield
-        except (self._andor.CutOff, self._andor._TooManyRounds):
+        except self._andor.CutOff:
             raise Deadline from None
         finally:
             self.deadline, self.memo.cutoff = None, None
@@ -421,3 +428,39 @@ def certified_upper(scene: Scene, formula: ast.Formula, k: int, lower: int, ceil
     except Deadline:
         pass
     return None if yes is None else (yes, bound)
+
+
+def replanned_answer(solution: Solution, scene: Scene, formula: ast.Formula, k: int, budget: float | None,
+                     deadline: float, memo: Memo | None = None) -> tuple[Solution, BudgetedBound | None]:
+    """An anytime answer whose upper end is the replanning strategy's when that is
+    proven (`replan_budget.certified_upper`) below the search's (and E_p when it
+    meets the lower end), with σ's bound (None when none was proven).  Its
+    principal play is the strategy against a human who makes it pay that much
+    when the bisection showed it is what σ pays, else σ's plan with the human
+    passing.  `memo`: the search's, whose proven bounds at h = 0 the strategy's
+    no-human questions start from."""
+    lower, r = solution.lower_units, solution.resolution
+    assert lower is not None  # the caller answers exact solutions itself
+    clock = time.perf_counter()
+    try:
+        found = certified_upper(scene, formula, k, lower, None if solution.units is None else int(solution.units),
+                                resolution=r, deadline=deadline, memo=memo)
+    except OutOfReach:  # a zero-cost move
+        found = None
+    stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2)}
+    if found is None:
+        return dataclasses.replace(solution, stats=stats), None
+    upper, bound = found
+    exact = upper <= lower
+    realizable = bracket_verdict(None if exact else lower, upper, r, budget)
+    try:  # σ against the worst human, read back from the answers; its plan if that runs long
+        with bound.limited(deadline + PLAY_GRACE):
+            worst = bound.answered(upper - 1) is False  # upper is what σ pays against the worst human
+            principal = bound.worst_play(upper) if worst else bound.passing_play()
+    except Deadline:
+        principal = bound.passing_play()
+    return dataclasses.replace(solution, cost_bound=in_costmap_units(upper, r), units=upper, realizable=realizable,
+                               strategy=bound.strategy, principal_play=principal,
+                               counter_play=principal if exact and realizable is False else None,
+                               stats=stats | {"replanning_bound": upper, "upper_by": "replanning"},
+                               lower_units=None if exact else lower), bound

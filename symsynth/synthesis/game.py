@@ -118,8 +118,8 @@ def solve_realizability(dfa: SymbolicDFA, partition: Partition, *, agent_first: 
         else:
             pre = bdd.forall(xs, bdd.exist(ys, here)) if xs else bdd.exist(ys, here)  # \A x: \E y
         # reachable states only: the codes no state reaches (past the last
-        # state of an explicit DFA) step to state 0 and would be won one
-        # round after it, a round no play has
+        # state of an explicit DFA) step to some real state and would be won
+        # one round after it, a round no play has
         win = win | (pre & dfa.reachable)
         if win != old:
             rounds.append(win)
