@@ -14,6 +14,10 @@ strategy, checked in bulk against budgets on the no-human game's memo
 - `_follow`: σ's own next actions played after a human move, until the play
   meets σ's plan again (or wins), the moved object parked out of σ's way
   once if it blocks an action: again a plan, so again a bound on V_0;
+- `_act`: one robot action played where the certificates need it, only
+  that action generated (`_robot_move`: the branch of
+  `kernels._robot_moves` that makes it, checked against it at every state
+  of small scenes), not every move there;
 - `_settle`: each reply's key against its budget b, "V_0 <= b?": answered
   from the node's proven bounds when they decide it, else by the repair
   (V_0(after) <= repair + V_0(turn)), else by σ's plan followed, else by the search
@@ -27,8 +31,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from symsynth.solvers.packed.kernels import (KIND_DROP, KIND_GRAB, KIND_TRANSFER, KIND_TRANSIT, _code, _find,
-                                             _human_moves, _letter, _robot_moves)
+from symsynth.solvers.packed.kernels import (INF, KIND_DROP, KIND_GRAB, KIND_SLIDE, KIND_TRANSFER, KIND_TRANSIT,
+                                             _code, _find, _human_moves, _letter, _motion, _rule_min)
 from symsynth.solvers.packed.search import HI_R, KEY, R_OFF, ST_BITS, _ask, _lo_h, _node, _room, _small
 
 # numba's disk cache checks only this file's source (tests/test_numba_cache.py)
@@ -294,21 +298,117 @@ def _play(y, q, plan, count, P, G, S, out):
 @njit(cache=True)
 def _act(y, q, code, P, G, S, out):
     """The robot's action `code` at (y, q): out = (state after, DFA state
-    after, units); units -1 when it is not available there."""
-    n, m, F, pb, eb, gb, qbits, hb, code_bits, grab_units, drop_units, samples_mask, free_all = P
-    (anchor_at, anchor_count, home_starts, rule_start, rule_count, rule_free, rule_units, slide_start, slide_count,
-     is_grasp, atom_at, free_at, trans) = G[:13]
-    at, free, Sx, Tx, mv_after, mv_units, mv_code = S[1], S[2], S[3], S[4], S[6], S[7], S[8]
-    nm = _robot_moves(y, n, m, F, pb, eb, gb, anchor_at, anchor_count, home_starts, samples_mask, rule_start,
-                      rule_count, rule_free, rule_units, slide_start, slide_count, is_grasp, grab_units, drop_units,
-                      at, free, Sx, Tx, mv_after, mv_units, mv_code)
+    after, units); units -1 when it is not available there.  Only that
+    action is generated (`_robot_move`), not every move at y: what
+    `kernels._robot_moves` gives for it (tests/test_replies_act.py)."""
+    n, pb, free_all = P[0], P[3], P[12]
+    atom_at, free_at, trans = G[10], G[11], G[12]
     out[2] = -1
-    for e in range(nm):
-        if mv_code[e] == code:
-            out[0] = mv_after[e]
-            out[1] = trans[q, _letter(mv_after[e], n, pb, atom_at, free_at, free_all)]
-            out[2] = mv_units[e]
-            return
+    after, units = _robot_move(y, code, P, G, S[1], S[3], S[4])
+    if units >= 0:
+        out[0] = after
+        out[1] = trans[q, _letter(after, n, pb, atom_at, free_at, free_all)]
+        out[2] = units
+
+
+@njit(cache=True, inline="always")
+def _robot_move(x, code, P, G, at, Sx, Tx):
+    """(state after, units) of the robot's move `code` at packed state x, as
+    `kernels._robot_moves` makes it (the same branch of §4, its cost found
+    the same way, for the one object and frame the code names); units -1
+    when the move is not among the robot's moves there (at, Sx, Tx: scratch)."""
+    n, m, F, pb, eb, gb = P[:6]
+    samples_mask = P[11]
+    anchor_at, anchor_count, home_starts = G[0], G[1], G[2]
+    loc = code % (m + 2)
+    rest = code // (m + 2)
+    f = rest % (F + 1)
+    o = (rest // (F + 1)) % (n + 1)
+    kind = rest // ((F + 1) * (n + 1))
+    pmask = (1 << pb) - 1
+    eshift = n * pb
+    ee = (x >> eshift) & ((1 << eb) - 1)
+    grip = (x >> (eshift + eb)) & ((1 << gb) - 1)
+    occupied = 0
+    held = -1
+    for j in range(n):
+        at[j] = (x >> (j * pb)) & pmask
+        if at[j] < m:
+            occupied |= 1 << at[j]
+        elif at[j] == m + 1:
+            held = j
+    if o >= n or f >= F or (held >= 0) != (kind == KIND_TRANSFER or kind == KIND_DROP) or held >= 0 and (
+            o != held or f != grip - 1):
+        return x, -1
+    free = ((1 << m) - 1)  # kernels._free_masks for object o alone
+    else_other = False
+    for j in range(n):
+        if j != o:
+            if at[j] < m:
+                free &= ~(1 << at[j])
+            elif at[j] == m:
+                else_other = True
+    if not else_other:
+        free |= samples_mask
+    if grip != 0 or ee > m:  # the anchors the state may stand for
+        place, g = (m if ee == 0 else ee - 1, grip - 1) if grip != 0 else (at[(ee - 1 - m) // F], (ee - 1 - m) % F)
+        slen = anchor_count[place, g]
+        for a in range(slen):
+            Sx[a] = anchor_at[place, g, a]
+    else:
+        slen = len(home_starts)
+        for a in range(slen):
+            Sx[a] = home_starts[a]
+    if held >= 0:
+        return _held_move(x, kind, o, f, loc, ee, occupied, free, slen, P, G, Sx, Tx)
+    return _free_hand_move(x, kind, o, f, loc, ee, occupied, free, slen, P, G, Sx, Tx)
+
+
+@njit(cache=True, inline="always")
+def _free_hand_move(x, kind, o, f, loc, ee, occupied, free, slen, P, G, Sx, Tx):
+    """`_robot_move` with the hand empty: a transit to (o, f), a grab, a slide to loc."""
+    n, m, F, pb, eb, gb = P[:6]
+    grab_units = P[9]
+    anchor_at, anchor_count, rule_start, rule_count, rule_free, rule_units = G[0], G[1], G[3], G[4], G[5], G[6]
+    slide_start, slide_count, is_grasp = G[7], G[8], G[9]
+    pmask, eshift, emask = (1 << pb) - 1, n * pb, (1 << eb) - 1
+    p = (x >> (o * pb)) & pmask
+    aimed = ee > m and (ee - 1 - m) // F == o and (ee - 1 - m) % F == f
+    if kind == KIND_TRANSIT and loc == 0 and not aimed:
+        tlen = anchor_count[p, f]
+        for a in range(tlen):
+            Tx[a] = anchor_at[p, f, a]
+        c = _motion(0, Sx, slen, Tx, tlen, free, rule_start, rule_count, rule_free, rule_units)
+        if c < INF:
+            return (x & ~(emask << eshift)) | ((1 + m + o * F + f) << eshift), c
+    elif kind == KIND_GRAB and loc == 0 and aimed and is_grasp[f] and grab_units < INF:
+        y = (x & ~(pmask << (o * pb))) | ((m + 1) << (o * pb))
+        y = (y & ~(emask << eshift)) | ((1 + p if p < m else 0) << eshift)
+        return y | ((1 + f) << (eshift + eb)), grab_units
+    elif kind == KIND_SLIDE and aimed and not is_grasp[f] and p < m and loc < m and not occupied >> loc & 1:
+        c = _rule_min(slide_start[f, p, loc], slide_count[f, p, loc], free, rule_free, rule_units)
+        if c < INF:
+            return (x & ~(pmask << (o * pb))) | (loc << (o * pb)), c
+    return x, -1
+
+
+@njit(cache=True, inline="always")
+def _held_move(x, kind, o, g, loc, ee, occupied, free, slen, P, G, Sx, Tx):
+    """`_robot_move` with object o held in frame g: a transfer to loc, a drop there."""
+    n, m, F, pb, eb, gb = P[:6]
+    drop_units = P[10]
+    anchor_at, rule_start, rule_count, rule_free, rule_units = G[0], G[3], G[4], G[5], G[6]
+    pmask, eshift, emask = (1 << pb) - 1, n * pb, (1 << eb) - 1
+    if kind == KIND_TRANSFER and loc < m and not occupied >> loc & 1 and ee != 1 + loc:
+        Tx[0] = anchor_at[loc, g, 0]
+        c = _motion(1 + o * F + g, Sx, slen, Tx, 1, free, rule_start, rule_count, rule_free, rule_units)
+        if c < INF:
+            return (x & ~(emask << eshift)) | ((1 + loc) << eshift), c
+    elif kind == KIND_DROP and 1 <= ee <= m and loc == ee - 1 and not occupied >> loc & 1 and drop_units < INF:
+        y = (x & ~(pmask << (o * pb))) | (loc << (o * pb))
+        y &= ~(((1 << gb) - 1) << (eshift + eb))
+        return (y & ~(emask << eshift)) | ((1 + m + o * F + g) << eshift), drop_units
+    return x, -1
 
 
 @njit(cache=True)
