@@ -64,7 +64,8 @@ from itertools import product
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from ltlf_bench import MONA_FLAGS, WALL_FACTOR, Worker, parse_mona, read_mona  # noqa: E402
+from ltlf_automata import parse_mona  # noqa: E402
+from ltlf_workers import MONA_FLAGS, WALL_FACTOR, Worker, read_mona  # noqa: E402
 from ltlf_generated import generated  # noqa: E402
 from provenance import commit  # noqa: E402
 

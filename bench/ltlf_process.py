@@ -52,7 +52,8 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from ltlf_bench import MONA_FLAGS, parse_mona, read_mona  # noqa: E402
+from ltlf_automata import parse_mona  # noqa: E402
+from ltlf_workers import MONA_FLAGS, read_mona  # noqa: E402
 from ltlf_families import MIRROR, equivalent, instances, mona_program, peer_text, read  # noqa: E402
 from ltlf_generated import generated  # noqa: E402
 from provenance import commit  # noqa: E402

@@ -33,7 +33,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from ltlf_bench import MONA_FLAGS  # noqa: E402
+from ltlf_workers import MONA_FLAGS  # noqa: E402
 from ltlf_families import MIRROR, mona_program, peer_text  # noqa: E402
 from ltlf_generated import generated  # noqa: E402
 from ltlf_process import DATASETS, dataset_formulas  # noqa: E402

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import random
 
-from bench.ltlf_bench import Auto
+from bench.ltlf_automata import Auto
 from bench.ltlf_families import equivalent
 from symsynth.automata import compile_ltlf
 
