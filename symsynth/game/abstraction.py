@@ -252,6 +252,15 @@ def legal_robot_moves(scene: Scene, v: State) -> list[Move]:
     return [m for m in moves if m.cost != math.inf]
 
 
+
+def after_robot_action(scene: Scene, v: State, action: str) -> State:
+    """The state the robot's `action` (by name) produces from `v`; it must be legal there."""
+    found = [mv.after for mv in legal_robot_moves(scene, v) if mv.action == action]
+    if not found:
+        raise ValueError(f"internal error: {action!r} is not a legal robot move here")
+    return found[0]
+
+
 def slides(scene: Scene, v: State) -> list[Move]:
     """`slide(o,a,l')` from `v` (semantics §4b): the hand at contact `a` of
     `o`, which stands at a location `l`; one move per other free location,

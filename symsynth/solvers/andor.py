@@ -72,7 +72,7 @@ from collections.abc import Iterator, Mapping
 
 import numpy as np
 
-from symsynth.game.abstraction import in_costmap_units, initial_state, legal_human_moves, legal_robot_moves
+from symsynth.game.abstraction import after_robot_action, in_costmap_units, initial_state, legal_human_moves
 from symsynth.game.solution import (OutOfReach, Position, Solution, Step, bracket_verdict, check_parameters,
                                     task_formula, won_at_start)
 from symsynth.game.symmetry import Symmetry
@@ -456,7 +456,7 @@ class Proof:
                     return tuple(play)
                 v = self.position(i)[0]
             action, units, i = self.chosen(i)
-            after = next(mv.after for mv in legal_robot_moves(t.scene, v) if mv.action == action)
+            after = after_robot_action(t.scene, v, action)
             play.append(Step("robot", action, in_costmap_units(units, r), after))
             if i < 0:
                 return tuple(play)

@@ -66,7 +66,7 @@ from collections.abc import Iterator, Mapping
 
 import numpy as np
 
-from symsynth.game.abstraction import in_costmap_units, legal_human_moves, legal_robot_moves
+from symsynth.game.abstraction import after_robot_action, in_costmap_units, legal_human_moves
 from symsynth.game.solution import OutOfReach, Position, Solution, Step, bracket_verdict
 from symsynth.logic import ast
 from symsynth.solvers.packed import search as sk
@@ -269,7 +269,7 @@ class Hybrid:
     def _robot_step(self, i: int, v) -> Step:
         memo = self.memo
         action, units = self.action(i), memo.t.units(int(memo.rm_move[self.hi_r[i][1]]))
-        after = next(mv.after for mv in legal_robot_moves(memo.t.scene, v) if mv.action == action)
+        after = after_robot_action(memo.t.scene, v, action)
         return Step("robot", action, in_costmap_units(units, memo.t.resolution), after)
 
     def _sigma_plan(self, i: int) -> tuple[Step, ...]:

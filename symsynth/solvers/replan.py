@@ -60,7 +60,7 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from symsynth.game.abstraction import State, in_costmap_units, legal_human_moves
+from symsynth.game.abstraction import State, after_robot_action, in_costmap_units, legal_human_moves
 from symsynth.game.solution import OutOfReach, Position, Step
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
@@ -204,7 +204,7 @@ class NoHumanValue:
         while i is not None:
             action, units, j = self.proof.chosen(i)
             if j < 0:  # the action wins: the state after is read from the move itself
-                after = self._after(v, action)
+                after = after_robot_action(self.scene, v, action)
                 out.append((action, units, after, self.step(q, after)))
                 return out
             v, state, _ = self.proof.position(j)
@@ -212,11 +212,6 @@ class NoHumanValue:
             out.append((action, units, v, q))
             i = j
         return out
-
-    def _after(self, v: State, action: str) -> State:
-        from symsynth.game.abstraction import legal_robot_moves
-
-        return next(mv.after for mv in legal_robot_moves(self.scene, v) if mv.action == action)
 
     def action(self, v: State, q: int) -> str:
         """σ's action at (v, q)."""

@@ -7,7 +7,7 @@ from collections.abc import Iterator, Mapping
 
 import numpy as np
 
-from symsynth.game.abstraction import legal_human_moves, legal_robot_moves
+from symsynth.game.abstraction import after_robot_action, legal_human_moves
 from symsynth.game.solution import Position, Step
 from symsynth.solvers.packed.kernels import INF
 from symsynth.solvers.packed.tables import Tables
@@ -56,7 +56,7 @@ class Graph:
         t = self.tables
         v = self.position(i)[0]
         name = t.action(t.code(self.r_move[e]))
-        after = next(mv.after for mv in legal_robot_moves(t.scene, v) if mv.action == name)
+        after = after_robot_action(t.scene, v, name)
         return Step("robot", name, t.units(self.r_move[e]) * t.resolution, after), int(self.r_tgt[e])
 
     def replies(self, i: int) -> list[tuple[Step | None, int, int]]:
