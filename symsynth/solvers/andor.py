@@ -68,11 +68,12 @@ import dataclasses
 import math
 import threading
 import time
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 
 import numpy as np
 
-from symsynth.game.abstraction import after_robot_action, in_costmap_units, initial_state, legal_human_moves
+from symsynth.game.abstraction import (State, after_robot_action, in_costmap_units, initial_state,
+                                       legal_human_moves)
 from symsynth.game.solution import (OutOfReach, Position, Solution, Step, bracket_verdict, check_parameters,
                                     task_formula, won_at_start)
 from symsynth.game.symmetry import Symmetry
@@ -190,6 +191,21 @@ class Memo:
             a = getattr(self, name)
             if st[used] + room > len(a):
                 setattr(self, name, _grown(a, int(st[used] + st[used] // 2 + room)))
+
+    def expand(self, i: int, robot: bool) -> tuple[int, int]:
+        """(offset, count) of node i's robot moves (in rm_tgt / rm_move) or human
+        moves (in hm_tgt), generated when new."""
+        off = sk.R_OFF if robot else sk.H_OFF
+        while self.rec[i, off] < 0:
+            self._grow()
+            self.st[sk.ST_ABORT] = 0
+            grow = sk._expand_robot if robot else sk._expand_human
+            if not grow(np.int64(i), self.P, self.G, self.B, self.M(), self.S()):
+                why = int(self.st[sk.ST_ABORT])
+                if why == sk.ABORT_ZERO:
+                    raise ZeroCost
+                self.recover(why)
+        return int(self.rec[i, off]), int(sk._small(self.rec, np.int64(i), np.int64(0 if robot else 16)))
 
     def ask(self, i: int, b: int, robot: bool, deadline: float | None) -> bool | None:
         """val(i) <= b at its robot or human turn?  None when the deadline
@@ -439,17 +455,7 @@ class Proof:
         i = start
         while True:
             v, q, h = self.position(i)
-            best: tuple[int, Step | None, int] = (self.hi_r(i), None, i)
-            for mv in (legal_human_moves(t.scene, v) if h > 0 else ()):
-                w = t.canon(t.pack(mv.after))
-                q2 = t.step(t.dfa_index[q], w)
-                j = -1 if t.accepting[q2] else self.memo.find(self.memo.key2(w, q2, h - 1))
-                if j is None:
-                    raise RuntimeError("internal error: a human reply of the proof was never generated")
-                value = 0 if j < 0 else self.hi_r(j)
-                if value > best[0]:
-                    best = (value, Step("human", mv.action, 0.0, mv.after), j)
-            _, step, i = best
+            step, i = worst_reply(self.memo, v, t.dfa_index[q], h, i, self.hi_r)
             if step is not None:
                 play.append(step)
                 if i < 0:
@@ -460,6 +466,25 @@ class Proof:
             play.append(Step("robot", action, in_costmap_units(units, r), after))
             if i < 0:
                 return tuple(play)
+
+
+def worst_reply(memo: Memo, v: State, q: int, h: int, i: int, value: Callable[[int], int]) -> tuple[Step | None, int]:
+    """The human's reply at node i (state v, DFA state index q, h moves left)
+    of the largest `value` of its node (0 for a reply that wins; the pass,
+    valued at i's own, first on ties): (its step, None for the pass; its
+    node, -1 when the reply wins).  Every reply must have been generated."""
+    t = memo.t
+    best: tuple[int, Step | None, int] = (value(i), None, i)
+    for mv in (legal_human_moves(t.scene, v) if h > 0 else ()):
+        w = t.canon(t.pack(mv.after))
+        q2 = t.step(q, w)
+        j = -1 if t.accepting[q2] else memo.find(memo.key2(w, q2, h - 1))
+        if j is None:
+            raise RuntimeError("internal error: a human reply of the proof was never generated")
+        worth = 0 if j < 0 else value(j)
+        if worth > best[0]:
+            best = (worth, Step("human", mv.action, 0.0, mv.after), j)
+    return best[1], best[2]
 
 
 class ProvenStrategy(Mapping):

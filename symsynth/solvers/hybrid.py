@@ -64,9 +64,7 @@ import sys
 import time
 from collections.abc import Iterator, Mapping
 
-import numpy as np
-
-from symsynth.game.abstraction import after_robot_action, in_costmap_units, legal_human_moves
+from symsynth.game.abstraction import after_robot_action, in_costmap_units
 from symsynth.game.solution import OutOfReach, Position, Solution, Step, bracket_verdict
 from symsynth.logic import ast
 from symsynth.solvers.packed import search as sk
@@ -134,21 +132,6 @@ class Hybrid:
         if self.deadline is not None and self.calls % LOOK_EVERY == 0 and time.perf_counter() > self.deadline:
             raise Deadline
 
-    def _expanded(self, i: int, robot: bool) -> tuple[int, int]:
-        """(offset, count) of node i's robot or human moves, generated when new."""
-        memo = self.memo
-        off = sk.R_OFF if robot else sk.H_OFF
-        while memo.rec[i, off] < 0:
-            memo._grow()
-            memo.st[sk.ST_ABORT] = 0
-            grow = sk._expand_robot if robot else sk._expand_human
-            if not grow(np.int64(i), memo.P, memo.G, memo.B, memo.M(), memo.S()):
-                why = int(memo.st[sk.ST_ABORT])
-                if why == sk.ABORT_ZERO:
-                    raise self._andor.ZeroCost
-                memo.recover(why)
-        return int(memo.rec[i, off]), int(sk._small(memo.rec, np.int64(i), np.int64(0 if robot else 16)))
-
     def _robot(self, i: int, b: int) -> bool:
         """The robot turn of node i (h > j) is certified within b."""
         memo = self.memo
@@ -160,7 +143,7 @@ class Hybrid:
         if b <= self.no_r.get(i, -1):
             return False
         self._look()
-        off, count = self._expanded(i, True)
+        off, count = self.memo.expand(i, True)
         bits = memo.t.code_bits
         options = []
         for e in range(off, off + count):
@@ -190,7 +173,7 @@ class Hybrid:
             return True
         if b <= self.no_h.get(i, -1):
             return False
-        off, count = self._expanded(i, False)
+        off, count = self.memo.expand(i, False)
         targets = [int(t) for t in memo.hm_tgt[off:off + count]]
         first = self.refuter.get(i)
         below = self._h(i) - 1
@@ -246,14 +229,7 @@ class Hybrid:
         while True:
             x, q = memo.position(int(memo.rec[i, sk.KEY]))
             v, h = t.unpack(x), self._h(i)
-            worst, step, after = self.hi_r[i][0], None, i
-            for mv in legal_human_moves(t.scene, v):
-                w = t.pack(mv.after)
-                q2 = t.step(q, w)
-                node = -1 if t.accepting[q2] else memo.find(memo.key2(w, q2, h - 1))
-                value = 0 if node < 0 else self.leaf[node] if h - 1 == self.j else self.hi_r[node][0]
-                if value > worst:
-                    worst, step, after = value, Step("human", mv.action, 0.0, mv.after), node
+            step, after = self._andor.worst_reply(memo, v, q, h, i, self._kept)
             if step is not None:
                 steps.append(step)
                 if after < 0:
@@ -265,6 +241,11 @@ class Hybrid:
             i = int(memo.rm_tgt[self.hi_r[i][1]])
             if i < 0:
                 return tuple(steps)
+
+    def _kept(self, i: int) -> int:
+        """What τ_j pays at most from node i's robot turn: σ's certified budget at
+        h = j, the kept hi above."""
+        return self.leaf[i] if self._h(i) == self.j else self.hi_r[i][0]
 
     def _robot_step(self, i: int, v) -> Step:
         memo = self.memo
