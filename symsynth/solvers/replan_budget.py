@@ -204,18 +204,16 @@ class BudgetedBound:
         (time.perf_counter) passes first (what was answered is kept)."""
         self.deadline = deadline
         x, q = self.start
-        if self.t.accepting[q]:
-            return target >= 0
-        v0 = self.value(x, q)
-        return v0 < INF and self._fits(x, q, self.k, target - v0, True)
+        return self.within_from(x, q, self.k, target, human_first=True)
 
-    def within_from(self, x: int, q: int, h: int, target: int) -> bool:
-        """Whether σ pays at most target from the robot turn at (x, q) (packed
-        state, DFA index) with h human moves left: B_h there <= target."""
+    def within_from(self, x: int, q: int, h: int, target: int, human_first: bool = False) -> bool:
+        """Whether σ pays at most target from (x, q) (packed state, DFA index)
+        with h human moves left, at its robot turn (or its human turn, with
+        `human_first`): B_h there <= target."""
         if self.t.accepting[q]:
             return target >= 0
         v0 = self.value(x, q)
-        return v0 <= target and self._fits(x, q, h, target - v0, False)
+        return v0 <= target and self._fits(x, q, h, target - v0, human_first)
 
     def least(self, lower: int, upper: int, deadline: float | None = None) -> float:
         """B_k(start) exactly when it is at most `upper`, given lower <=
