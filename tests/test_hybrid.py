@@ -102,3 +102,16 @@ def test_an_anytime_answer_tightened_by_the_hybrid_holds_the_value(monkeypatch, 
         assert worst_case_of(scene, found, formula) <= found.units, seed
         assert sum(step.cost for step in found.principal_play) <= found.cost_bound, seed
     assert tightened >= 3, tightened
+
+
+def test_a_play_deeper_than_the_recursion_limit_leaves_the_answer_as_it_was():
+    """`within` recurses once per turn of a play, so a budget of many thousand
+    units can pass Python's recursion limit: the tightening then gives up, as
+    at its deadline, rather than ending the command with a traceback."""
+    from symsynth.solvers import hybrid
+
+    class TooDeep:
+        def within(self, b, deadline):
+            raise RecursionError
+
+    assert hybrid._tightened(TooDeep(), 700, 722, None) == (None, 699)

@@ -335,6 +335,6 @@ def _tightened(hybrid: Hybrid, lower: int, upper: int | None, deadline: float | 
             if hybrid.within(b, deadline):
                 return b, b - 1
             b += 1
-    except (Deadline, OutOfReach):  # (OutOfReach: a zero-cost move in a no-human search)
-        pass
+    except (Deadline, OutOfReach, RecursionError):  # (OutOfReach: a zero-cost move in a no-human search;
+        pass  # RecursionError: a play deeper than `within`'s limit, budgets of many thousand units)
     return None, b - 1
