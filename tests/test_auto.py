@@ -107,3 +107,17 @@ def test_the_search_kernels_counted_ready_include_the_replanning_replies(monkeyp
     monkeypatch.setattr(andor, "_prepared", False)
     monkeypatch.setattr(compiled, "_cached", lambda kernel: kernel is not missing)
     assert compiled.kernels_cached() and not compiled.kernels_cached(andor=True)
+
+
+def test_the_search_kernels_are_ready_once_the_search_has_warmed_up():
+    """After `andor.prepare` (the search's and the replies' kernels compiled
+    and cached), a new process finds every one of them in numba's cache, the
+    kernels inlined into their callers too, which have no entry of their own
+    (counting them made `auto` expect a compile on every run)."""
+    from symsynth.solvers import andor
+
+    andor.prepare()
+    ready = subprocess.run([sys.executable, "-c", "from symsynth.solvers.compiled import kernels_cached; "
+                            "print(kernels_cached(andor=True))"], capture_output=True, text=True, cwd=ROOT,
+                           timeout=300)
+    assert ready.stdout.strip() == "True", ready.stderr

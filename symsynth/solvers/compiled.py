@@ -307,7 +307,9 @@ def kernels_cached(andor: bool = False) -> bool:
     for every kernel as it is now (an index entry for this source file, this
     CPU and the kernel's bytecode, as numba itself checks before loading).
     With `andor`, the AND-OR search's kernels (`packed.search`, and
-    `packed.replies` for its replanning upper end) too.  False
+    `packed.replies` for its replanning upper end) too; a kernel numba
+    inlines into its callers (`inline="always"`) has no cache entry of its
+    own and needs none.  False
     when numba's cache cannot be read this way (its layout is numba's own):
     then the compile is expected."""
     from symsynth.solvers import andor as andor_search
@@ -321,7 +323,8 @@ def kernels_cached(andor: bool = False) -> bool:
 
         extra = [v for module in (search, replies) for v in vars(module).values()
                  if isinstance(v, CPUDispatcher)] if andor else []
-        return all(_cached(kernel) for kernel in kernels.dispatchers() + extra)
+        return all(_cached(kernel) for kernel in kernels.dispatchers() + extra
+                   if kernel.targetoptions.get("inline") != "always")  # (compiled into their callers only)
     except (AttributeError, TypeError, OSError):  # numba's private cache layout changed
         return False
 
