@@ -8,6 +8,7 @@ from __future__ import annotations
 import pytest
 
 from symsynth.game.abstraction import initial_state
+from symsynth.game.solution import OutOfReach
 from symsynth.game.symmetry import Symmetry
 from symsynth.logic import parse_ltlf
 from symsynth.solvers import andor
@@ -64,3 +65,45 @@ def test_a_memo_over_canonical_positions_is_refused():
     tables = Tables(scene, formula, 1.0, symmetry, 1)
     with pytest.raises(ValueError, match="canonical"):
         NoHumanValue(scene, formula, memo=andor.Memo(tables, BoundTables(tables, formula), 1))
+
+
+def test_the_principal_play_follows_the_searchs_strategy_after_the_question(monkeypatch):
+    """σ's searches on the shared memo may lower bounds at h = 0 and so move
+    the search's chosen actions there: when the search's strategy stays the
+    answer's, its principal play is the one that strategy plays, step by step,
+    against the worst replies (the search's proof is left as an interval, so
+    the question runs after it)."""
+    andor.prepare()
+    search = andor._search
+
+    def not_exact(memo, start, deadline, rounds_until=None):
+        lower, upper, rounds = search(memo, start, None)
+        if deadline is None or lower is not None or upper is None:
+            return lower, upper, rounds
+        return max(0, upper - 5), upper, rounds
+
+    monkeypatch.setattr(andor, "_search", not_exact)
+    checked = 0
+    for seed in range(1, 40):  # (9500 + 23: a game whose principal play the question moves)
+        scene = planning_scene(seed, 9500)
+        k = 1 + seed % 3
+        formula = parse_ltlf(scene.task)
+        try:
+            found = andor.solve_andor(scene, k=k, time_limit=3600)
+        except OutOfReach:  # a zero-cost move: the searches refuse the game
+            continue
+        if not isinstance(found.strategy, andor.ProvenStrategy) or not found.principal_play:
+            continue
+        checked += 1
+        tables = Tables(scene, formula, 1.0, None, k)
+        v, h = initial_state(scene), k
+        q = tables.step(tables.dfa_index[tables.dfa.initial], tables.pack(v))
+        for step in found.principal_play:
+            if step.who == "robot":
+                assert found.strategy[(v, tables.dfa_states[q], h)] == step.action, seed
+            else:
+                h -= 1
+            v = step.state
+            q = tables.step(q, tables.pack(v))
+        assert tables.accepting[q], seed
+    assert checked >= 8, checked
