@@ -38,9 +38,9 @@ def bit_functions(bdd: BDD, comp: GuardedDFA, names: Sequence[str]) -> dict[str,
     urright12 1.3 to 2.1 s, 124,584 calls; per bit, 0.2 to 0.55 s.)  A
     large DFA given as one numbered diagram (the backward construction's)
     gets the same functions from it (numbered.py), without R."""
-    big = comp.numbered is not None and len(comp.numbered.var) >= ARRAYS_FROM
-    if comp.bdd is bdd and big:
-        return comp.numbered.bit_functions(bdd, names)
+    numbered = comp.numbered
+    if comp.bdd is bdd and numbered is not None and len(numbered.var) >= ARRAYS_FROM:
+        return numbered.bit_functions(bdd, names)
     if comp.bdd is bdd and not comp.has_edges():
         zs = moves_.bits(bdd, "z", len(names))
         relation = by_state(bdd, names, comp.moves, unreached=True)  # R(q, a, z): T_q(a, z)
