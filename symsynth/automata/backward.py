@@ -63,6 +63,8 @@ between letters and states.
 
 from __future__ import annotations
 
+from array import array
+
 from symsynth.automata.bdd import Function, and_exists, branches, children_first, exits, swap
 from symsynth.automata.growth import grew
 from symsynth.automata.numbered import Numbered
@@ -237,7 +239,7 @@ def _numbered(atoms: list[str], index: dict[Function, int],
     after them, each state's moves at its T."""
     ids = dict(index)
     column = {name: i for i, name in enumerate(atoms)}
-    var, low, high = [], [], []
+    var, low, high = array("i"), array("q"), array("q")  # (machine integers: a third of lists' memory)
     for x, node, lo, hi in inner:
         ids[node] = len(ids)
         var.append(column[x.var])

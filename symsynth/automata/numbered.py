@@ -47,10 +47,10 @@ class Numbered:
     state s's moves."""
 
     atoms: Sequence[str]
-    var: list[int]
-    low: list[int]
-    high: list[int]
-    roots: list[int]
+    var: Sequence[int]
+    low: Sequence[int]
+    high: Sequence[int]
+    roots: Sequence[int]
 
     @property
     def num_states(self) -> int:
