@@ -215,7 +215,7 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
     order = [start]
     tops: list[Function] = []  # T of each state
     walked: set[Function] = set()
-    inner: list[tuple[Function, Function, Function, Function]] = []
+    inner: list[tuple[int, Function, Function, Function]] = []
     for state in order:  # `order` grows while we walk it: BFS
         grew(len(order))
         top = automaton.successors(state)
@@ -233,16 +233,16 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
 
 
 def _numbered(atoms: list[str], index: dict[Function, int],
-              inner: list[tuple[Function, Function, Function, Function]], tops: list[Function]) -> Numbered:
+              inner: list[tuple[int, Function, Function, Function]], tops: list[Function]) -> Numbered:
     """The moves of every state as one diagram (numbered.py): the
-    successors numbered by `index`, the nodes of `inner` (children first)
-    after them, each state's moves at its T."""
+    successors numbered by `index`, the nodes of `inner` (children first;
+    their levels are the atoms' positions, the atoms being highest) after
+    them, each state's moves at its T."""
     ids = dict(index)
-    column = {name: i for i, name in enumerate(atoms)}
     var, low, high = array("i"), array("q"), array("q")  # (machine integers: a third of lists' memory)
-    for x, node, lo, hi in inner:
+    for level, node, lo, hi in inner:
         ids[node] = len(ids)
-        var.append(column[x.var])
+        var.append(level)
         low.append(ids[lo])
         high.append(ids[hi])
     return Numbered(atoms, var, low, high, [ids[t] for t in tops])
