@@ -79,8 +79,9 @@ class Numbered:
         children = np.asarray(self.low, dtype=np.int64), np.asarray(self.high, dtype=np.int64)
         by_level = np.argsort(var, kind="stable")
         ends = np.cumsum(np.bincount(var, minlength=len(self.atoms))).tolist()
-        levels = [(self.atoms[a], by_level[(ends[a - 1] if a else 0):ends[a]])
-                  for a in reversed(range(len(self.atoms))) if ends[a] > (ends[a - 1] if a else 0)]
+        starts = [0] + ends[:-1]
+        levels = [(self.atoms[a], by_level[starts[a]:ends[a]])
+                  for a in reversed(range(len(self.atoms))) if ends[a] > starts[a]]
         numbers, roots = np.arange(n, dtype=np.int64), np.asarray(self.roots, dtype=np.int64)
         functions = {}
         for j, name in enumerate(names):
@@ -132,7 +133,8 @@ class _Reduction:
         self.made = 1  # (node 0: the constant)
 
     def __call__(self, name: str, low: np.ndarray, high: np.ndarray, made: list) -> np.ndarray:
-        """The edges of the nodes (name, low, high), elementwise; the distinct new nodes appended to `made` as (name, low edges, high
+        """The edges of the nodes (name, low, high), elementwise; the
+        distinct new nodes appended to `made` as (name, low edges, high
         edges), the high ones never complemented."""
         import numpy as np
 
