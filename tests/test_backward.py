@@ -146,6 +146,6 @@ def test_the_walk_meets_the_successors_as_exits_does_and_lists_nodes_children_fi
         assert met == list(exits(bdd, t, top, seen)), to_string(formula)
         order += [node for node in met if node not in order]
     done = set(order)
-    for var, node, low, high in inner:
-        assert low in done and high in done and node not in done and bdd.var(node.var) == var
+    for level, node, low, high in inner:
+        assert low in done and high in done and node not in done and node.level == level < top
         done.add(node)

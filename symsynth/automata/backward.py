@@ -63,9 +63,11 @@ between letters and states.
 
 from __future__ import annotations
 
-from symsynth.automata import moves as moves_
+from array import array
+
 from symsynth.automata.bdd import Function, and_exists, branches, children_first, exits, swap
 from symsynth.automata.growth import grew
+from symsynth.automata.numbered import Numbered
 from symsynth.automata.progression import GuardedDFA, Progression, TooLarge
 from symsynth.logic import ast
 
@@ -197,12 +199,14 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
     branch first) of T meets them; nodes at atom levels met for an earlier
     state are not walked again (every successor below them has its number).
     The walk lists those nodes children first (`exits` given `inner`), and
-    the moves are made from the list at the end, when the number of bits is
-    known: T with each successor's node replaced by the cube of its number,
-    one `ite` per node at atom levels.  No guard is made: urright12 has 1.45 million
-    edges, 8,898 states and 63,148 such nodes.  (Walking T's nodes a second
-    time for the moves, children first, took urright14's construction
-    5.7 s where the list takes 2.5 s, and the walk 0.9 s more; load 3.5.)"""
+    the DFA is given by them as one diagram whose leaves are the successors'
+    numbers (numbered.py), from which the moves (T with each successor's
+    node replaced by the cube of its number, one `ite` per node at atom
+    levels) or the transition bits are made when asked for.  No guard is
+    made: urright12 has 1.45 million edges, 8,898 states and 63,148 such
+    nodes.  (Walking T's nodes a second time for the moves, children first,
+    took urright14's construction 5.7 s where the list takes 2.5 s, and the
+    walk 0.9 s more; load 3.5.)"""
     automaton = Backward(progression, formula, max_obligations)
     bdd = progression.bdd
     num_atoms = len(progression.atom_keys)
@@ -211,7 +215,7 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
     order = [start]
     tops: list[Function] = []  # T of each state
     walked: set[Function] = set()
-    inner: list[tuple[Function, Function, Function, Function]] = []
+    inner: list[tuple[int, Function, Function, Function]] = []
     for state in order:  # `order` grows while we walk it: BFS
         grew(len(order))
         top = automaton.successors(state)
@@ -223,11 +227,22 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
                 index[node] = len(order)
                 order.append(node)
     del walked
-    cubes = moves_.cubes(bdd, moves_.bits(bdd, "z", moves_.width(len(order))), len(order))
-    written = {node: cubes[number] for node, number in index.items()}
-    ite = bdd.ite
-    for var, node, low, high in inner:  # children first
-        written[node] = ite(var, written[high], written[low])
+    numbered = _numbered(progression.atom_keys, index, inner, tops)
     del inner
-    return GuardedDFA(bdd, 0, [automaton.accepts(s) for s in order], moves=[written[t] for t in tops])
+    return GuardedDFA(bdd, 0, [automaton.accepts(s) for s in order], numbered=numbered)
+
+
+def _numbered(atoms: list[str], index: dict[Function, int],
+              inner: list[tuple[int, Function, Function, Function]], tops: list[Function]) -> Numbered:
+    """The moves of every state as one diagram (numbered.py): the
+    successors numbered by `index`, the nodes of `inner` (children first;
+    their levels are the atoms' positions, the atoms being highest) after
+    them, each state's moves at its T."""
+    ids = dict(index)
+    ids.update(zip([node for _, node, _, _ in inner], range(len(ids), len(ids) + len(inner))))
+    # (machine integers: a third of lists' memory)
+    var = array("i", [level for level, _, _, _ in inner])
+    low = array("q", [ids[lo] for _, _, lo, _ in inner])
+    high = array("q", [ids[hi] for _, _, _, hi in inner])
+    return Numbered(atoms, var, low, high, [ids[t] for t in tops])
 

@@ -239,13 +239,13 @@ def split_letters(bdd: BDD, u: Function, top: int,
 
 
 def exits(bdd: BDD, u: Function, top: int, seen: set[Function] | None = None,
-          inner: list[tuple[Function, Function, Function, Function]] | None = None) -> Iterator[Function]:
+          inner: list[tuple[int, Function, Function, Function]] | None = None) -> Iterator[Function]:
     """The nodes where the paths of `u` leave the atom levels (the levels
     above `top`: the successors `split_letters` gives, without their
     guards), each once, in the order a depth-first walk (high branch first)
     meets them.  `seen`: nodes walked already (by earlier calls sharing
     it), neither walked nor given again.  `inner`, when given, gets each
-    node walked above `top` as `(its variable, node, low, high)` once its
+    node walked above `top` as `(its level, node, low, high)` once its
     children are walked or given: children first over all calls sharing
     `seen` and `inner` (on the stack such a tuple is a node whose subtree
     is done)."""
@@ -266,7 +266,7 @@ def exits(bdd: BDD, u: Function, top: int, seen: set[Function] | None = None,
         else:
             low, high = branches(bdd, node)
             if inner is not None:
-                stack.append((bdd.var(node.var), node, low, high))
+                stack.append((node.level, node, low, high))
             stack += (low, high)  # (high popped first)
 
 

@@ -30,6 +30,7 @@ from itertools import islice
 from symsynth.automata import moves as moves_
 from symsynth.automata.bdd import BDD, Function, cofactor, exits, new_manager, split_letters
 from symsynth.automata.growth import grew
+from symsynth.automata.numbered import Numbered
 from symsynth.automata.refine import refine
 from symsynth.automata.rows import below_atoms
 from symsynth.logic import ast
@@ -44,19 +45,23 @@ class GuardedDFA:
     and the successor's bits (moves.py: products and minimization of dense
     DFAs cost a few BDD operations per state that way, where guards cost
     one per pair of edges); each form is made from the other when first
-    asked for, and kept.
+    asked for, and kept.  The backward construction gives `numbered`
+    instead (numbered.py: all states' moves as one diagram in arrays), from
+    which the moves are made when asked for.
     """
 
-    __slots__ = ("bdd", "initial", "accepting", "_edges", "_moves", "_degrees")
+    __slots__ = ("bdd", "initial", "accepting", "numbered", "_edges", "_moves", "_degrees")
 
     def __init__(self, bdd: BDD, initial: int, accepting: list[bool],
                  edges: list[dict[int, Function]] | None = None, *,
-                 moves: list[Function] | None = None, degrees: list[int] | None = None):
-        if edges is None and moves is None:
-            raise ValueError("a GuardedDFA needs its edges or its moves")
+                 moves: list[Function] | None = None, degrees: list[int] | None = None,
+                 numbered: Numbered | None = None):
+        if edges is None and moves is None and numbered is None:
+            raise ValueError("a GuardedDFA needs its edges, its moves or its numbered diagram")
         self.bdd = bdd
         self.initial = initial
         self.accepting = accepting
+        self.numbered = numbered
         self._edges = edges
         self._moves = moves
         self._degrees = degrees  # (when known: each state's number of successors)
@@ -68,14 +73,14 @@ class GuardedDFA:
     @property
     def edges(self) -> list[dict[int, Function]]:
         if self._edges is None:
-            assert self._moves is not None
-            self._edges = moves_.decode_all(self.bdd, self._moves)
+            self._edges = moves_.decode_all(self.bdd, self.moves)
         return self._edges
 
     @property
     def moves(self) -> list[Function]:
         if self._moves is None:
-            self._moves = moves_.encode_all(self.bdd, self.edges)
+            self._moves = self.numbered.moves(self.bdd) if self.numbered is not None \
+                else moves_.encode_all(self.bdd, self.edges)
         return self._moves
 
     def has_edges(self) -> bool:
