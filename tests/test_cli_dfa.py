@@ -233,3 +233,28 @@ def test_an_operator_glued_to_an_atom_is_refused_with_a_hint(capsys, formula, co
 def test_names_that_only_start_like_an_operator_are_atoms(capsys, formula, atoms):
     code, out, _ = run(capsys, "dfa", "--json", formula)
     assert code == 0 and set(json.loads(out)["atoms"]) == atoms
+
+
+def test_running_out_of_memory_is_one_message_and_exit_1(tmp_path):
+    """A formula whose automaton outgrows the process's address-space limit
+    (URright's chain of 13 atoms, a 2.2 M-node DFA, under 250 MB) ends with
+    one line on stderr and exit status 1, not a traceback."""
+    import resource
+    import subprocess
+    import sys
+
+    chain = "p13"
+    for i in range(12, 0, -1):
+        chain = f"p{i} {'U' if i % 2 else 'R'} ({chain})"
+    spec = tmp_path / "urright13.ltlf"
+    spec.write_text(chain + "\n")
+
+    def limited():
+        resource.setrlimit(resource.RLIMIT_AS, (250_000_000, 250_000_000))
+
+    done = subprocess.run([sys.executable, "-m", "symsynth.cli", "dfa", "-f", str(spec)], capture_output=True,
+                          text=True, preexec_fn=limited, timeout=300)
+    assert done.returncode == 1, done.stderr
+    assert "Traceback" not in done.stderr
+    assert done.stderr.strip().splitlines() == [done.stderr.strip()]
+    assert "out of memory" in done.stderr

@@ -111,6 +111,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SymsynthError as error:
         print(f"symsynth {args.command}: {error}", file=sys.stderr)
         return error.exit_code
+    except MemoryError:  # the work outgrew the process's limit (ulimit, prlimit) or the machine
+        print(f"symsynth {args.command}: out of memory: this problem needs more memory than the process "
+              "may take (its address-space limit or the machine's memory); nothing more was written",
+              file=sys.stderr)
+        return 1
     except BrokenPipeError:  # e.g. `symsynth dfa --json ... | head`
         sys.stdout = None
         return 0
