@@ -164,7 +164,10 @@ class Hybrid:
         return False
 
     def _human(self, i: int, b: int) -> bool:
-        """The human turn of node i (h > j) is certified within b."""
+        """The human turn of node i (h > j) is certified within b: a reply whose
+        answer is already known to be no first (it costs nothing), then the last
+        refuter, then the pass, then the other moves (module doc: why the pass
+        before the moves)."""
         memo = self.memo
         if b < memo.lo_h(i):
             return False
@@ -174,24 +177,41 @@ class Hybrid:
         if b <= self.no_h.get(i, -1):
             return False
         off, count = self.memo.expand(i, False)
-        targets = [int(t) for t in memo.hm_tgt[off:off + count]]
-        first = self.refuter.get(i)
         below = self._h(i) - 1
-        order = sorted((t for t in targets if t >= 0),
-                       key=lambda t: (t != first, -int(memo.rec[t, sk.LO_R])))
-        ok = True
-        for t in order:
-            if not (self._leaf(t, b) if below == self.j else self._robot(t, b)):
-                self.refuter[i], ok = t, False
-                break
-        if not ok or not self._robot(i, b):
+        reply = self._leaf if below == self.j else self._robot
+        first = self.refuter.get(i)
+        moves = sorted((int(t) for t in memo.hm_tgt[off:off + count] if t >= 0),
+                       key=lambda t: (self._known(t, b, below) is not False, t != first, -int(memo.rec[t, sk.LO_R])))
+        head = moves[:1] if moves and (moves[0] == first or self._known(moves[0], b, below) is False) else []
+        ok = all(self._reply(i, t, b, reply) for t in head) and self._robot(i, b) \
+            and all(self._reply(i, t, b, reply) for t in moves[len(head):])
+        if not ok:
             if self.hi_h.get(i, INF) <= b:  # set by a question below this one
                 return True
             self.no_h[i] = max(b, self.no_h.get(i, -1))
             return False
-        hi = max([self.hi_r[i][0]] + [self.leaf[t] if below == self.j else self.hi_r[t][0] for t in order])
+        hi = max([self.hi_r[i][0]] + [self.leaf[t] if below == self.j else self.hi_r[t][0] for t in moves])
         self.hi_h[i] = min(hi, self.hi_h.get(i, hi))  # (a question below this one may have set a lower one)
         return True
+
+    def _reply(self, i: int, t: int, b: int, reply) -> bool:
+        """`reply(t, b)`, t kept as human turn i's refuter when it says no."""
+        if reply(t, b):
+            return True
+        self.refuter[i] = t
+        return False
+
+    def _known(self, t: int, b: int, below: int) -> bool | None:
+        """The answer at reply t (a robot turn with `below` moves left) within b
+        when it needs no question: False below its lo or at a budget a no was
+        given at, True at a budget a yes was kept for, else None."""
+        if b < self.memo.rec[t, sk.LO_R]:
+            return False
+        yes, no = (self.leaf, self.no_leaf) if below == self.j else (self.hi_r, self.no_r)
+        kept = yes.get(t)
+        if kept is not None and (kept if below == self.j else kept[0]) <= b:
+            return True
+        return False if b <= no.get(t, -1) else None
 
     def _leaf(self, i: int, b: int) -> bool:
         """σ pays at most b from node i's robot turn (h = j)."""
