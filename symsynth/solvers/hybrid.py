@@ -13,26 +13,43 @@ the positions with h > j, on the AND-OR search's nodes and moves
 (`solvers.andor.Memo`, its kernels generating the moves):
 
 - a robot turn at node i with budget b: some action of u units whose human
-  turn after it holds within b - u, tried in the order of u + lo(after);
+  turn after it holds within b - u, tried in the order of u + low(after);
 - a human turn: the pass (the robot turn of the same node) and every move
   must hold within b; a move to a robot turn with h - 1 = j is a **leaf**:
   "does σ pay at most b from there?", `BudgetedBound.within_from` (σ's
   question started at that position);
 - a move or action that makes the task hold costs nothing more.
 
-The memo's `lo` (proven lower bounds on the game's value val) prune:
-W_j >= val >= lo everywhere.  Both answers are exact for W_j: the search
-above h = j tries every action within those bounds, and σ's question is
-exact (`solvers.replan_budget`).  A "no" is not a bound on val, though (a
-leaf σ cannot certify may be within b for a better strategy).  So it is
-kept only to skip the same question with a budget no larger, and the
-search's lower bounds are never raised from it.
+The order at a human turn: one move first (one already refuted within b,
+else the last refuter, else the move of the largest lower bound), then the
+pass, then the other moves.  The pass goes before most moves because a
+human turn is mostly refuted by its pass, after all its moves were
+certified: at 8 x 12 x k = 2, with the moves first, 80 % of σ's leaf
+questions were spent at turns whose pass then failed; and the one move
+before it because a turn refuted by a move is nearly always refuted by the
+first move asked (bench/results/hybrid.md, `bench/hybrid_leaves.py`).
+
+Lower bounds.  The memo's `lo` (proven lower bounds on the game's value
+val) prune: W_j >= val >= lo everywhere.  Both answers are exact for W_j:
+the search above h = j tries every action within its bounds, and σ's
+question is exact (`solvers.replan_budget`).  A "no" is not a bound on val,
+though (a leaf σ cannot certify may be within b for a better strategy), so
+the search's `lo` are never raised from it.  It is a bound on W_j: the
+hybrid keeps its own (`no_r`, `no_h`, `no_leaf`: W_j > the kept number),
+raised as the search's `lo` are, by Bellman's equations on lower bounds:
+at a refuted robot turn to min over actions of u + low(after), at a refuted
+human turn to the largest low of its replies (low: the larger of `lo` and
+one above the kept refutation).  W_j is exactly the least cost of τ_j-type
+strategies from a node, so these are lower bounds whatever the order.
+They only ever say no and order the actions; no yes rests on them.
 
 Soundness of a yes
 ------------------
 Each certified robot turn keeps (hi, action) with hi >= u + hi_H(after); each
 certified human turn keeps hi_H >= the pass's hi and every move's hi (a
-leaf's hi: the budget σ was certified within; a win: 0).  A value is
+leaf's hi: the least budget σ was certified within, which may be below
+the budget asked: σ's yes keeps the largest rise its certificates showed,
+`BudgetedBound.kept_within`, each a plan or a proven hi; a win: 0).  A value is
 written only when the question it answers was certified, and only ever
 lowered.  A question with a budget at least the kept hi is answered from it.
 A question asked deeper at the same node (the game has cycles, and budgets
@@ -148,7 +165,7 @@ class Hybrid:
         options = []
         for e in range(off, off + count):
             t, units = int(memo.rm_tgt[e]), int(memo.rm_move[e]) >> bits
-            options.append((units + (0 if t < 0 else memo.lo_h(t)), units, t, e))
+            options.append((units + (0 if t < 0 else self._low_h(t)), units, t, e))
         options.sort()
         for bound, units, t, e in options:
             if bound > b:
@@ -160,14 +177,24 @@ class Hybrid:
                 return True
         if self.hi_r.get(i, (INF,))[0] <= b:  # set by a question below this one, after its action was tried
             return True
-        self.no_r[i] = max(b, self.no_r.get(i, -1))
+        # W > b, and W >= min over actions of u + W's lower bound after it (raised by the refutations)
+        low = min((units + (0 if t < 0 else self._low_h(t)) for _, units, t, _ in options), default=INF)
+        self.no_r[i] = max(b, self.no_r.get(i, -1), low - 1)
         return False
 
+    def _low_r(self, t: int, leaf: bool) -> float:
+        """A lower bound on W at node t's robot turn (σ's value at a leaf): the
+        memo's lo, one above a budget refuted there."""
+        return max(int(self.memo.rec[t, sk.LO_R]), (self.no_leaf if leaf else self.no_r).get(t, -1) + 1)
+
+    def _low_h(self, t: int) -> float:
+        """A lower bound on W at node t's human turn: the memo's lo, one above a budget refuted there."""
+        return max(self.memo.lo_h(t), self.no_h.get(t, -1) + 1)
+
     def _human(self, i: int, b: int) -> bool:
-        """The human turn of node i (h > j) is certified within b: a reply whose
-        answer is already known to be no first (it costs nothing), then the last
-        refuter, then the pass, then the other moves (module doc: why the pass
-        before the moves)."""
+        """The human turn of node i (h > j) is certified within b: one move first
+        (one known to say no, else the last refuter, else the largest lower
+        bound), then the pass, then the other moves (module doc: why)."""
         memo = self.memo
         if b < memo.lo_h(i):
             return False
@@ -178,19 +205,21 @@ class Hybrid:
             return False
         off, count = self.memo.expand(i, False)
         below = self._h(i) - 1
-        reply = self._leaf if below == self.j else self._robot
-        first = self.refuter.get(i)
-        moves = sorted((int(t) for t in memo.hm_tgt[off:off + count] if t >= 0),
-                       key=lambda t: (self._known(t, b, below) is not False, t != first, -int(memo.rec[t, sk.LO_R])))
-        head = moves[:1] if moves and (moves[0] == first or self._known(moves[0], b, below) is False) else []
+        first, leaf = self.refuter.get(i), below == self.j
+        reply = self._leaf if leaf else self._robot
+        lows = {int(t): self._low_r(int(t), leaf) for t in memo.hm_tgt[off:off + count] if t >= 0}
+        moves = sorted(lows, key=lambda t: (b >= lows[t], t != first, -lows[t]))
+        head = moves[:1]  # the move most likely to refute (known to, when b < its low), then the pass, the rest
         ok = all(self._reply(i, t, b, reply) for t in head) and self._robot(i, b) \
             and all(self._reply(i, t, b, reply) for t in moves[len(head):])
         if not ok:
             if self.hi_h.get(i, INF) <= b:  # set by a question below this one
                 return True
-            self.no_h[i] = max(b, self.no_h.get(i, -1))
+            # W > b, and W >= every reply's lower bound (raised by the refutations)
+            low = max([self._low_r(i, False)] + [self._low_r(t, leaf) for t in moves])
+            self.no_h[i] = max(b, self.no_h.get(i, -1), low - 1)
             return False
-        hi = max([self.hi_r[i][0]] + [self.leaf[t] if below == self.j else self.hi_r[t][0] for t in moves])
+        hi = max([self.hi_r[i][0]] + [self.leaf[t] if leaf else self.hi_r[t][0] for t in moves])
         self.hi_h[i] = min(hi, self.hi_h.get(i, hi))  # (a question below this one may have set a lower one)
         return True
 
@@ -200,18 +229,6 @@ class Hybrid:
             return True
         self.refuter[i] = t
         return False
-
-    def _known(self, t: int, b: int, below: int) -> bool | None:
-        """The answer at reply t (a robot turn with `below` moves left) within b
-        when it needs no question: False below its lo or at a budget a no was
-        given at, True at a budget a yes was kept for, else None."""
-        if b < self.memo.rec[t, sk.LO_R]:
-            return False
-        yes, no = (self.leaf, self.no_leaf) if below == self.j else (self.hi_r, self.no_r)
-        kept = yes.get(t)
-        if kept is not None and (kept if below == self.j else kept[0]) <= b:
-            return True
-        return False if b <= no.get(t, -1) else None
 
     def _leaf(self, i: int, b: int) -> bool:
         """σ pays at most b from node i's robot turn (h = j)."""
@@ -226,8 +243,8 @@ class Hybrid:
         self.leaves += 1
         x, q = memo.position(int(memo.rec[i, sk.KEY]))
         ok = self.bound.within_from(x, q, self.j, b)
-        if ok:
-            self.leaf[i] = min(b, self.leaf.get(i, b))
+        if ok:  # (σ's yes may hold for less than b: `BudgetedBound.kept_within`)
+            self.leaf[i] = int(min(b, self.bound.kept_within(x, q, self.j), self.leaf.get(i, b)))
         else:
             self.no_leaf[i] = max(b, self.no_leaf.get(i, -1))
         return ok
