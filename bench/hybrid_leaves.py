@@ -29,14 +29,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from gamefamily import pattern_scene  # noqa: E402
-from hybrid_bound import rounds  # noqa: E402
-from symsynth.game.abstraction import initial_state  # noqa: E402
-from symsynth.game.solution import task_formula  # noqa: E402
-from symsynth.solvers import andor  # noqa: E402
+from hybrid_bound import searched  # noqa: E402
 from symsynth.solvers.hybrid import Hybrid  # noqa: E402
-from symsynth.solvers.packed.lower import BoundTables  # noqa: E402
-from symsynth.solvers.packed.tables import Tables  # noqa: E402
 from symsynth.solvers.replan import NoHumanValue  # noqa: E402
 from symsynth.solvers.replan_budget import BudgetedBound, Deadline  # noqa: E402
 
@@ -140,17 +134,7 @@ def proof_leaves(h: Counted) -> int:
 
 def main(argv: list[str]) -> None:
     n, m, k, lower, b, seconds = map(int, argv[:6])
-    andor.prepare()
-    scene = pattern_scene(n, m, k)
-    formula = task_formula(scene, None)
-    clock = time.perf_counter()
-    tables = Tables(scene, formula, 1.0, None, k)
-    memo = andor.Memo(tables, BoundTables(tables, formula), k)
-    x = tables.pack(initial_state(scene))
-    start = memo.node(memo.key2(x, tables.step(tables.dfa_index[tables.dfa.initial], x), k))
-    rounds(memo, start, lower)
-    print(f"{n} x {m} x k = {k}: rounds to lo {memo.lo_h(start)} in {time.perf_counter() - clock:.1f} s; "
-          f"memo {memo.count} nodes", flush=True)
+    scene, formula, memo, start = searched(n, m, k, lower)
     bound = BudgetedBound(scene, formula, k, 1.0, NoHumanValue(scene, formula, 1.0, memo))
     timed = Timed(bound, ["within_from", "value", "_turns", "_settle", "_fits"])
     hybrid = Counted(memo, bound, 1, start)

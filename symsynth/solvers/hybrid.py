@@ -65,11 +65,13 @@ node, at h <= j σ's action (the same at every h).
 Use and measurements
 --------------------
 `hybrid_answer` tightens an anytime answer of `solvers.andor` after σ's
-upper end, with τ_1 (`HAND_OVER`).  It reuses σ's bound, whose answers make
-the leaves cheap.  On the pattern family, W_1 = E_p wherever it was decided
-(6 x 8 x k = 2 and 3, 8 x 12 x k = 2, where σ pays 0.3-2.2 % more), and
-W_2 is above E_p.  The cost is σ's question at each leaf (0.25-6 ms).  At 7 x
-10 x k = 3, "W_1 <= 740?" was still unanswered after 900 s
+upper end, with τ_1 (`HAND_OVER`).  It reuses σ's bound, built over the
+search's memo, whose answers make the leaves cheap.  On the pattern
+family, W_1 = E_p at 6 x 8 x k = 2 and 3 and 8 x 12 x k = 2 (where σ pays
+0.3-2.2 % more), W_2 is above E_p, and at 7 x 10 x k = 3 W_1 is above E_p
+too ("W_1 <= 740?" is no).  The cost is σ's question at each leaf (about
+1.5-6 ms, 80 % of it in the replies' kernel): "W_1 <= 720?" at 8 x 12 x
+k = 2 asks 2,608 of them for a certificate of 1,759 leaves
 (bench/results/hybrid.md).
 """
 
@@ -178,16 +180,16 @@ class Hybrid:
         if self.hi_r.get(i, (INF,))[0] <= b:  # set by a question below this one, after its action was tried
             return True
         # W > b, and W >= min over actions of u + W's lower bound after it (raised by the refutations)
-        low = min((units + (0 if t < 0 else self._low_h(t)) for _, units, t, _ in options), default=INF)
+        low = min((units + (0 if t < 0 else self._low_h(t)) for _, units, t, _ in options), default=b + 1)
         self.no_r[i] = max(b, self.no_r.get(i, -1), low - 1)
         return False
 
-    def _low_r(self, t: int, leaf: bool) -> float:
+    def _low_r(self, t: int, leaf: bool) -> int:
         """A lower bound on W at node t's robot turn (σ's value at a leaf): the
         memo's lo, one above a budget refuted there."""
         return max(int(self.memo.rec[t, sk.LO_R]), (self.no_leaf if leaf else self.no_r).get(t, -1) + 1)
 
-    def _low_h(self, t: int) -> float:
+    def _low_h(self, t: int) -> int:
         """A lower bound on W at node t's human turn: the memo's lo, one above a budget refuted there."""
         return max(self.memo.lo_h(t), self.no_h.get(t, -1) + 1)
 

@@ -35,6 +35,9 @@ value:
 - A question answered at (p, h) with a smaller s that said yes, or a larger
   one that said no, answers it again (R_h(p) is one number); the same per
   turn of a plan (p_i, h), since σ's plans from different positions meet.
+  At h = 1 a yes is kept for the largest rise its certificates showed (the
+  kernel returns the bound that answered each reply: the node's proven hi,
+  or a plan's cost), which may be below s: R_1(p) is at most that.
 
 Above h = 1 the moves' V_0 are found exactly (σ's plan from m p_i is needed
 there) and the moves of all turns asked in the order of their rise, largest
@@ -269,12 +272,11 @@ class BudgetedBound:
                 kept = max(kept, yes_j)
         # every move's V_0 within its budget first (R_{h-1} >= 0): all of it at h = 1, a quick no above
         rise = self._settle_turns(plan, np.array(todo, np.int64), s, h)
-        ok = rise is not None
-        if ok and h > 1:
-            ok, rise = self._deeper(xs[todo], qs[todo], left[todo], h, s), s
+        if rise is not None and h > 1:
+            rise = s if self._deeper(xs[todo], qs[todo], left[todo], h, s) else None
         # at h = 1 a yes holds for the largest rise its certificates showed (R_1 <= that), not only for s
-        self._known[key] = (no, max(kept, rise)) if ok else (s, yes)
-        return ok
+        self._known[key] = (s, yes) if rise is None else (no, max(kept, rise))
+        return rise is not None
 
     def _record(self, turn: tuple[int, int, int], s: float, ok: bool) -> None:
         """What was answered at a turn: its moves rise (plus R below) by at most s, or not."""
