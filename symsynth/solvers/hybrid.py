@@ -68,8 +68,8 @@ Use and measurements
 upper end, with τ_1 (`HAND_OVER`).  It reuses σ's bound, built over the
 search's memo, whose answers make the leaves cheap.  On the pattern
 family, W_1 = E_p at 6 x 8 x k = 2 and 3 and 8 x 12 x k = 2 (where σ pays
-0.3-2.2 % more), W_2 is above E_p, and at 7 x 10 x k = 3 W_1 is above E_p
-too ("W_1 <= 740?" is no).  The cost is σ's question at each leaf (about
+0.3-2.2 % more), W_2 is above E_p, and at 7 x 10 x k = 3 W_1 = 744, between
+E_p = 740 and σ's 748.  The cost is σ's question at each leaf (about
 1.5-6 ms, 80 % of it in the replies' kernel): "W_1 <= 720?" at 8 x 12 x
 k = 2 asks 2,608 of them for a certificate of 1,759 leaves
 (bench/results/hybrid.md).
@@ -94,7 +94,7 @@ INF = math.inf
 #: Questions between two looks at the clock (a leaf, σ's question, took up to 6 ms at 8 x 12)
 LOOK_EVERY = 8
 #: j of the anytime answer's τ_j: σ takes over when the human has this many moves left
-#: (issue 32's measurements: W_1 = E_p where it was measured, W_2 above it)
+#: (issue 32's measurements: W_1 = E_p at four of five games, nearer E_p than σ at the fifth; W_2 above)
 HAND_OVER = 1
 
 
@@ -364,7 +364,9 @@ def hybrid_answer(solution: Solution, memo, start: int, formula: ast.Formula, de
 def _tightened(hybrid: Hybrid, lower: int, upper: int | None, deadline: float | None) -> tuple[int | None, int]:
     """(the least b found with W_j <= b, below `upper` (None: none), or None; the
     largest b found with W_j > b): asked at `lower` (a yes proves E_p), then
-    one more each time, as the search's rounds, until `deadline`.  A budget
+    one more each time, as the search's rounds, until `deadline` (a no
+    raised W_j's lower bound at the start only to b + 1 at 8 x 12 x k = 2,
+    715 to 719, so no jump is tried).  A budget
     well above W_j is no quicker to certify: at 8 x 12 x k = 2, "<= 721?" was
     not answered in 18.8 s where "<= 720?" took 7.1 s (bench/results/hybrid.md)."""
     top = lower if upper is None else upper - 1  # the largest b worth asking
