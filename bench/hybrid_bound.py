@@ -43,9 +43,9 @@ def rounds(memo: andor.Memo, start: int, lower: int) -> None:
         memo.rec[start, sk.LO_H] = max(memo.lo_h(start), b + 1)
 
 
-def main(argv: list[str]) -> None:
-    n, m, k, lower, j = map(int, argv[:5])
-    budgets = [int(b) for b in argv[5:]] or list(range(lower, lower + 9))
+def searched(n: int, m: int, k: int, lower: int):
+    """(scene, formula, memo, start node) of the pattern game after the rounds to `lower`,
+    the rounds' end printed."""
     andor.prepare()
     scene = pattern_scene(n, m, k)
     formula = task_formula(scene, None)
@@ -55,7 +55,15 @@ def main(argv: list[str]) -> None:
     x = tables.pack(initial_state(scene))
     start = memo.node(memo.key2(x, tables.step(tables.dfa_index[tables.dfa.initial], x), k))
     rounds(memo, start, lower)
-    print(f"{n} x {m} x k = {k}: rounds to lo {memo.lo_h(start)} in {time.perf_counter() - clock:.1f} s", flush=True)
+    print(f"{n} x {m} x k = {k}: rounds to lo {memo.lo_h(start)} in {time.perf_counter() - clock:.1f} s; "
+          f"memo {memo.count} nodes", flush=True)
+    return scene, formula, memo, start
+
+
+def main(argv: list[str]) -> None:
+    n, m, k, lower, j = map(int, argv[:5])
+    budgets = [int(b) for b in argv[5:]] or list(range(lower, lower + 9))
+    scene, formula, memo, start = searched(n, m, k, lower)
     hybrid = Hybrid(memo, BudgetedBound(scene, formula, k), j, start)
     for b in budgets:
         clock = time.perf_counter()

@@ -115,3 +115,22 @@ def test_a_play_deeper_than_the_recursion_limit_leaves_the_answer_as_it_was():
             raise RecursionError
 
     assert hybrid._tightened(TooDeep(), 700, 722, None) == (None, 699)
+
+
+def test_a_question_reading_what_earlier_ones_kept_answers_as_a_fresh_one():
+    """One hybrid asked at budgets around W_j from above, then from below (the
+    kept hi, refutations, refuters and σ's leaf answers with their tightened
+    budgets all read back) answers every budget as a fresh hybrid does, and
+    both say yes exactly from W_j (found by `least` on its own fresh hybrid)."""
+    checked = 0
+    for seed, scene, k, formula, exact, sigma in _games(range(1, 60, 2)):
+        j = k - 1
+        w = _hybrid(scene, formula, k, j).least(exact.units, int(sigma))
+        budgets = list(range(w + 3, exact.units - 3, -1))
+        reused = _hybrid(scene, formula, k, j)
+        answers = [reused.within(b) for b in budgets + budgets[::-1]]
+        fresh = [b >= w for b in budgets]
+        assert answers == fresh + fresh[::-1], (seed, j, w)
+        assert [_hybrid(scene, formula, k, j).within(b) for b in budgets[::3]] == fresh[::3], (seed, j)
+        checked += 1
+    assert checked >= 5, checked

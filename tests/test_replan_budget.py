@@ -15,6 +15,7 @@ from symsynth.game.solution import OutOfReach
 from symsynth.logic import parse_ltlf
 from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers.packed import replies
+from symsynth.solvers.replan import replanning_bound
 from symsynth.solvers.replan_budget import BudgetedBound
 from support.games import asked_least, enumerated_bounds, explicit_and_paid, planning_scene
 
@@ -180,3 +181,30 @@ def test_a_worst_play_past_the_deadline_falls_back_to_the_plan(monkeypatch):
         assert found.principal_play and all(step.who == "robot" for step in found.principal_play), seed
         assert found.units is not None and found.units >= solve_explicit(scene, k=k).units, seed
     assert fell_back >= 3, fell_back
+
+
+def test_a_yes_at_one_move_left_holds_for_the_rise_its_certificates_showed():
+    """At h = 1 a yes is kept for the largest rise of V_0 its certificates
+    showed (`kept_within`), not only for the budget asked: asked once far above,
+    that is never below B_1 (the enumeration's, what σ pays), and it is B_1
+    itself on some games, so the question's later answers below the budget
+    asked come for nothing (the hybrid's leaves read it)."""
+    checked = tight = 0
+    for seed in range(100):
+        scene = _scene(seed)
+        formula = parse_ltlf(scene.task)
+        try:
+            enumerated = replanning_bound(scene, formula, 1)
+        except OutOfReach:
+            continue
+        if enumerated.upper == math.inf or enumerated.v0 == 0:
+            continue
+        asked = BudgetedBound(scene, formula, 1, oracle=enumerated.oracle)
+        exact = enumerated.upper
+        far = int(exact) + 200
+        assert asked.within(far), seed
+        kept = asked.kept_within(*asked.start, 1, human_first=True)
+        checked += 1
+        assert exact <= kept <= far, (seed, exact, kept)
+        tight += kept == exact
+    assert checked >= 12 and tight >= checked // 2, (checked, tight)

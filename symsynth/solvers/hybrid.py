@@ -13,26 +13,43 @@ the positions with h > j, on the AND-OR search's nodes and moves
 (`solvers.andor.Memo`, its kernels generating the moves):
 
 - a robot turn at node i with budget b: some action of u units whose human
-  turn after it holds within b - u, tried in the order of u + lo(after);
+  turn after it holds within b - u, tried in the order of u + low(after);
 - a human turn: the pass (the robot turn of the same node) and every move
   must hold within b; a move to a robot turn with h - 1 = j is a **leaf**:
   "does σ pay at most b from there?", `BudgetedBound.within_from` (σ's
   question started at that position);
 - a move or action that makes the task hold costs nothing more.
 
-The memo's `lo` (proven lower bounds on the game's value val) prune:
-W_j >= val >= lo everywhere.  Both answers are exact for W_j: the search
-above h = j tries every action within those bounds, and σ's question is
-exact (`solvers.replan_budget`).  A "no" is not a bound on val, though (a
-leaf σ cannot certify may be within b for a better strategy).  So it is
-kept only to skip the same question with a budget no larger, and the
-search's lower bounds are never raised from it.
+The order at a human turn: one move first (one already refuted within b,
+else the last refuter, else the move of the largest lower bound), then the
+pass, then the other moves.  The pass goes before most moves because a
+human turn is mostly refuted by its pass, after all its moves were
+certified: at 8 x 12 x k = 2, with the moves first, 80 % of σ's leaf
+questions were spent at turns whose pass then failed; and the one move
+before it because a turn refuted by a move is nearly always refuted by the
+first move asked (bench/results/hybrid.md, `bench/hybrid_leaves.py`).
+
+Lower bounds.  The memo's `lo` (proven lower bounds on the game's value
+val) prune: W_j >= val >= lo everywhere.  Both answers are exact for W_j:
+the search above h = j tries every action within its bounds, and σ's
+question is exact (`solvers.replan_budget`).  A "no" is not a bound on val,
+though (a leaf σ cannot certify may be within b for a better strategy), so
+the search's `lo` are never raised from it.  It is a bound on W_j: the
+hybrid keeps its own (`no_r`, `no_h`, `no_leaf`: W_j > the kept number),
+raised as the search's `lo` are, by Bellman's equations on lower bounds:
+at a refuted robot turn to min over actions of u + low(after), at a refuted
+human turn to the largest low of its replies (low: the larger of `lo` and
+one above the kept refutation).  W_j is exactly the least cost of τ_j-type
+strategies from a node, so these are lower bounds whatever the order.
+They only ever say no and order the actions; no yes rests on them.
 
 Soundness of a yes
 ------------------
 Each certified robot turn keeps (hi, action) with hi >= u + hi_H(after); each
 certified human turn keeps hi_H >= the pass's hi and every move's hi (a
-leaf's hi: the budget σ was certified within; a win: 0).  A value is
+leaf's hi: the least budget σ was certified within, which may be below
+the budget asked: σ's yes keeps the largest rise its certificates showed,
+`BudgetedBound.kept_within`, each a plan or a proven hi; a win: 0).  A value is
 written only when the question it answers was certified, and only ever
 lowered.  A question with a budget at least the kept hi is answered from it.
 A question asked deeper at the same node (the game has cycles, and budgets
@@ -48,11 +65,13 @@ node, at h <= j σ's action (the same at every h).
 Use and measurements
 --------------------
 `hybrid_answer` tightens an anytime answer of `solvers.andor` after σ's
-upper end, with τ_1 (`HAND_OVER`).  It reuses σ's bound, whose answers make
-the leaves cheap.  On the pattern family, W_1 = E_p wherever it was decided
-(6 x 8 x k = 2 and 3, 8 x 12 x k = 2, where σ pays 0.3-2.2 % more), and
-W_2 is above E_p.  The cost is σ's question at each leaf (0.25-6 ms).  At 7 x
-10 x k = 3, "W_1 <= 740?" was still unanswered after 900 s
+upper end, with τ_1 (`HAND_OVER`).  It reuses σ's bound, built over the
+search's memo, whose answers make the leaves cheap.  On the pattern
+family, W_1 = E_p at 6 x 8 x k = 2 and 3 and 8 x 12 x k = 2 (where σ pays
+0.3-2.2 % more), W_2 is above E_p, and at 7 x 10 x k = 3 W_1 = 744, between
+E_p = 740 and σ's 748.  The cost is σ's question at each leaf (about
+1.5-6 ms, 80 % of it in the replies' kernel): "W_1 <= 720?" at 8 x 12 x
+k = 2 asks 2,608 of them for a certificate of 1,759 leaves
 (bench/results/hybrid.md).
 """
 
@@ -75,7 +94,7 @@ INF = math.inf
 #: Questions between two looks at the clock (a leaf, σ's question, took up to 6 ms at 8 x 12)
 LOOK_EVERY = 8
 #: j of the anytime answer's τ_j: σ takes over when the human has this many moves left
-#: (issue 32's measurements: W_1 = E_p where it was measured, W_2 above it)
+#: (issue 32's measurements: W_1 = E_p at four of five games, nearer E_p than σ at the fifth; W_2 above)
 HAND_OVER = 1
 
 
@@ -148,7 +167,7 @@ class Hybrid:
         options = []
         for e in range(off, off + count):
             t, units = int(memo.rm_tgt[e]), int(memo.rm_move[e]) >> bits
-            options.append((units + (0 if t < 0 else memo.lo_h(t)), units, t, e))
+            options.append((units + (0 if t < 0 else self._low_h(t)), units, t, e))
         options.sort()
         for bound, units, t, e in options:
             if bound > b:
@@ -160,11 +179,24 @@ class Hybrid:
                 return True
         if self.hi_r.get(i, (INF,))[0] <= b:  # set by a question below this one, after its action was tried
             return True
-        self.no_r[i] = max(b, self.no_r.get(i, -1))
+        # W > b, and W >= min over actions of u + W's lower bound after it (raised by the refutations)
+        low = min((units + (0 if t < 0 else self._low_h(t)) for _, units, t, _ in options), default=b + 1)
+        self.no_r[i] = max(b, self.no_r.get(i, -1), low - 1)
         return False
 
+    def _low_r(self, t: int, leaf: bool) -> int:
+        """A lower bound on W at node t's robot turn (σ's value at a leaf): the
+        memo's lo, one above a budget refuted there."""
+        return max(int(self.memo.rec[t, sk.LO_R]), (self.no_leaf if leaf else self.no_r).get(t, -1) + 1)
+
+    def _low_h(self, t: int) -> int:
+        """A lower bound on W at node t's human turn: the memo's lo, one above a budget refuted there."""
+        return max(self.memo.lo_h(t), self.no_h.get(t, -1) + 1)
+
     def _human(self, i: int, b: int) -> bool:
-        """The human turn of node i (h > j) is certified within b."""
+        """The human turn of node i (h > j) is certified within b: one move first
+        (one known to say no, else the last refuter, else the largest lower
+        bound), then the pass, then the other moves (module doc: why)."""
         memo = self.memo
         if b < memo.lo_h(i):
             return False
@@ -174,24 +206,31 @@ class Hybrid:
         if b <= self.no_h.get(i, -1):
             return False
         off, count = self.memo.expand(i, False)
-        targets = [int(t) for t in memo.hm_tgt[off:off + count]]
-        first = self.refuter.get(i)
         below = self._h(i) - 1
-        order = sorted((t for t in targets if t >= 0),
-                       key=lambda t: (t != first, -int(memo.rec[t, sk.LO_R])))
-        ok = True
-        for t in order:
-            if not (self._leaf(t, b) if below == self.j else self._robot(t, b)):
-                self.refuter[i], ok = t, False
-                break
-        if not ok or not self._robot(i, b):
+        first, leaf = self.refuter.get(i), below == self.j
+        reply = self._leaf if leaf else self._robot
+        lows = {int(t): self._low_r(int(t), leaf) for t in memo.hm_tgt[off:off + count] if t >= 0}
+        moves = sorted(lows, key=lambda t: (b >= lows[t], t != first, -lows[t]))
+        head = moves[:1]  # the move most likely to refute (known to, when b < its low), then the pass, the rest
+        ok = all(self._reply(i, t, b, reply) for t in head) and self._robot(i, b) \
+            and all(self._reply(i, t, b, reply) for t in moves[len(head):])
+        if not ok:
             if self.hi_h.get(i, INF) <= b:  # set by a question below this one
                 return True
-            self.no_h[i] = max(b, self.no_h.get(i, -1))
+            # W > b, and W >= every reply's lower bound (raised by the refutations)
+            low = max([self._low_r(i, False)] + [self._low_r(t, leaf) for t in moves])
+            self.no_h[i] = max(b, self.no_h.get(i, -1), low - 1)
             return False
-        hi = max([self.hi_r[i][0]] + [self.leaf[t] if below == self.j else self.hi_r[t][0] for t in order])
+        hi = max([self.hi_r[i][0]] + [self.leaf[t] if leaf else self.hi_r[t][0] for t in moves])
         self.hi_h[i] = min(hi, self.hi_h.get(i, hi))  # (a question below this one may have set a lower one)
         return True
+
+    def _reply(self, i: int, t: int, b: int, reply) -> bool:
+        """`reply(t, b)`, t kept as human turn i's refuter when it says no."""
+        if reply(t, b):
+            return True
+        self.refuter[i] = t
+        return False
 
     def _leaf(self, i: int, b: int) -> bool:
         """σ pays at most b from node i's robot turn (h = j)."""
@@ -206,8 +245,8 @@ class Hybrid:
         self.leaves += 1
         x, q = memo.position(int(memo.rec[i, sk.KEY]))
         ok = self.bound.within_from(x, q, self.j, b)
-        if ok:
-            self.leaf[i] = min(b, self.leaf.get(i, b))
+        if ok:  # (σ's yes may hold for less than b: `BudgetedBound.kept_within`)
+            self.leaf[i] = int(min(b, self.bound.kept_within(x, q, self.j), self.leaf.get(i, b)))
         else:
             self.no_leaf[i] = max(b, self.no_leaf.get(i, -1))
         return ok
@@ -325,7 +364,9 @@ def hybrid_answer(solution: Solution, memo, start: int, formula: ast.Formula, de
 def _tightened(hybrid: Hybrid, lower: int, upper: int | None, deadline: float | None) -> tuple[int | None, int]:
     """(the least b found with W_j <= b, below `upper` (None: none), or None; the
     largest b found with W_j > b): asked at `lower` (a yes proves E_p), then
-    one more each time, as the search's rounds, until `deadline`.  A budget
+    one more each time, as the search's rounds, until `deadline` (a no
+    raised W_j's lower bound at the start only to b + 1 at 8 x 12 x k = 2,
+    715 to 719, so no jump is tried).  A budget
     well above W_j is no quicker to certify: at 8 x 12 x k = 2, "<= 721?" was
     not answered in 18.8 s where "<= 720?" took 7.1 s (bench/results/hybrid.md)."""
     top = lower if upper is None else upper - 1  # the largest b worth asking

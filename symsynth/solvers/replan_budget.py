@@ -35,6 +35,9 @@ value:
 - A question answered at (p, h) with a smaller s that said yes, or a larger
   one that said no, answers it again (R_h(p) is one number); the same per
   turn of a plan (p_i, h), since σ's plans from different positions meet.
+  At h = 1 a yes is kept for the largest rise its certificates showed (the
+  kernel returns the bound that answered each reply: the node's proven hi,
+  or a plan's cost), which may be below s: R_1(p) is at most that.
 
 Above h = 1 the moves' V_0 are found exactly (σ's plan from m p_i is needed
 there) and the moves of all turns asked in the order of their rise, largest
@@ -103,6 +106,7 @@ class BudgetedBound:
         #: replies answered by the memo's bounds, by a repair, by σ's plan followed, by the search
         self.counts = np.zeros(4, np.int64)
         self.settled = 0  # moves checked against a budget in machine code
+        self.upper = np.zeros(0, np.int64)  # what answered each move of the last kernel call (`_settle`)
         v = initial_state(scene)
         self.start = (self.t.pack(v), self.oracle.start(v))
         self._keys = np.empty(1024, np.int64)
@@ -215,6 +219,15 @@ class BudgetedBound:
         v0 = self.value(x, q)
         return v0 <= target and self._fits(x, q, h, target - v0, human_first)
 
+    def kept_within(self, x: int, q: int, h: int, human_first: bool = False) -> float:
+        """The least target `within_from(x, q, h, target, human_first)` is known
+        to say yes to (inf when none is): a yes at h = 1 keeps the largest rise
+        its certificates showed, which may be below the target asked."""
+        if self.t.accepting[q]:
+            return 0
+        v0 = self.value(x, q)
+        return v0 if h == 0 else v0 + self._known.get((x, q, h, human_first), (-1.0, INF))[1]
+
     def least(self, lower: int, upper: int, deadline: float | None = None) -> float:
         """B_k(start) exactly when it is at most `upper`, given lower <=
         B_k(start): the least T in [lower, upper] that `within` says yes to,
@@ -247,7 +260,7 @@ class BudgetedBound:
         self._look()
         plan = self._turns(x, q, human_first)
         xs, qs, left = plan[:3]
-        todo = []
+        todo, kept = [], 0.0  # the turns to settle; the largest rise known at the others
         for j, turn in enumerate(zip(xs.tolist(), qs.tolist())):
             no_j, yes_j = self._at_turn.get((*turn, h), (-1.0, INF))
             if s <= no_j:
@@ -255,34 +268,41 @@ class BudgetedBound:
                 return False
             if s < yes_j:
                 todo.append(j)
+            else:
+                kept = max(kept, yes_j)
         # every move's V_0 within its budget first (R_{h-1} >= 0): all of it at h = 1, a quick no above
-        ok = self._settle_turns(plan, np.array(todo, np.int64), s, h)
-        if ok and h > 1:
-            ok = self._deeper(xs[todo], qs[todo], left[todo], h, s)
-        self._known[key] = (no, s) if ok else (s, yes)
-        return ok
+        rise = self._settle_turns(plan, np.array(todo, np.int64), s, h)
+        if rise is not None and h > 1:
+            rise = s if self._deeper(xs[todo], qs[todo], left[todo], h, s) else None
+        # at h = 1 a yes holds for the largest rise its certificates showed (R_1 <= that), not only for s
+        self._known[key] = (s, yes) if rise is None else (no, max(kept, rise))
+        return rise is not None
 
     def _record(self, turn: tuple[int, int, int], s: float, ok: bool) -> None:
         """What was answered at a turn: its moves rise (plus R below) by at most s, or not."""
         no, yes = self._at_turn.get(turn, (-1.0, INF))
         self._at_turn[turn] = (no, min(yes, s)) if ok else (max(no, s), yes)
 
-    def _settle_turns(self, plan: tuple[np.ndarray, ...], todo: np.ndarray, s: float, h: int) -> bool:
+    def _settle_turns(self, plan: tuple[np.ndarray, ...], todo: np.ndarray, s: float, h: int) -> float | None:
         """V_0(m p_j) <= V_0(p_j) + s for every turn j in todo and move m there
         (plan: `_turns`' arrays): at h = 1 that is the answer at each turn,
-        above it a necessary condition."""
+        above it a necessary condition.  None when it fails, else the largest
+        rise V_0(m p_j) - V_0(p_j) the certificates showed (at least 0, at most s)."""
         xs, qs, left, codes = plan
         count = self._replies(xs[todo], qs[todo])
         turn = todo[self._turn[:count]]
         r = self._settle(self._keys[:count], left[turn] + s, turn, plan)
         failed = int(np.searchsorted(todo, turn[r])) if r < count else len(todo)
-        for j in todo[:failed].tolist() if h == 1 else ():
-            self._record((int(xs[j]), int(qs[j]), 1), s, True)
+        if h == 1 and failed:
+            rises = np.zeros(len(xs))  # per turn (R_1 >= 0)
+            np.maximum.at(rises, turn[:r], self.upper[:r] - left[turn[:r]])
+            for j in todo[:failed].tolist():
+                self._record((int(xs[j]), int(qs[j]), 1), float(rises[j]), True)
         if failed < len(todo):
             j = int(todo[failed])
             self._record((int(xs[j]), int(qs[j]), h), s, False)
-            return False
-        return True
+            return None
+        return float(rises[todo].max()) if h == 1 and len(todo) else 0.0
 
     def _deeper(self, xs: np.ndarray, qs: np.ndarray, left: np.ndarray, h: int, s: float) -> bool:
         """At h >= 2: R_{h-1}(m p_j) + V_0(m p_j) - V_0(p_j) <= s for every turn j
@@ -366,17 +386,20 @@ class BudgetedBound:
 
     def _settle(self, keys: np.ndarray, budgets: np.ndarray, turn: np.ndarray, plan: tuple[np.ndarray, ...]) -> int:
         """The first move whose V_0 is above its budget (`packed.replies._settle`),
-        len(keys) when none is; move r is at turn turn[r] of the plan (`_turns`' arrays)."""
+        len(keys) when none is; move r is at turn turn[r] of the plan (`_turns`' arrays).
+        `self.upper[r]`: the bound on V_0 that answered move r (before the first no)."""
         memo, st = self.memo, self.memo.st
         xs, qs, left, codes = plan
         budgets = np.minimum(budgets, float(1 << 40)).astype(np.int64)
         bases = np.minimum(left, float(1 << 40)).astype(np.int64)
         first = 0
+        self.upper = np.zeros(len(keys), np.int64)
         while True:
             st[sk.ST_ABORT] = 0
             st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (ORACLE_CHUNK if self.deadline is None else DEADLINE_CHUNK)
             first = int(rk._settle(keys, budgets, turn, xs, qs, bases, codes, np.int64(first), memo.P, memo.G,
-                                   memo.B, memo.M(), memo.S(), np.int64(memo.room), self.counts))
+                                   memo.B, memo.M(), memo.S(), np.int64(memo.room), self.counts,
+                                    self.upper))
             why = int(st[sk.ST_ABORT])
             if why == 0:
                 self.settled += first

@@ -62,7 +62,7 @@ def _replies(xs, qs, P, G, S, out_key, out_turn):
 
 
 @njit(cache=True)
-def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, room, counts):
+def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, room, counts, upper):
     """Whether V_0 <= budgets[r] for every r >= first with keys[r] >= 0 (a
     node key at h = 0, a human move at the turn (xs[j], qs[j]) of σ's plan
     whose V_0 is bases[j] and whose next action is codes[j], j = turn[r]):
@@ -71,17 +71,21 @@ def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, roo
     st[ST_ABORT] is set (the arrays full, the questions used up, the stack
     too shallow, a move of 0 units; what was proven is kept).  counts: the
     replies answered by the memo, by a repair, by the plan followed, by the
-    search."""
+    search.  upper[r]: the bound on V_0 that answered reply r "yes" (the
+    node's hi, the repair's or the followed plan's cost plus V_0 where it
+    ends; 0 for a move that wins), at most budgets[r]."""
     table, rec = M[0], M[1]
     st = S[0]
     hb, qbits = P[7], P[6]
     for r in range(first, len(keys)):
         key, b = keys[r], budgets[r]
+        upper[r] = 0
         if key < 0:
             continue
         i = _find(table, st[ST_BITS], key)
         if i >= 0:
-            if rec[i, HI_R] <= b:
+            upper[r] = rec[i, HI_R]
+            if upper[r] <= b:
                 counts[0] += 1
                 continue
             if _lo_h(rec, i) > b:
@@ -89,9 +93,11 @@ def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, roo
         j = turn[r]
         fix = _repair(xs[j], qs[j], (key >> hb) >> qbits, (key >> hb) & ((1 << qbits) - 1), P, G, S)
         if 0 <= fix <= b - bases[j]:
+            upper[r] = fix + bases[j]
             counts[1] += 1
             continue
-        if 0 <= _follow(j, (key >> hb) >> qbits, (key >> hb) & ((1 << qbits) - 1), xs, qs, bases, codes, b, P, G, S):
+        upper[r] = _follow(j, (key >> hb) >> qbits, (key >> hb) & ((1 << qbits) - 1), xs, qs, bases, codes, b, P, G, S)
+        if 0 <= upper[r]:
             counts[2] += 1
             continue
         counts[3] += 1
@@ -101,6 +107,7 @@ def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, roo
             i = _node(key, P, B, M, S)
         if not _ask(i, b, True, P, G, B, M, S):
             return r
+        upper[r] = rec[i, HI_R]
     return len(keys)
 
 
