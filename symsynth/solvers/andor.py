@@ -43,7 +43,7 @@ Why it is exact, and ends
   strategy returned, are checked by following it through every human reply.
 - Infinite values: a position whose bound is inf stays so (no object can
   fill a location); a human who keeps the robot circling is found after
-  8, 16, 32, ... rounds by `packed.search._trap` within what was
+  8, 16, 32, ... rounds by `packed.trap._trap` within what was
   generated (the forward solver's qualitative check), lo := inf there.
   Where the robot can circle cheaply, lo rises by the cycle's cost per
   round (the forward solver lifts such cycles with `_tighten`, not ported
@@ -82,6 +82,7 @@ from symsynth.scene.model import Scene
 from symsynth.solvers.packed import search as sk
 from symsynth.solvers.packed.kernels import INF, _find, _table
 from symsynth.solvers.packed.lower import BoundTables
+from symsynth.solvers.packed.trap import _trap
 from symsynth.solvers.packed.tables import Tables, check_width
 from symsynth.solvers.hybrid import hybrid_answer
 from symsynth.solvers.replan_budget import replanned_answer
@@ -246,7 +247,7 @@ class Memo:
         return int(sk._hi_h(self.rec, np.int64(i), np.int64(self.hb)))
 
     def trap(self) -> int:
-        return int(sk._trap(np.int64(self.count), self.M(), np.int64(self.hb), np.empty(self.count, np.uint8)))
+        return int(_trap(np.int64(self.count), self.M(), np.int64(self.hb), np.empty(self.count, np.uint8)))
 
 
 def _grown(a: np.ndarray, size: int) -> np.ndarray:
