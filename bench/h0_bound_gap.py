@@ -39,7 +39,7 @@ def bounds(probe: andor.Memo, x: int, q: int) -> tuple[int, int]:
     bound a node gets when made (`search._node`), and after `search._tighten`."""
     j = probe.node(probe.key2(x, q, 0))
     old = int(probe.rec[j, sk.LO_R])
-    sk._tighten(np.int64(j), sk.INF, probe.P, probe.B, probe.rec, probe.S())
+    sk._tighten(np.int64(j), sk.INF, probe.P, probe.B, probe.rec, probe.S()[10])
     return old, int(probe.rec[j, sk.LO_R])
 
 
@@ -65,6 +65,7 @@ def main(n: int, m: int, k: int, seconds: float, samples: int, seed: int) -> dic
     rng = random.Random(seed)
     chosen = rng.sample(list(at_h0), min(samples, len(at_h0)))
     exact_memo, probe = andor.Memo(tables, bt, 0), andor.Memo(tables, bt, 0)
+    probe.tighten()
     rows = []
     clock = time.perf_counter()
     for i in chosen:

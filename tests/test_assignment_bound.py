@@ -61,13 +61,14 @@ def _violations(scene, k: int, tamper=None) -> tuple[int, int, int]:
     if tamper is not None:
         tamper(bound)
     memo = andor.Memo(tables, bound, k)
+    memo.tighten()
     checked = above = raised = 0
     for i, node in enumerate(nodes):
         if i == 0 or game.accepts(node.q):
             continue
         j = memo.node(memo.key2(tables.pack(node.v), tables.dfa_index[node.q], node.h))
         made = memo.rec[j, sk.LO_R] if node.robot else memo.lo_h(j)
-        sk._tighten(np.int64(j), sk.INF, memo.P, memo.B, memo.rec, memo.S())
+        sk._tighten(np.int64(j), sk.INF, memo.P, memo.B, memo.rec, memo.S()[10])
         b = memo.rec[j, sk.LO_R] if node.robot else memo.lo_h(j)
         checked += 1
         above += b > value.get(i, math.inf)

@@ -17,10 +17,12 @@ the set of objects not at their goal.  Against the human who passes, take
 any plan from v to the win (robot actions only; at h = 0 only the robot
 moves objects, and there are no slides).  Every motion goes from an anchor
 at some place to an anchor at another (places: the locations and Else, all
-Else samples one place), so its cost is at least `edge(x, y)`: the least
-rule cost over the motion's modes and the anchors at x and y, every place
-free (a rule's cost never falls when fewer places are free); `D` is the
-closure of `edge` (Floyd-Warshall), so D(x, z) <= D(x, y) + D(y, z).
+Else samples one place), so its cost is at least `edge(x, y)`: the
+cheapest rule, every place free (a rule's cost never falls when fewer
+places are free), least over the modes and the grasps and contacts at x
+and y, and the max over the Else samples (a motion from or to an object
+at Else has all of them in its start or target set, semantics §5); `D` is
+the closure of `edge` (Floyd-Warshall), so D(x, z) <= D(x, y) + D(y, z).
 
 - Jobs.  For c in M the plan holds c on a chain of transfers from where it
   stands, p(c), to l(c) (drops and grabs on the way join the chain at the
@@ -47,13 +49,40 @@ closure of `edge` (Floyd-Warshall), so D(x, z) <= D(x, y) + D(y, z).
   first motion starts from every anchor at once (semantics §5: the max over
   its start set), so s0's cost to p is the max over those anchors s of the
   least path cost from s to p.
+- Pairs that run backwards in time.  Build the split explicitly: cut the
+  walk at the jobs' pieces; each stretch of R between two pieces leads from
+  the end of one (the start s0, a last drop at l(c), or a drop of c
+  elsewhere: a pause) to the start of the next (a first grab at p(c), a
+  grab again after a pause, or the walk's end).  Follow a supply's stretch;
+  where it ends at a grab after a pause of c at y, go on with the stretch
+  that leaves that pause (also at y).  Each stretch is used once, so these
+  chains are disjoint, end at distinct demands, and each costs at least D
+  between its ends; its last stretch reaches p(c) from another place unless
+  it is s0's own stretch (s0 aimed at c, or both at Else), so a chain to
+  p(c) also costs at least near(p(c)), the least D into p(c) from another
+  place: the assignment's cost is max(D(x, p), near(p)), and 0 from s0 at
+  its own place.  A chain without a pause is one stretch, forwards in
+  time; a supply l(c) whose demand's first grab must come before c's last
+  drop (c's own p(c), or p(d) of the object d standing on l(c)) needs a
+  pause on its chain, a different one for each chain, and every pause is a
+  drop that is not last and is followed by a grab that is not first.
 
-These three count different actions (transfers of M's objects; grabs and
-drops; the other motions), so A(v) = jobs + extras + assignment is at most
-the plan's cost, hence at most V_0(v); the search uses max(L0(v), A(v)).
-The strike argument of `solvers.bound` needs only that the bound at h = 0
-is admissible and at least L0 after a strike, so the h > 0 form carries
-over unchanged: max(L0, A) + h * strike.
+These count different actions (transfers of M's objects; first grabs and
+last drops; pauses' drops and grabs; the other motions).  With E the
+pauses counted by the extras and P(π) the backwards pairs of an
+assignment π, the plan pays at least jobs + min over π of [cost(π) +
+(drop + grab) max(E, P(π))], which is at least jobs + the larger of
+min cost(π) + E (drop + grab) and min [cost(π) + P(π) (drop + grab)]: that
+is A(v), at most V_0(v); the search uses max(L0(v), A(v)).  The strike
+argument of `solvers.bound` needs only that the bound at h = 0 is
+admissible and at least L0 after a strike, so the h > 0 form carries over
+unchanged: max(L0, A) + h * strike.
+
+A(v) costs two Hungarian assignments (under a microsecond at 8 objects),
+so a node gets L0 when made and A when first expanded (`search._tighten`),
+and only in memos that asked for it (`andor.Memo.tighten`: the no-human
+searches of `solvers.replan`; the rounds from below lost more time to it
+than it saved them; bench/results/h0-assignment-bound.md).
 """
 
 from __future__ import annotations
@@ -94,7 +123,7 @@ class BoundTables:
         self.grab = self.drop = self.strike = 0
         self.goal = np.full(n, -1, np.int64)  # the assignment bound: object i's group (-1: none)
         self.dist = np.zeros((m + 2, m + 1), np.int64)  # D between places; row m + 1: from anywhere
-        self.work = np.zeros(8 * (n + 2), np.int64)  # the assignment's scratch
+        self.work = np.zeros(10 * (n + 2), np.int64)  # the assignment's scratch
         self.assign = False
         if not self.enabled:
             return
@@ -118,10 +147,11 @@ class BoundTables:
                 self.goal[c[0]] = g
             self.dist = place_distances(tables)
 
-    def args(self) -> tuple:
+    def args(self, tight: bool = False) -> tuple:
+        """The kernels' tuple; `tight`: with the assignment bound on where the tables have it."""
         return (self.enabled, self.place, self.cand, self.carry, self.held, self.transit, self.anywhere,
                 np.int64(self.grab), np.int64(self.drop), np.int64(self.strike),
-                self.assign, self.goal, self.dist, self.work)
+                self.assign and tight, self.goal, self.dist, self.work)
 
 
 def place_distances(tables: Tables) -> np.ndarray:

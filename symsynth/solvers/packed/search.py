@@ -114,20 +114,22 @@ def _lower(x, h, n, m, F, pb, eb, gb, B, occupant):
 
 
 @njit(cache=True)
-def _assignment(x, n, m, F, pb, eb, ee, grip, held, aimed, B, occupant):
+def _assignment(x, n, m, pb, ee, grip, held, aimed, lb_place, lb_carry, lb_held, lb_grab, lb_drop, goal, dist, work,
+                occupant):
     """`packed.lower`'s assignment bound A(x) (its proof is there): the jobs
-    of the objects not at their goal, a drop and a grab more for a held one
-    whose goal is taken and for each cycle of objects standing on each
-    other's goals, and the least-cost assignment of supplies (the start, the
-    goals) to demands (the objects' places) over the place distances."""
-    lb_place, lb_carry, lb_held, lb_grab, lb_drop = B[1], B[3], B[4], B[7], B[8]
-    goal, dist, work = B[11], B[12], B[13]
+    of the objects not at their goal, then the larger of (a) a drop and a
+    grab more for a held one whose goal is taken and for each cycle of
+    objects standing on each other's goals, plus the least-cost assignment
+    of supplies (the start, the goals) to demands (the objects' places) over
+    the place distances, and (b) that assignment with a drop and a grab
+    more on each pair that runs backwards in time."""
     pmask = (1 << pb) - 1
     k = n + 2
-    dem, sup, mark = work[:k], work[k:2 * k], work[2 * k:3 * k]
+    dem, sup, mark, dem_obj, sup_obj = work[:k], work[k:2 * k], work[2 * k:3 * k], work[3 * k:4 * k], work[4 * k:5 * k]
     r = 0  # demands
     s = 0  # supplies
     total = INF - INF
+    extra = 0  # pauses known: a held object's goal taken, cycles
     start = -1  # s0's row of dist; -1 when the hand holds an object with a goal
     if held >= 0:
         start = m if ee == 0 else ee - 1
@@ -146,22 +148,25 @@ def _assignment(x, n, m, F, pb, eb, ee, grip, held, aimed, B, occupant):
             mark[i] = 1  # in place
             continue
         sup[s] = l
+        sup_obj[s] = i
         s += 1
         if i == held:
             start = -1
             over = m if ee == 0 else ee - 1
             c = lb_held[i, over, grip - 1, g]
             if occupant[l] >= 0:  # dropped elsewhere first, grabbed again
-                c += lb_drop + lb_grab
+                extra += 1
         else:
             c = lb_carry[i, p, g] + lb_grab
             dem[r] = p
+            dem_obj[r] = i
             r += 1
         if c >= INF:
             return INF
         total += lb_drop + c
     if start >= 0:
         sup[s] = start
+        sup_obj[s] = -1
         s += 1
     for i in range(n):  # cycles: each object on a location points at the one on its goal
         if mark[i] != 0 or goal[i] < 0 or i == held:
@@ -176,18 +181,26 @@ def _assignment(x, n, m, F, pb, eb, ee, grip, held, aimed, B, occupant):
             if j < 0 or goal[j] < 0 or mark[j] == 1:
                 break
             if j == i:
-                total += lb_drop + lb_grab
+                extra += 1
                 break
             if mark[j] == 2:
                 break
-    return total + _min_assignment(dem, r, sup, s, start if start <= m else -1, dist, work[3 * k:])
+    here = start if start <= m else -1
+    pause = lb_drop + lb_grab
+    backwards = _min_assignment(dem, dem_obj, r, sup, sup_obj, s, here, pause, dist, work[5 * k:])
+    if extra == 0:  # (a) is the plain assignment then, never above (b)
+        return total + backwards
+    known = _min_assignment(dem, dem_obj, r, sup, sup_obj, s, here, 0, dist, work[5 * k:]) + extra * pause
+    return total + (known if known > backwards else backwards)
 
 
 @njit(cache=True)
-def _min_assignment(dem, r, sup, s, here, dist, w):
+def _min_assignment(dem, dem_obj, r, sup, sup_obj, s, here, pause, dist, w):
     """min over injections d -> e(d) of demands into supplies of the sum of
     dist[sup[e(d)], dem[d]] (r <= s), except 0 from the start (the last
-    supply) at its own place `here` (-1: none): the Hungarian method by
+    supply, object -1) at its own place `here` (-1: none), plus `pause` where
+    the pair runs backwards in time: the supply is the goal of the demand's
+    own object or of the object standing there.  The Hungarian method by
     shortest augmenting paths, potentials u (demands) and v (supplies),
     1-based as the method is usually written.  w: scratch, 5 (s + 1)."""
     if r == 0:
@@ -213,6 +226,8 @@ def _min_assignment(dem, r, sup, s, here, dist, w):
                 if (used >> j) & 1:
                     continue
                 a = 0 if j == s and sup[j - 1] == here else dist[sup[j - 1], dem[i0 - 1]]
+                if sup_obj[j - 1] >= 0 and (sup[j - 1] == dem[i0 - 1] or sup_obj[j - 1] == dem_obj[i0 - 1]):
+                    a += pause
                 cur = (big if a >= big else a) - u[i0] - v[j]
                 if cur < minv[j]:
                     minv[j] = cur
@@ -283,8 +298,8 @@ def _node(key2, P, B, M, S):
     return j
 
 
-@njit(cache=True)
-def _tighten(i, b, P, B, rec, S):
+@njit(cache=True, inline="always")
+def _tighten(i, b, P, B, rec, occupant):
     """Whether node i, about to be expanded, is still open at budget b once
     its bounds are raised to the assignment bound (`packed.lower`; with h
     human moves left, + h strikes unless it is the robot's turn one drop
@@ -293,7 +308,7 @@ def _tighten(i, b, P, B, rec, S):
     if not B[10]:
         return True
     n, m, F, pb, eb, gb, qbits, hb = P[:8]
-    goal, place, strike, occupant = B[11], B[1], B[9], S[10]
+    goal, place, strike = B[11], B[1], B[9]
     key2 = rec[i, KEY]
     x, h = key2 >> (hb + qbits), key2 & ((1 << hb) - 1)
     pmask = (1 << pb) - 1
@@ -312,7 +327,8 @@ def _tighten(i, b, P, B, rec, S):
             missing += 1
     if missing == 0:
         return rec[i, LO_R] <= b
-    a = _assignment(x, n, m, F, pb, eb, ee, grip, held, (ee - 1 - m) // F if ee > m else -1, B, occupant)
+    a = _assignment(x, n, m, pb, ee, grip, held, (ee - 1 - m) // F if ee > m else -1, place, B[3], B[4], B[7], B[8],
+                    goal, B[12], B[13], occupant)
     hu = INF if a >= INF else a + h * strike
     brink = missing == 1 and held >= 0 and goal[held] >= 0 and ee - 1 == place[goal[held]]
     r = a if brink else hu
@@ -436,7 +452,7 @@ def _ask(i0, b0, robot0, P, G, B, M, S):
                     ret = rec[i, HI_R] <= b
                     d -= 1
                     continue
-                if rec[i, R_OFF] < 0 and not _tighten(i, b, P, B, rec, S):
+                if B[10] and rec[i, R_OFF] < 0 and not _tighten(i, b, P, B, rec, S[10]):
                     ret = False
                     d -= 1
                     continue
@@ -460,7 +476,7 @@ def _ask(i0, b0, robot0, P, G, B, M, S):
                     frames[d, 3] = -1
                     st[ST_CALLS] -= 1
                     continue
-                if rec[i, H_OFF] < 0 and (not _tighten(i, b, P, B, rec, S) or _lo_h(rec, i) > b):
+                if B[10] and rec[i, H_OFF] < 0 and (not _tighten(i, b, P, B, rec, S[10]) or _lo_h(rec, i) > b):
                     ret = False
                     d -= 1
                     continue
