@@ -27,15 +27,18 @@ from symsynth.solvers.packed.tables import Tables
 def _scene(seed: int):
     """A small pattern scene whose costmap is redrawn: each motion keeps a
     random 1-2 rules (costs 0-12, conditions on random places) or goes
-    missing now and then; grab and drop 1-6."""
+    missing now and then; grab and drop 1-6; one scene in four without Else samples."""
     rng = random.Random(seed)
     n = rng.randint(2, 3)
     data = pattern_data(n, rng.randint(n + 1, 4), k=1, seed=seed, grasps=("top", "side")[:rng.randint(1, 2)])
     data["primitives"] = {"grab": rng.randint(1, 6), "drop": rng.randint(1, 6)}
+    if rng.random() < 0.25:  # no Else samples: an object at Else cannot be reached
+        data["else_samples"] = []
     places = data["locations"] + data["else_samples"]
     motions = []
     for motion in data["costmap"]["motions"]:
-        if rng.random() < 0.08:
+        ends = {motion["from"].split("/")[0], motion["to"].split("/")[0]} - {"home"}
+        if rng.random() < 0.08 or not ends <= set(places):
             continue
         rules = [{"free": rng.sample(places, rng.randint(0, 2)), "cost": rng.randint(0, 12)}
                  for _ in range(rng.randint(1, 2))]

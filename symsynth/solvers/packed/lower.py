@@ -169,13 +169,14 @@ def place_distances(tables: Tables) -> np.ndarray:
     cheap = np.where(tables.rule_count > 0, tables.rule_units[tables.rule_start], INF).min(axis=0)
     np.fill_diagonal(cheap, 0)
     into = np.full((A, K), INF, np.int64)  # anchor -> group: a motion's cost is the max over its targets
-    for y in range(K):
-        into[:, y] = cheap[:, group == y].max(axis=1)
+    for y in range(K):  # (no anchor in the group, as Else without samples: no motion, INF)
+        if (group == y).any():
+            into[:, y] = cheap[:, group == y].max(axis=1)
     edge = np.full((m + 1, m + 1), INF, np.int64)  # place -> place: the least over groups, max over sources
     for y in range(K):
         for x in range(K):
-            c = into[group == x, y].max()
-            edge[x // F, y // F] = min(edge[x // F, y // F], c)
+            if (group == x).any():
+                edge[x // F, y // F] = min(edge[x // F, y // F], into[group == x, y].max())
     dist = edge.copy()
     np.fill_diagonal(dist, 0)
     for y in range(m + 1):  # Floyd-Warshall
