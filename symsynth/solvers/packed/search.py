@@ -54,14 +54,7 @@ def _lower(x, h, n, m, F, pb, eb, gb, B, occupant):
     ee = (x >> (n * pb)) & ((1 << eb) - 1)
     grip = (x >> (n * pb + eb)) & ((1 << gb) - 1)
     aimed = (ee - 1 - m) // F if ee > m else -1
-    held = -1
-    occupant[:] = -1
-    for i in range(n):
-        p = (x >> (i * pb)) & pmask
-        if p == m + 1:
-            held = i
-        elif p < m:
-            occupant[p] = i
+    held = _occupancy(x, n, m, pb, occupant)
     total = INF - INF  # an int64 zero, as the sums below
     missing = 0
     last = -1
@@ -113,16 +106,25 @@ def _lower(x, h, n, m, F, pb, eb, gb, B, occupant):
     return (total if brink else human), human
 
 
+@njit(cache=True, inline="always")
+def _occupancy(x, n, m, pb, occupant):
+    """The object in the hand at x (-1: none); occupant[l]: the one at l (-1: none)."""
+    held = -1
+    occupant[:] = -1
+    for i in range(n):
+        p = (x >> (i * pb)) & ((1 << pb) - 1)
+        if p == m + 1:
+            held = i
+        elif p < m:
+            occupant[p] = i
+    return held
+
+
 @njit(cache=True)
 def _assignment(x, n, m, pb, ee, grip, held, aimed, lb_place, lb_carry, lb_held, lb_grab, lb_drop, goal, dist, work,
                 occupant):
-    """`packed.lower`'s assignment bound A(x) (its proof is there): the jobs
-    of the objects not at their goal, then the larger of (a) a drop and a
-    grab more for a held one whose goal is taken and for each cycle of
-    objects standing on each other's goals, plus the least-cost assignment
-    of supplies (the start, the goals) to demands (the objects' places) over
-    the place distances, and (b) that assignment with a drop and a grab
-    more on each pair that runs backwards in time."""
+    """`packed.lower`'s assignment bound A(x) (its terms and their proof are
+    there); occupant: filled by `_occupancy`."""
     pmask = (1 << pb) - 1
     k = n + 2
     dem, sup, mark, dem_obj, sup_obj = work[:k], work[k:2 * k], work[2 * k:3 * k], work[3 * k:4 * k], work[4 * k:5 * k]
@@ -196,13 +198,10 @@ def _assignment(x, n, m, pb, ee, grip, held, aimed, lb_place, lb_carry, lb_held,
 
 @njit(cache=True)
 def _min_assignment(dem, dem_obj, r, sup, sup_obj, s, here, pause, dist, w):
-    """min over injections d -> e(d) of demands into supplies of the sum of
-    dist[sup[e(d)], dem[d]] (r <= s), except 0 from the start (the last
-    supply, object -1) at its own place `here` (-1: none), plus `pause` where
-    the pair runs backwards in time: the supply is the goal of the demand's
-    own object or of the object standing there.  The Hungarian method by
-    shortest augmenting paths, potentials u (demands) and v (supplies),
-    1-based as the method is usually written.  w: scratch, 5 (s + 1)."""
+    """The least over injections of demands into supplies (r <= s) of the sum
+    of `packed.lower`'s pair costs (`pause` on pairs backwards in time, 0
+    from the start, the last supply, at its own place `here`): the Hungarian
+    method by shortest augmenting paths, 1-based.  w: scratch, 5 (s + 1)."""
     if r == 0:
         return INF - INF
     big = np.int64(1) << 50
@@ -301,10 +300,8 @@ def _node(key2, P, B, M, S):
 @njit(cache=True, inline="always")
 def _tighten(i, b, P, B, rec, occupant):
     """Whether node i, about to be expanded, is still open at budget b once
-    its bounds are raised to the assignment bound (`packed.lower`; with h
-    human moves left, + h strikes unless it is the robot's turn one drop
-    from the win, as `_lower`): dearer than `_node`'s bound, so paid only
-    for the nodes the search expands."""
+    its bounds are raised to the assignment bound (+ h strikes as `_lower`),
+    dearer than `_node`'s bound, so paid only for the nodes expanded."""
     if not B[10]:
         return True
     n, m, F, pb, eb, gb, qbits, hb = P[:8]
@@ -314,16 +311,10 @@ def _tighten(i, b, P, B, rec, occupant):
     pmask = (1 << pb) - 1
     ee = (x >> (n * pb)) & ((1 << eb) - 1)
     grip = (x >> (n * pb + eb)) & ((1 << gb) - 1)
-    held = -1
+    held = _occupancy(x, n, m, pb, occupant)
     missing = 0
-    occupant[:] = -1
     for j in range(n):
-        p = (x >> (j * pb)) & pmask
-        if p == m + 1:
-            held = j
-        elif p < m:
-            occupant[p] = j
-        if goal[j] >= 0 and p != place[goal[j]]:
+        if goal[j] >= 0 and (x >> (j * pb)) & pmask != place[goal[j]]:
             missing += 1
     if missing == 0:
         return rec[i, LO_R] <= b
