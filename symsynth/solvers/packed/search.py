@@ -297,7 +297,7 @@ def _node(key2, P, B, M, S):
     return j
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _tighten(i, b, P, B, rec, occupant):
     """Whether node i, about to be expanded, is still open at budget b once
     its bounds are raised to the assignment bound (+ h strikes as `_lower`),
