@@ -157,8 +157,8 @@ class Memo:
         """From now on a node's lo is raised to `packed.lower`'s assignment bound
         when it is first expanded (`search._tighten`).  Off in the rounds from
         below, which it slowed (8 x 12 x k = 3: 810 against 814 in 25 s); on
-        in the no-human searches of `solvers.replan` (7 x 10 x k = 3, σ's
-        question: 45 % fewer search steps, 12 % less CPU;
+        in the no-human searches of `solvers.replan` (σ's "<= 748?" at 7 x 10 x
+        k = 3: 16.5 s against 20.2 s, 45 % fewer search steps;
         bench/results/h0-assignment-bound.md)."""
         self.B = self.bound.args(tight=True)
 
