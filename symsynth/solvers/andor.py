@@ -43,7 +43,7 @@ Why it is exact, and ends
   strategy returned, are checked by following it through every human reply.
 - Infinite values: a position whose bound is inf stays so (no object can
   fill a location); a human who keeps the robot circling is found after
-  8, 16, 32, ... rounds by `packed.search._trap` within what was
+  8, 16, 32, ... rounds by `packed.trap._trap` within what was
   generated (the forward solver's qualitative check), lo := inf there.
   Where the robot can circle cheaply, lo rises by the cycle's cost per
   round (the forward solver lifts such cycles with `_tighten`, not ported
@@ -82,6 +82,7 @@ from symsynth.scene.model import Scene
 from symsynth.solvers.packed import search as sk
 from symsynth.solvers.packed.kernels import INF, _find, _table
 from symsynth.solvers.packed.lower import BoundTables
+from symsynth.solvers.packed.trap import _trap
 from symsynth.solvers.packed.tables import Tables, check_width
 from symsynth.solvers.hybrid import hybrid_answer
 from symsynth.solvers.replan_budget import replanned_answer
@@ -129,6 +130,7 @@ class Memo:
         self.G = (t.anchor_at, t.anchor_count, t.home_starts, t.rule_start, t.rule_count, t.rule_free,
                   t.rule_units, t.slide_start, t.slide_count, t.is_grasp, t.atom_at, t.free_at, t.trans,
                   t.accepting, t.class_members, t.class_offsets, t.place_rank, t.rank_place, obj_class, obj_pos)
+        self.bound = bound
         self.B = bound.args()
         self.room = 4 * (t.n * (t.F + t.m + 2) + t.m + 2)  # the most moves a node can have
         self.bits = max(12, (4 * nodes).bit_length())
@@ -150,6 +152,15 @@ class Memo:
             [np.empty(self.room, np.int64) for _ in range(4)] + [np.empty(t.m + 2, np.int64)]
         self.order = np.empty((256, self.room + 1), np.int64)
         self.frames = np.empty((256, 5), np.int64)
+
+    def tighten(self) -> None:
+        """From now on a node's lo is raised to `packed.lower`'s assignment bound
+        when it is first expanded (`search._tighten`).  Off in the rounds from
+        below, which it slowed (8 x 12 x k = 3: 810 against 814 in 25 s); on
+        in the no-human searches of `solvers.replan` (σ's "<= 748?" at 7 x 10 x
+        k = 3: 16.5 s against 20.2 s, 45 % fewer search steps;
+        bench/results/h0-assignment-bound.md)."""
+        self.B = self.bound.args(tight=True)
 
     @property
     def count(self) -> int:
@@ -246,7 +257,7 @@ class Memo:
         return int(sk._hi_h(self.rec, np.int64(i), np.int64(self.hb)))
 
     def trap(self) -> int:
-        return int(sk._trap(np.int64(self.count), self.M(), np.int64(self.hb), np.empty(self.count, np.uint8)))
+        return int(_trap(np.int64(self.count), self.M(), np.int64(self.hb), np.empty(self.count, np.uint8)))
 
 
 def _grown(a: np.ndarray, size: int) -> np.ndarray:

@@ -306,8 +306,8 @@ def kernels_cached(andor: bool = False) -> bool:
     or loaded the kernels already, or numba's disk cache holds machine code
     for every kernel as it is now (an index entry for this source file, this
     CPU and the kernel's bytecode, as numba itself checks before loading).
-    With `andor`, the AND-OR search's kernels (`packed.search`, and
-    `packed.replies` for its replanning upper end) too; a kernel numba
+    With `andor`, the AND-OR search's kernels (`packed.search`, `packed.trap`,
+    and `packed.replies` for its replanning upper end) too; a kernel numba
     inlines into its callers (`inline="always"`) has no cache entry of its
     own and needs none.  False
     when numba's cache cannot be read this way (its layout is numba's own):
@@ -319,9 +319,9 @@ def kernels_cached(andor: bool = False) -> bool:
     try:
         from numba.core.registry import CPUDispatcher
 
-        from symsynth.solvers.packed import replies, search
+        from symsynth.solvers.packed import replies, search, trap
 
-        extra = [v for module in (search, replies) for v in vars(module).values()
+        extra = [v for module in (search, replies, trap) for v in vars(module).values()
                  if isinstance(v, CPUDispatcher)] if andor else []
         return all(_cached(kernel) for kernel in kernels.dispatchers() + extra
                    if kernel.targetoptions.get("inline") != "always")  # (compiled into their callers only)

@@ -107,6 +107,7 @@ class NoHumanValue:
             raise ValueError("the search's memo is of another game (scene or resolution)")
         self.t, self.memo = memo.t, memo
         self.memo.chunk = ORACLE_CHUNK
+        self.memo.tighten()  # no human move left: the assignment bound pays here
         self.proof = andor.Proof(self.memo)
         self.questions = 0
 

@@ -10,7 +10,9 @@ documents the algorithm and why it is exact).
   compiled solver's kernels (`packed.kernels`, imported, not copied), their
   targets found or created (`_node`, with `_lower`, `solvers.bound`'s bound
   on `packed.lower`'s tables);
-- `_trap`: the trap the human can close within what was generated.
+- the bound a node is made with (`_lower`) and the tighter one paid for
+  when it is first expanded (`_tighten`, `packed.lower`'s assignment bound);
+- `packed.trap` holds `_trap`, the trap the human can close within what was generated.
 
 A node is one row of `rec` (64 bytes: what a question reads of it
 together).  These kernels call into `packed.kernels`, whose changes numba's
@@ -21,6 +23,7 @@ file).
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from symsynth.solvers.packed.kernels import INF, _canon, _human_moves, _insert, _letter, _probe, _robot_moves, _table
@@ -40,25 +43,18 @@ LO_R, LO_H, HI_R, HI_H, R_OFF, H_OFF, SMALL, KEY = range(8)
 
 
 @njit(cache=True)
-def _lower(x, h, robot, n, m, F, pb, eb, gb, B, occupant):
-    """`solvers.bound.LowerBound` at packed state x with h human moves left,
-    at the robot's turn (`robot`) or the human's, in units (INF: no way);
-    0 when the bound is off (`packed.lower`).  occupant: scratch, m + 2."""
-    lb_on, lb_place, lb_cand, lb_carry, lb_held, lb_transit, lb_anywhere, lb_grab, lb_drop, lb_strike = B
+def _lower(x, h, n, m, F, pb, eb, gb, B, occupant):
+    """`solvers.bound.LowerBound` at packed state x with h human moves left:
+    (at the robot's turn, at the human's), in units (INF: no way); 0 when
+    the bound is off (`packed.lower`).  occupant: scratch, m + 2."""
+    lb_on, lb_place, lb_cand, lb_carry, lb_held, lb_transit, lb_anywhere, lb_grab, lb_drop, lb_strike = B[:10]
     if not lb_on:
-        return 0
+        return 0, 0
     pmask = (1 << pb) - 1
     ee = (x >> (n * pb)) & ((1 << eb) - 1)
     grip = (x >> (n * pb + eb)) & ((1 << gb) - 1)
     aimed = (ee - 1 - m) // F if ee > m else -1
-    held = -1
-    occupant[:] = -1
-    for i in range(n):
-        p = (x >> (i * pb)) & pmask
-        if p == m + 1:
-            held = i
-        elif p < m:
-            occupant[p] = i
+    held = _occupancy(x, n, m, pb, occupant)
     total = INF - INF  # an int64 zero, as the sums below
     missing = 0
     last = -1
@@ -85,7 +81,7 @@ def _lower(x, h, robot, n, m, F, pb, eb, gb, B, occupant):
             if cost < best:
                 best = cost
         if best >= INF:
-            return INF
+            return INF, INF
         total += best
     brink = missing == 1 and held >= 0 and 1 <= ee <= m and ee - 1 == last and grip != 0
     if brink:
@@ -104,11 +100,155 @@ def _lower(x, h, robot, n, m, F, pb, eb, gb, B, occupant):
                     extra = d
         if found:
             if extra >= INF:
-                return INF
+                return INF, INF
             total += extra
-    if robot and brink:
-        return total
-    return total + h * lb_strike
+    human = total + h * lb_strike
+    return (total if brink else human), human
+
+
+@njit(cache=True, inline="always")
+def _occupancy(x, n, m, pb, occupant):
+    """The object in the hand at x (-1: none); occupant[l]: the one at l (-1: none)."""
+    held = -1
+    occupant[:] = -1
+    for i in range(n):
+        p = (x >> (i * pb)) & ((1 << pb) - 1)
+        if p == m + 1:
+            held = i
+        elif p < m:
+            occupant[p] = i
+    return held
+
+
+@njit(cache=True)
+def _assignment(x, n, m, pb, ee, grip, held, aimed, lb_place, lb_carry, lb_held, lb_grab, lb_drop, goal, dist, work,
+                occupant):
+    """`packed.lower`'s assignment bound A(x) (its terms and their proof are
+    there); occupant: filled by `_occupancy`."""
+    pmask = (1 << pb) - 1
+    k = n + 2
+    dem, sup, mark, dem_obj, sup_obj = work[:k], work[k:2 * k], work[2 * k:3 * k], work[3 * k:4 * k], work[4 * k:5 * k]
+    r = 0  # demands
+    s = 0  # supplies
+    total = INF - INF
+    extra = 0  # pauses known: a held object's goal taken, cycles
+    start = -1  # s0's row of dist; -1 when the hand holds an object with a goal
+    if held >= 0:
+        start = m if ee == 0 else ee - 1
+    elif aimed >= 0:
+        start = (x >> (aimed * pb)) & pmask
+    else:
+        start = m + 1
+    for i in range(n):
+        g = goal[i]
+        mark[i] = 0
+        if g < 0:
+            continue
+        l = lb_place[g]
+        p = (x >> (i * pb)) & pmask
+        if p == l:
+            mark[i] = 1  # in place
+            continue
+        sup[s] = l
+        sup_obj[s] = i
+        s += 1
+        if i == held:
+            start = -1
+            over = m if ee == 0 else ee - 1
+            c = lb_held[i, over, grip - 1, g]
+            if occupant[l] >= 0:  # dropped elsewhere first, grabbed again
+                extra += 1
+        else:
+            c = lb_carry[i, p, g] + lb_grab
+            dem[r] = p
+            dem_obj[r] = i
+            r += 1
+        if c >= INF:
+            return INF
+        total += lb_drop + c
+    if start >= 0:
+        sup[s] = start
+        sup_obj[s] = -1
+        s += 1
+    for i in range(n):  # cycles: each object on a location points at the one on its goal
+        if mark[i] != 0 or goal[i] < 0 or i == held:
+            continue
+        j = i
+        while True:
+            mark[j] = 2
+            p = (x >> (j * pb)) & pmask
+            if p >= m:
+                break
+            j = occupant[lb_place[goal[j]]] if goal[j] >= 0 else -1
+            if j < 0 or goal[j] < 0 or mark[j] == 1:
+                break
+            if j == i:
+                extra += 1
+                break
+            if mark[j] == 2:
+                break
+    here = start if start <= m else -1
+    pause = lb_drop + lb_grab
+    backwards = _min_assignment(dem, dem_obj, r, sup, sup_obj, s, here, pause, dist, work[5 * k:])
+    if extra == 0:  # (a) is the plain assignment then, never above (b)
+        return total + backwards
+    known = _min_assignment(dem, dem_obj, r, sup, sup_obj, s, here, 0, dist, work[5 * k:]) + extra * pause
+    return total + (known if known > backwards else backwards)
+
+
+@njit(cache=True)
+def _min_assignment(dem, dem_obj, r, sup, sup_obj, s, here, pause, dist, w):
+    """The least over injections of demands into supplies (r <= s) of the sum
+    of `packed.lower`'s pair costs (`pause` on pairs backwards in time, 0
+    from the start, the last supply, at its own place `here`): the Hungarian
+    method by shortest augmenting paths, 1-based.  w: scratch, 5 (s + 1)."""
+    if r == 0:
+        return INF - INF
+    big = np.int64(1) << 50
+    c = s + 1
+    u, v, match, way, minv = w[:c], w[c:2 * c], w[2 * c:3 * c], w[3 * c:4 * c], w[4 * c:5 * c]
+    u[:] = 0
+    v[:] = 0
+    match[:] = 0  # the demand (1-based) a supply serves, 0: none
+    for d in range(1, r + 1):
+        match[0] = d
+        j0 = 0
+        minv[:] = big
+        way[:] = 0
+        used = np.int64(1)  # supplies visited, as bits (s < 62)
+        while True:
+            used |= np.int64(1) << j0
+            i0 = match[j0]
+            delta = big
+            j1 = 0
+            for j in range(1, c):
+                if (used >> j) & 1:
+                    continue
+                a = 0 if j == s and sup[j - 1] == here else dist[sup[j - 1], dem[i0 - 1]]
+                if sup_obj[j - 1] >= 0 and (sup[j - 1] == dem[i0 - 1] or sup_obj[j - 1] == dem_obj[i0 - 1]):
+                    a += pause
+                cur = (big if a >= big else a) - u[i0] - v[j]
+                if cur < minv[j]:
+                    minv[j] = cur
+                    way[j] = j0
+                if minv[j] < delta:
+                    delta = minv[j]
+                    j1 = j
+            for j in range(c):
+                if (used >> j) & 1:
+                    u[match[j]] += delta
+                    v[j] -= delta
+                else:
+                    minv[j] -= delta
+            j0 = j1
+            if match[j0] == 0:
+                break
+        while j0 != 0:
+            j1 = way[j0]
+            match[j0] = match[j1]
+            j0 = j1
+    total = -v[0]
+    return INF if total >= big else total
 
 
 @njit(cache=True)
@@ -144,9 +284,9 @@ def _node(key2, P, B, M, S):
     if j == count:
         h = key2 & ((1 << hb) - 1)
         x = key2 >> (hb + qbits)
-        r = _lower(x, h, True, n, m, F, pb, eb, gb, B, S[10])
+        r, hu = _lower(x, h, n, m, F, pb, eb, gb, B, S[10])
         rec[j, LO_R] = r
-        rec[j, LO_H] = max(r, _lower(x, h, False, n, m, F, pb, eb, gb, B, S[10]))
+        rec[j, LO_H] = max(r, hu)
         rec[j, HI_R] = INF
         rec[j, HI_H] = INF
         rec[j, R_OFF] = -1
@@ -155,6 +295,39 @@ def _node(key2, P, B, M, S):
         rec[j, KEY] = key2
         st[ST_COUNT] = count + 1
     return j
+
+
+@njit(cache=True)
+def _tighten(i, b, P, B, rec, occupant):
+    """Whether node i, about to be expanded, is still open at budget b once
+    its bounds are raised to the assignment bound (+ h strikes as `_lower`),
+    dearer than `_node`'s bound, so paid only for the nodes expanded."""
+    if not B[10]:
+        return True
+    n, m, F, pb, eb, gb, qbits, hb = P[:8]
+    goal, place, strike = B[11], B[1], B[9]
+    key2 = rec[i, KEY]
+    x, h = key2 >> (hb + qbits), key2 & ((1 << hb) - 1)
+    pmask = (1 << pb) - 1
+    ee = (x >> (n * pb)) & ((1 << eb) - 1)
+    grip = (x >> (n * pb + eb)) & ((1 << gb) - 1)
+    held = _occupancy(x, n, m, pb, occupant)
+    missing = 0
+    for j in range(n):
+        if goal[j] >= 0 and (x >> (j * pb)) & pmask != place[goal[j]]:
+            missing += 1
+    if missing == 0:
+        return rec[i, LO_R] <= b
+    a = _assignment(x, n, m, pb, ee, grip, held, (ee - 1 - m) // F if ee > m else -1, place, B[3], B[4], B[7], B[8],
+                    goal, B[12], B[13], occupant)
+    hu = INF if a >= INF else a + h * strike
+    brink = missing == 1 and held >= 0 and goal[held] >= 0 and ee - 1 == place[goal[held]]
+    r = a if brink else hu
+    if r > rec[i, LO_R]:
+        rec[i, LO_R] = r
+    if hu > rec[i, LO_H]:
+        rec[i, LO_H] = hu
+    return rec[i, LO_R] <= b
 
 
 @njit(cache=True)
@@ -270,6 +443,10 @@ def _ask(i0, b0, robot0, P, G, B, M, S):
                     ret = rec[i, HI_R] <= b
                     d -= 1
                     continue
+                if B[10] and rec[i, R_OFF] < 0 and not _tighten(i, b, P, B, rec, S[10]):
+                    ret = False
+                    d -= 1
+                    continue
                 if rec[i, R_OFF] < 0 and not _expand_robot(i, P, G, B, M, S):
                     return False
                 a0 = rec[i, R_OFF]
@@ -289,6 +466,10 @@ def _ask(i0, b0, robot0, P, G, B, M, S):
                     frames[d, 2] = 1
                     frames[d, 3] = -1
                     st[ST_CALLS] -= 1
+                    continue
+                if B[10] and rec[i, H_OFF] < 0 and (not _tighten(i, b, P, B, rec, S[10]) or _lo_h(rec, i) > b):
+                    ret = False
+                    d -= 1
                     continue
                 if rec[i, H_OFF] < 0 and not _expand_human(i, P, G, B, M, S):
                     return False
@@ -417,54 +598,3 @@ def _rehash(rec, count, bits):
     for r in range(count):
         _insert(table, bits, rec[r, KEY], r)
     return table
-
-
-@njit(cache=True)
-def _trap(count, M, hb, won):
-    """The positions the human can keep from ever being won, within the
-    nodes generated so far: lo := INF there (`solvers.forward._qualitative`
-    on the compiled memo).  A node not expanded counts as won (it may be),
-    so what is left unwon is a trap the human closes whatever lies outside
-    it.  won: scratch, 2 * count bytes (bit 0 robot turn, bit 1 human turn).
-    Passes over the nodes, newest first, until nothing changes; the number
-    of robot turns found lost."""
-    table, rec, rm_tgt, rm_move, hm_tgt = M
-    won[:count] = 0
-    changed = True
-    while changed:
-        changed = False
-        for i in range(count - 1, -1, -1):
-            w = won[i]
-            if not w & 1 and rec[i, LO_R] < INF:
-                ok = rec[i, R_OFF] < 0
-                for e in range(_small(rec, i, 0) if not ok else 0):
-                    t = rm_tgt[rec[i, R_OFF] + e]
-                    if t < 0 or won[t] & 2:
-                        ok = True
-                        break
-                if ok:
-                    w |= 1
-            if not w & 2 and _lo_h(rec, i) < INF:
-                if rec[i, KEY] & ((1 << hb) - 1) == 0:
-                    ok = (w & 1) != 0
-                elif rec[i, H_OFF] < 0:
-                    ok = True
-                else:
-                    ok = (w & 1) != 0
-                    for e in range(_small(rec, i, 16)):
-                        t = hm_tgt[rec[i, H_OFF] + e]
-                        if ok and t >= 0 and not won[t] & 1:
-                            ok = False
-                if ok:
-                    w |= 2
-            if w != won[i]:
-                won[i] = w
-                changed = True
-    lost = 0
-    for i in range(count):
-        if not won[i] & 1:
-            rec[i, LO_R] = INF
-            lost += 1
-        if not won[i] & 2:
-            rec[i, LO_H] = INF
-    return lost
