@@ -76,6 +76,9 @@ def test_verdicts_within_a_time_limit(counted):
 
 
 def test_auto_picks_by_time_limit_size_and_task():
+    from symsynth.solvers import andor
+
+    andor.prepare()  # (the choice with the kernels ready; run alone on a cold numba cache they are not)
     scene = random_scene(3)
     assert choose(scene, parse_ltlf("F(at(block, l1))"), time_limit=1.0)[0] == "compiled"  # a small game
     name, reason = choose(scene, parse_ltlf("F(at(block, l1))"), time_limit=1e-9, compiled_ready=True)
@@ -89,7 +92,10 @@ def test_auto_picks_by_time_limit_size_and_task():
 def test_auto_falls_back_when_the_compiled_solver_cannot_hold_the_game():
     """17 atoms: more than the compiled solver's table takes; auto says so
     and solves with the next rule (forward: the task is a conjunction)."""
+    from symsynth.solvers import andor
     from symsynth.solvers.auto import solve_auto
+
+    andor.prepare()  # (with the kernels cold, auto never considers the compiled solver)
     from support.games import make_scene
 
     names = [f"o{i}" for i in range(17)]
