@@ -210,6 +210,8 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
     automaton = Backward(progression, formula, max_obligations)
     bdd = progression.bdd
     num_atoms = len(progression.atom_keys)
+    if any(bdd.level_of_var(key) != i for i, key in enumerate(progression.atom_keys)):  # (the diagram reads atoms by level)
+        raise AssertionError("internal error: the atoms are not the top levels of the manager, in their order")
     start = automaton.initial()
     index = {start: 0}
     order = [start]
