@@ -106,7 +106,6 @@ class BudgetedBound:
         #: replies answered by the memo's bounds, by a repair, by σ's plan followed, by the search
         self.counts = np.zeros(4, np.int64)
         self.settled = 0  # moves checked against a budget in machine code
-        self.upper = np.zeros(0, np.int64)  # what answered each move of the last kernel call (`_settle`)
         v = initial_state(scene)
         self.start = (self.t.pack(v), self.oracle.start(v))
         self._keys = np.empty(1024, np.int64)
@@ -177,7 +176,7 @@ class BudgetedBound:
         xs, qs, left, _ = plan
         count = self._replies(xs, qs)
         keys, turn = self._keys[:count].copy(), self._turn[:count].copy()
-        r = self._settle(keys, left[turn] + s, turn, plan)
+        r, _ = self._settle(keys, left[turn] + s, turn, plan)
         moves = self._rises(keys[:r + 1], turn, left)
         if r < count:  # that move's V_0 is above its budget
             rise, w, q2, j = moves[-1]
@@ -291,18 +290,18 @@ class BudgetedBound:
         xs, qs, left, codes = plan
         count = self._replies(xs[todo], qs[todo])
         turn = todo[self._turn[:count]]
-        r = self._settle(self._keys[:count], left[turn] + s, turn, plan)
+        r, upper = self._settle(self._keys[:count], left[turn] + s, turn, plan)
         failed = int(np.searchsorted(todo, turn[r])) if r < count else len(todo)
-        if h == 1 and failed:
-            rises = np.zeros(len(xs))  # per turn (R_1 >= 0)
-            np.maximum.at(rises, turn[:r], self.upper[:r] - left[turn[:r]])
+        rises = np.zeros(len(xs))  # per turn (R_1 >= 0); only h = 1 reads them
+        if h == 1:
+            np.maximum.at(rises, turn[:r], upper[:r] - left[turn[:r]])
             for j in todo[:failed].tolist():
                 self._record((int(xs[j]), int(qs[j]), 1), float(rises[j]), True)
         if failed < len(todo):
             j = int(todo[failed])
             self._record((int(xs[j]), int(qs[j]), h), s, False)
             return None
-        return float(rises[todo].max()) if h == 1 and len(todo) else 0.0
+        return float(rises[todo].max(initial=0.0))
 
     def _deeper(self, xs: np.ndarray, qs: np.ndarray, left: np.ndarray, h: int, s: float) -> bool:
         """At h >= 2: R_{h-1}(m p_j) + V_0(m p_j) - V_0(p_j) <= s for every turn j
@@ -384,26 +383,26 @@ class BudgetedBound:
             self._turn = np.empty(need, np.int64)
         return int(rk._replies(xs, qs, memo.P, memo.G, memo.S(), self._keys, self._turn))
 
-    def _settle(self, keys: np.ndarray, budgets: np.ndarray, turn: np.ndarray, plan: tuple[np.ndarray, ...]) -> int:
-        """The first move whose V_0 is above its budget (`packed.replies._settle`),
-        len(keys) when none is; move r is at turn turn[r] of the plan (`_turns`' arrays).
-        `self.upper[r]`: the bound on V_0 that answered move r (before the first no)."""
+    def _settle(self, keys: np.ndarray, budgets: np.ndarray, turn: np.ndarray,
+                plan: tuple[np.ndarray, ...]) -> tuple[int, np.ndarray]:
+        """(the first move whose V_0 is above its budget (`packed.replies._settle`),
+        len(keys) when none is; per move before it, the bound on V_0 that
+        answered it); move r is at turn turn[r] of the plan (`_turns`' arrays)."""
         memo, st = self.memo, self.memo.st
         xs, qs, left, codes = plan
         budgets = np.minimum(budgets, float(1 << 40)).astype(np.int64)
         bases = np.minimum(left, float(1 << 40)).astype(np.int64)
         first = 0
-        self.upper = np.zeros(len(keys), np.int64)
+        upper = np.zeros(len(keys), np.int64)
         while True:
             st[sk.ST_ABORT] = 0
             st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (ORACLE_CHUNK if self.deadline is None else DEADLINE_CHUNK)
             first = int(rk._settle(keys, budgets, turn, xs, qs, bases, codes, np.int64(first), memo.P, memo.G,
-                                   memo.B, memo.M(), memo.S(), np.int64(memo.room), self.counts,
-                                    self.upper))
+                                   memo.B, memo.M(), memo.S(), np.int64(memo.room), self.counts, upper))
             why = int(st[sk.ST_ABORT])
             if why == 0:
                 self.settled += first
-                return first
+                return first, upper
             if why == sk.ABORT_ZERO:
                 raise OutOfReach(ZERO_COST)
             memo.recover(why)
