@@ -10,7 +10,8 @@ strategy, checked in bulk against budgets on the no-human game's memo
   move (puts the moved object back, and the hand where it was), each action
   generated at the state it is played in, so a plan whose cost bounds V_0
   from above whatever the game (-1 when the sequence is not legal there or
-  does not come back);
+  does not come back); `_repair_path` the same plan action by action, for
+  the strategy that repairs (`solvers.replan_repair`);
 - `_follow`: σ's own next actions played after a human move, until the play
   meets σ's plan again (or wins), the moved object parked out of σ's way
   once if it blocks an action: again a plan, so again a bound on V_0;
@@ -62,7 +63,7 @@ def _replies(xs, qs, P, G, S, out_key, out_turn):
 
 
 @njit(cache=True)
-def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, room, counts, upper):
+def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, room, counts, upper, search):
     """Whether V_0 <= budgets[r] for every r >= first with keys[r] >= 0 (a
     node key at h = 0, a human move at the turn (xs[j], qs[j]) of σ's plan
     whose V_0 is bases[j] and whose next action is codes[j], j = turn[r]):
@@ -73,7 +74,8 @@ def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, roo
     replies answered by the memo, by a repair, by the plan followed, by the
     search.  upper[r]: the bound on V_0 that answered reply r "yes" (the
     node's hi, the repair's or the followed plan's cost plus V_0 where it
-    ends; 0 for a move that wins), at most budgets[r]."""
+    ends; 0 for a move that wins), at most budgets[r].  Without `search`, a
+    reply none of the first three answers is a "no" (not proven: unknown)."""
     table, rec = M[0], M[1]
     st = S[0]
     hb, qbits = P[7], P[6]
@@ -100,6 +102,8 @@ def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, roo
         if 0 <= upper[r]:
             counts[2] += 1
             continue
+        if not search:
+            return r
         counts[3] += 1
         if i < 0:
             if not _room(M, S, room):
@@ -423,16 +427,55 @@ def _repair(x, q, w, q2, P, G, S):
     """The units of a robot plan from (w, q2), x after one human move, back
     to (x, q) or to a win: drop what x holds at its location, carry the
     moved object back from where the human put it, aim (or grab) again as
-    in x; -1 when there is none of this form (x holding over Else, the
-    object taken from Else, an action not available, or another end)."""
+    in x (`_repair_codes`); -1 when there is none of this form (x holding
+    over Else, the object taken from Else, an action not available, or
+    another end)."""
+    accepting = G[13]
+    codes = np.empty(8, np.int64)
+    c = _repair_codes(x, w, P, G, codes)
+    if c < 0:
+        return -1
+    out = np.empty(3, np.int64)
+    _play(w, q2, codes, c, P, G, S, out)
+    if out[2] >= 0 and (accepting[out[1]] or out[0] == x and out[1] == q):
+        return out[2]
+    return -1
+
+
+@njit(cache=True)
+def _repair_path(x, q, w, q2, P, G, S, out):
+    """`_repair`'s plan played from (w, q2) action by action: out[e] = (state,
+    DFA state, units, code) after action e; their count (the last is (x, q)
+    or a win), -1 when there is no repair."""
+    accepting = G[13]
+    codes = np.empty(8, np.int64)
+    c = _repair_codes(x, w, P, G, codes)
+    if c < 0:
+        return -1
+    step = np.empty(3, np.int64)
+    y, qq = w, q2
+    for e in range(c):
+        _act(y, qq, codes[e], P, G, S, step)
+        if step[2] < 0:
+            return -1
+        y, qq = step[0], step[1]
+        out[e, 0], out[e, 1], out[e, 2], out[e, 3] = y, qq, step[2], codes[e]
+        if accepting[qq]:
+            return e + 1
+    return c if y == x and qq == q else -1
+
+
+@njit(cache=True)
+def _repair_codes(x, w, P, G, codes):
+    """The actions of `_repair` from w back to x into codes; their count, -1
+    when there is no plan of that form."""
     n, m, F, pb, eb, gb = P[:6]
-    is_grasp, accepting = G[9], G[13]
+    is_grasp = G[9]
     pmask = (1 << pb) - 1
     eshift = n * pb
     emask = (1 << eb) - 1
     ee = (x >> eshift) & emask
     grip = (x >> (eshift + eb)) & ((1 << gb) - 1)
-    codes = np.empty(8, np.int64)
     c = 0
     held = -1
     if grip != 0:
@@ -473,11 +516,7 @@ def _repair(x, q, w, q2, P, G, S):
             return -1
         codes[c] = _code(KIND_TRANSIT, (ee - 1 - m) // F, (ee - 1 - m) % F, 0, n, F, m)
         c += 1
-    out = np.empty(3, np.int64)
-    _play(w, q2, codes, c, P, G, S, out)
-    if out[2] >= 0 and (accepting[out[1]] or out[0] == x and out[1] == q):
-        return out[2]
-    return -1
+    return c
 
 
 @njit(cache=True)
