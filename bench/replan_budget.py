@@ -2,6 +2,8 @@
 (symsynth/solvers/replan_budget.py), on the pattern family (distinct blocks):
 
     python bench/replan_budget.py within N M K T [T ...]   "B_k(start) <= T?" in turn, one process
+    python bench/replan_budget.py repairing N M K T [T ...]   the same for σ', the strategy that
+                                                           may repair (solvers/replan_repair.py)
     python bench/replan_budget.py least N M K LO HI        B_k(start) exactly, given LO <= B_k <= HI
     python bench/replan_budget.py interval N M K S         solve_andor(time_limit=S): the certified
                                                            interval, the upper end from σ when the
@@ -25,6 +27,7 @@ from symsynth.game.solution import task_formula  # noqa: E402
 from symsynth.solvers.andor import prepare, solve_andor  # noqa: E402
 from symsynth.solvers.packed import search as sk  # noqa: E402
 from symsynth.solvers.replan_budget import BudgetedBound  # noqa: E402
+from symsynth.solvers.replan_repair import RepairingBound  # noqa: E402
 
 
 def _peak_mb() -> float:
@@ -32,14 +35,15 @@ def _peak_mb() -> float:
 
 
 def _counts(bound: BudgetedBound) -> dict:
-    return {"V_0 found": len(bound._values), "replies settled": bound.settled, "nodes": bound.memo.count,
+    mine = {"repaired, replanned at h >= 2": [bound.repaired, bound.replanned]} if isinstance(bound, RepairingBound) else {}
+    return mine | {"V_0 found": len(bound._values), "replies settled": bound.settled, "nodes": bound.memo.count,
             "search steps": int(bound.memo.st[sk.ST_CALLS]),
             "by memo, repair, plan followed, search": bound.counts.tolist(), "peak_mb": _peak_mb()}
 
 
-def within(n: int, m: int, k: int, targets: list[int]) -> None:
+def within(n: int, m: int, k: int, targets: list[int], repairing: bool = False) -> None:
     scene = pattern_scene(n, m, k, 0)
-    bound = BudgetedBound(scene, task_formula(scene, None), k)
+    bound = (RepairingBound if repairing else BudgetedBound)(scene, task_formula(scene, None), k)
     print(json.dumps({"size": f"{n}x{m}", "k": k, "V_0": bound.v0}), flush=True)
     for target in targets:
         clock = time.perf_counter()
@@ -73,8 +77,8 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     prepare()
     mode, n, m, k, rest = argv[0], int(argv[1]), int(argv[2]), int(argv[3]), argv[4:]
-    if mode == "within":
-        within(n, m, k, [int(a) for a in rest])
+    if mode in ("within", "repairing"):
+        within(n, m, k, [int(a) for a in rest], mode == "repairing")
     elif mode == "least":
         least(n, m, k, int(rest[0]), int(rest[1]))
     else:

@@ -384,11 +384,10 @@ class BudgetedBound:
         return int(rk._replies(xs, qs, memo.P, memo.G, memo.S(), self._keys, self._turn))
 
     def _settle(self, keys: np.ndarray, budgets: np.ndarray, turn: np.ndarray,
-                plan: tuple[np.ndarray, ...], search: bool = True) -> tuple[int, np.ndarray]:
+                plan: tuple[np.ndarray, ...]) -> tuple[int, np.ndarray]:
         """(the first move whose V_0 is above its budget (`packed.replies._settle`),
         len(keys) when none is; per move before it, the bound on V_0 that
-        answered it); move r is at turn turn[r] of the plan (`_turns`' arrays).
-        Without `search`, the first move no certificate answers (unknown)."""
+        answered it); move r is at turn turn[r] of the plan (`_turns`' arrays)."""
         memo, st = self.memo, self.memo.st
         xs, qs, left, codes = plan
         budgets = np.minimum(budgets, float(1 << 40)).astype(np.int64)
@@ -399,7 +398,7 @@ class BudgetedBound:
             st[sk.ST_ABORT] = 0
             st[sk.ST_LIMIT] = st[sk.ST_CALLS] + (ORACLE_CHUNK if self.deadline is None else DEADLINE_CHUNK)
             first = int(rk._settle(keys, budgets, turn, xs, qs, bases, codes, np.int64(first), memo.P, memo.G,
-                                   memo.B, memo.M(), memo.S(), np.int64(memo.room), self.counts, upper, search))
+                                   memo.B, memo.M(), memo.S(), np.int64(memo.room), self.counts, upper))
             why = int(st[sk.ST_ABORT])
             if why == 0:
                 self.settled += first

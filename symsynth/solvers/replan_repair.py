@@ -72,7 +72,6 @@ class RepairingBound(BudgetedBound):
         self._abs1: dict[tuple[int, int], tuple[float, float]] = {}  # a turn at h = 1: (largest no, least yes) of V_0
         self._tails: dict[tuple[int, int], tuple[np.ndarray, ...]] = {}
         self._path = np.empty((8, 4), np.int64)
-        self.search = True
         self.repaired = 0  # moves answered by a repair at h >= 2
         self.replanned = 0  # moves that went to σ's branch at h >= 2
 
@@ -166,7 +165,7 @@ class RepairingBound(BudgetedBound):
         turns = np.array(todo, np.int64)
         count = self._replies(xs[turns], qs[turns])
         turn = turns[self._turn[:count]]
-        r, upper = self._settle(self._keys[:count].copy(), plan[2][turn] + s, turn, plan, search=self.search)
+        r, upper = self._settle(self._keys[:count].copy(), plan[2][turn] + s, turn, plan)
         done = turn[r] if r < count else len(xs)
         largest = np.zeros(len(xs))
         np.maximum.at(largest, turn[:r], upper[:r])

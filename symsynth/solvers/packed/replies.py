@@ -63,7 +63,7 @@ def _replies(xs, qs, P, G, S, out_key, out_turn):
 
 
 @njit(cache=True)
-def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, room, counts, upper, search):
+def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, room, counts, upper):
     """Whether V_0 <= budgets[r] for every r >= first with keys[r] >= 0 (a
     node key at h = 0, a human move at the turn (xs[j], qs[j]) of σ's plan
     whose V_0 is bases[j] and whose next action is codes[j], j = turn[r]):
@@ -74,8 +74,7 @@ def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, roo
     replies answered by the memo, by a repair, by the plan followed, by the
     search.  upper[r]: the bound on V_0 that answered reply r "yes" (the
     node's hi, the repair's or the followed plan's cost plus V_0 where it
-    ends; 0 for a move that wins), at most budgets[r].  Without `search`, a
-    reply none of the first three answers is a "no" (not proven: unknown)."""
+    ends; 0 for a move that wins), at most budgets[r]."""
     table, rec = M[0], M[1]
     st = S[0]
     hb, qbits = P[7], P[6]
@@ -102,8 +101,6 @@ def _settle(keys, budgets, turn, xs, qs, bases, codes, first, P, G, B, M, S, roo
         if 0 <= upper[r]:
             counts[2] += 1
             continue
-        if not search:
-            return r
         counts[3] += 1
         if i < 0:
             if not _room(M, S, room):
