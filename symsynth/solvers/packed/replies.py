@@ -427,16 +427,9 @@ def _repair(x, q, w, q2, P, G, S):
     in x (`_repair_codes`); -1 when there is none of this form (x holding
     over Else, the object taken from Else, an action not available, or
     another end)."""
-    accepting = G[13]
-    codes = np.empty(8, np.int64)
-    c = _repair_codes(x, w, P, G, codes)
-    if c < 0:
-        return -1
-    out = np.empty(3, np.int64)
-    _play(w, q2, codes, c, P, G, S, out)
-    if out[2] >= 0 and (accepting[out[1]] or out[0] == x and out[1] == q):
-        return out[2]
-    return -1
+    path = np.empty((8, 4), np.int64)
+    c = _repair_path(x, q, w, q2, P, G, S, path)
+    return -1 if c < 0 else path[:c, 2].sum()
 
 
 @njit(cache=True)
