@@ -4,8 +4,8 @@ positions of the compiled solver (`solvers.packed`).
 
 From the initial position it asks one question, "is val(p) <= b?", depth
 first (`packed.search._ask`): at a robot turn (an OR node) some action of
-cost c must have val(after) <= b - c, tried in order of c + lo(after); at a
-human turn (an AND node) the pass and every move must have val <= b, the
+cost c must have val(after) <= b - c, tried in order of c + lo(after), with
+h >= 1 the one proven at h = 0 (σ's) first; at a human turn (an AND node) the pass and every move must have val <= b, the
 reply that refuted the last question first, then by lo, largest first.
 Each position (state, DFA state, h: the human's moves left) is a node of a
 hash table of packed keys with four proven numbers, for its robot and its
@@ -143,7 +143,8 @@ class Memo:
         #: a time past which every question stops where its chunk ends, raising `CutOff`
         #: (set by a caller whose questions take no deadline of their own: `solvers.replan`)
         self.cutoff: float | None = None
-        self.st = np.zeros(9, np.int64)
+        self.st = np.zeros(10, np.int64)
+        self.st[sk.ST_HINT] = 1
         self.st[sk.ST_BITS] = self.bits
         self.st[sk.ST_DEPTH] = 256
         self.scratch = [np.empty(t.n, np.int64), np.empty(t.n, np.int64),
