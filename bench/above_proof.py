@@ -71,7 +71,7 @@ def main(argv: list[str]) -> None:
     memo.st[sk.ST_HINT] = 0 if a.no_hint else 1
     x = tables.pack(initial_state(scene))
     start = memo.node(memo.key2(x, tables.step(tables.dfa_index[tables.dfa.initial], x), a.k))
-    clock = time.perf_counter()
+    clock, cpu = time.perf_counter(), time.process_time()
     rounds = 0
     while a.rounds and memo.lo_h(start) < a.b:
         lo = memo.lo_h(start)
@@ -81,12 +81,14 @@ def main(argv: list[str]) -> None:
             return
         memo.rec[start, sk.LO_H] = max(memo.lo_h(start), lo + 1)
     if a.rounds:
-        print(f"rounds: {rounds} to lo {memo.lo_h(start)} in {time.perf_counter() - clock:.1f} s, "
-              f"{memo.count} nodes, {int(memo.st[sk.ST_CALLS])} questions", flush=True)
+        print(f"rounds: {rounds} to lo {memo.lo_h(start)} in {time.perf_counter() - clock:.1f} s "
+              f"({time.process_time() - cpu:.1f} s of CPU), {memo.count} nodes, {int(memo.st[sk.ST_CALLS])} questions",
+              flush=True)
     if a.sigma is not None:
-        clock = time.perf_counter()
+        clock, cpu = time.perf_counter(), time.process_time()
         bound = BudgetedBound(scene, formula, a.k, 1.0, NoHumanValue(scene, formula, 1.0, memo))
-        print(f"σ <= {a.sigma}? {bound.within(a.sigma)} in {time.perf_counter() - clock:.1f} s, "
+        print(f"σ <= {a.sigma}? {bound.within(a.sigma)} in {time.perf_counter() - clock:.1f} s "
+              f"({time.process_time() - cpu:.1f} s of CPU), "
               f"{memo.count} nodes", flush=True)
         memo.B = memo.bound.args()  # σ's searches tighten the memo; the question below only with --tighten
         memo.chunk = None
@@ -95,7 +97,7 @@ def main(argv: list[str]) -> None:
     old = np.zeros(memo.count, bool) if not a.rounds else memo.rec[:memo.count, sk.R_OFF] >= 0
     if a.tighten:
         memo.tighten()
-    clock = time.perf_counter()
+    clock, cpu = time.perf_counter(), time.process_time()
     try:
         ok = memo.ask(start, a.b, False, clock + a.seconds)
     except MemoryError:
@@ -104,7 +106,8 @@ def main(argv: list[str]) -> None:
         return
     took = time.perf_counter() - clock
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024
-    print(f"{a.n} x {a.m} x k = {a.k}: val <= {a.b}? {ok} in {took:.1f} s{' (tightened)' if a.tighten else ''}; "
+    print(f"{a.n} x {a.m} x k = {a.k}: val <= {a.b}? {ok} in {took:.1f} s "
+          f"({time.process_time() - cpu:.1f} s of CPU){' (tightened)' if a.tighten else ''}; "
           f"{int(memo.st[sk.ST_CALLS]) - calls0} questions, {memo.count - count0} new nodes ({memo.count} in all), "
           f"robot moves {int(memo.st[sk.ST_NE])}, human moves {int(memo.st[sk.ST_NH])}, "
           f"hi(start) {memo.hi_h(start)}, peak {peak} MB", flush=True)

@@ -53,13 +53,24 @@ def test_asked_again_at_the_value_it_proves_it_with_its_own_strategy():
         assert worst_case_of(scene, found, parse_ltlf(scene.task)) == value
 
 
-def test_asked_again_below_the_value_it_raises_the_lower_end():
-    far = 1e18
+def test_from_below_the_rounds_go_on_to_the_value_and_stop_at_the_end():
     for scene, k, value in _games():
         memo, start = _searched(scene, k)
         anytime = andor._answer(memo, start, value - 1, None, None, {}, {})
-        found = andor._resumed(anytime, memo, start, far)
-        assert not found.exact and found.lower_units == value, (scene.name, k)
+        found = andor._resumed(anytime, memo, start, 1e18)
+        assert found.exact and found.units == value, (scene.name, k)
+        assert worst_case_of(scene, found, parse_ltlf(scene.task)) == value
         memo, start = _searched(scene, k)
-        anytime = dataclasses.replace(andor._answer(memo, start, value - 1, None, None, {}, {}), units=value)
-        assert andor._resumed(anytime, memo, start, far).exact
+        anytime = andor._answer(memo, start, value - 1, None, None, {}, {})
+        assert andor._resumed(anytime, memo, start, 0.0).lower_units == value - 1  # (the end has passed)
+
+
+def test_a_raised_lower_end_meeting_the_upper_end_is_exact(monkeypatch):
+    scene, k, value = next(_games())
+    memo, start = _searched(scene, k)
+    monkeypatch.setattr(andor, "_search", lambda *args: (value, None, 1))  # rounds raised lo to value, no proof
+    anytime = andor._answer(memo, start, value - 2, None, None, {}, {})
+    found = andor._resumed(anytime, memo, start, 1e18)
+    assert not found.exact and found.lower_units == value and found.stats["lower_units"] == value
+    found = andor._resumed(dataclasses.replace(anytime, units=value), memo, start, 1e18)
+    assert found.exact and found.units == value and "lower_units" not in found.stats

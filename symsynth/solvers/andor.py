@@ -57,9 +57,9 @@ turns, move offsets and counts, key) plus its share of the hash table.
 Measured against the layered solver (bench/results/game-notes.md, issue
 32): it touches 2.5x fewer positions at pattern 6 x 8 and far fewer in the
 rounds below E_p, but the last round, which proves E_p from above, follows
-every human reply to a win; without an upper bound that certifies a reply
-unexpanded it grows with the replies and does not reach pattern 7 x 10 in
-a minute.
+every human reply to a win.  Trying σ's action first at h >= 1 and asking
+σ's question before the rest of that round brought pattern 7 x 10 x k = 3's
+proof within a minute (docs/benchmarks.md, issue 32).
 """
 
 from __future__ import annotations
@@ -69,6 +69,7 @@ import math
 import threading
 import time
 from collections.abc import Mapping
+from decimal import Decimal
 
 import numpy as np
 
@@ -99,20 +100,16 @@ MAX_ROUNDS = 1024
 #: Shares of a time limit: the search's rounds from below until ROUNDS_SHARE of it has
 #: passed, its rounds from above until SEARCH_SHARE; then, when the search proved E_p in
 #: neither, the replanning strategy's bound (`solvers.replan_budget`) and the hybrid's
-#: (`solvers.hybrid`) are asked for an upper end until REPLAN_SHARE more of the limit has
-#: passed.  The rounds from below are what proves E_p where the search can (6 x 8 x k = 3 at
-#: 60 s lost it with a quarter of the limit for them), and the hybrid's question is quick
-#: only at b = E_p, so the lower end must get there first (8 x 12 x k = 2: 712 with half of
-#: a 60 s limit, 718 with 0.65, load 4); the rounds from above never answered at 7 x 10 and
-#: beyond, so they get no share of their own, and σ's question needs 13-17 s of the rest at
-#: 7 x 10 (issue 32's measurements, bench/results/game-notes.md)
-ROUNDS_SHARE = 0.65
-SEARCH_SHARE = 0.65
-REPLAN_SHARE = 0.35
-#: The share of what σ's question leaves of the limit that the hybrid's gets; the search's
-#: last question, asked again on the memo σ's and the hybrid's questions filled, the rest
-#: (7 x 10 x k = 3: the proof of 740 from above took 34 s after σ's "<= 748?" against 81 s
-#: without, load 4.5; bench/above_proof.py)
+#: (`solvers.hybrid`, HYBRID_SHARE of what σ's leaves) are asked for an upper end, and the
+#: rounds from below go on until the limit (`_resumed`) on the memo σ's and the hybrid's
+#: no-human searches filled: 7 x 10 x k = 3's proof of 740 from above took 22 s of CPU after
+#: σ's "<= 748?" (16 s) against 53 s without (bench/above_proof.py), so σ is asked early;
+#: the rounds from above never answered at 7 x 10 and beyond and get no share of their own.
+#: 0.4 against 0.65 at load 6 (one run each): 8 x 12 x k = 2 exact against [720, 722],
+#: 7 x 10 x k = 3 [740, 748] both (exact at load 3.3-4.4 with 0.65); docs/benchmarks.md
+ROUNDS_SHARE = 0.4
+SEARCH_SHARE = 0.4
+REPLAN_SHARE = 0.6
 HYBRID_SHARE = 0.25
 
 
@@ -355,15 +352,15 @@ def search_tables(tables: Tables, formula: ast.Formula, budget: float | None, se
         now = time.perf_counter()
         solution = hybrid_answer(solution, memo, start, formula, now + (end - now) * HYBRID_SHARE, bound)
     if not solution.exact:
-        solution = _resumed(solution, memo, start, end)
+        solution = _resumed(solution, memo, start, begun + time_limit)
     if isinstance(solution.strategy, ProvenStrategy):  # σ's searches on the memo may have moved its actions at h = 0
         solution = dataclasses.replace(solution, principal_play=Proof(memo).play(start),
                                        stats=dict(solution.stats) | _sizes(memo))
     return solution
 
 
-def _answer(memo: Memo, start: int, lower: int | None, upper: int | None, budget: float | None,
-            seconds: dict[str, float], stats: dict[str, int | float | None]) -> Solution:
+def _answer(memo: Memo, start: int, lower: int | None, upper: int | None, budget: float | Decimal | None,
+            seconds: Mapping[str, float], stats: Mapping[str, int | float | None]) -> Solution:
     """What the memo proves at `start`: E_p = upper (None: infinite) when lower
     is None, else lower <= E_p <= upper (None: no strategy proven); the proof's
     strategy and play, realized over the symmetry's classes."""
@@ -375,8 +372,8 @@ def _answer(memo: Memo, start: int, lower: int | None, upper: int | None, budget
     exact = lower is None
     realizable = bracket_verdict(lower, upper, t.resolution, budget)
     counter = principal if realizable is False and exact else None
-    seconds["plays"] = seconds.get("plays", 0.0) + time.perf_counter() - clock
-    stats = stats | _sizes(memo)
+    seconds = {**seconds, "plays": seconds.get("plays", 0.0) + time.perf_counter() - clock}
+    stats = {**stats, **_sizes(memo)}
     if not exact:
         stats["lower_units"] = lower
     solution = Solution(None if upper is None else in_costmap_units(upper, t.resolution), upper, t.resolution, budget,
@@ -386,22 +383,19 @@ def _answer(memo: Memo, start: int, lower: int | None, upper: int | None, budget
 
 
 def _resumed(solution: Solution, memo: Memo, start: int, end: float) -> Solution:
-    """`solution` (an anytime answer) with the search's last question, "val <=
-    lower?", asked again until `end` on the memo as σ's and τ_1's questions
-    left it (the h = 0 values they proved answer replies and give the h >= 1
-    turns their first action): exact at the lower end on a yes, the lower end
-    raised on a no (exact when it meets the upper end)."""
-    lower = solution.lower_units
-    assert lower is not None
+    """`solution` (an anytime answer) with the search's rounds from below
+    going on until `end` on the memo as σ's and τ_1's questions left it (the
+    h = 0 values they proved answer replies and give the h >= 1 turns their
+    first action): exact when a round answers yes, else the lower end raised
+    to the last round's (exact when it meets the upper end)."""
     clock = time.perf_counter()
-    ok = memo.ask(start, lower, False, end) if clock < end else None
+    lower, upper, _ = _search(memo, start, end, end) if clock < end else (solution.lower_units, None, 0)
     stats = dict(solution.stats) | {"resumed_seconds": round(time.perf_counter() - clock, 2)}
-    if ok is None:
-        return dataclasses.replace(solution, stats=stats)
     stats.pop("lower_units", None)
-    if ok:
-        return _answer(memo, start, None, lower, solution.budget, solution.seconds, stats | {"upper_by": "search"})
-    raised = max(memo.lo_h(start), lower + 1)
+    if lower is None:
+        return _answer(memo, start, None, upper, solution.budget, solution.seconds, stats | {"upper_by": "search"})
+    assert lower is not None and solution.lower_units is not None
+    raised = max(lower, solution.lower_units)
     exact = solution.units is not None and raised >= solution.units
     if not exact:
         stats["lower_units"] = raised
