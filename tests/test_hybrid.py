@@ -76,7 +76,7 @@ def test_an_anytime_answer_tightened_by_the_hybrid_holds_the_value(monkeypatch, 
     holds the explicit solver's value, the ones the hybrid made exact are it,
     and the hybrid's strategy pays at most its upper end against every human.
     The search's last question is not asked again after the hybrid's (that
-    is `test_andor_resumed`'s)."""
+    is `test_andor_above`'s)."""
     andor.prepare()  # (its warm-up game is solved by the search as it is)
     search = andor._search
     monkeypatch.setattr(andor, "_resumed", lambda solution, *args: solution)
