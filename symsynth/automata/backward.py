@@ -196,7 +196,7 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
     The successors of a state are numbered as a depth-first walk (high
     branch first) of T meets them; nodes at atom levels met for an earlier
     state are not walked again (every successor below them has its number).
-    The walk lists those nodes children first (`exits` given `inner`), and
+    The walk lists those nodes children first (numbered.py's `Listing`), and
     the DFA is given by them as one diagram whose leaves are the successors'
     numbers (numbered.py), from which the moves (T with each successor's
     node replaced by the cube of its number, one `ite` per node at atom
