@@ -24,7 +24,7 @@ from __future__ import annotations
 from array import array
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 from symsynth.automata import moves as moves_
 from symsynth.automata.bdd import BDD, Function, branches
@@ -131,8 +131,8 @@ class Listing:
                 key, level, lo, hi = node
                 codes[key] = -1 - len(var)
                 var.append(level)
-                low.append(code(lo))
-                high.append(code(hi))
+                low.append(cast(int, code(lo)))  # (children have codes by now)
+                high.append(cast(int, code(hi)))
                 continue
             key = int(node)
             if code(key) is not None:
@@ -145,7 +145,7 @@ class Listing:
                 lo, hi = branches(bdd, node)
                 stack.append((key, node.level, int(lo), int(hi)))
                 stack += (lo, hi)  # (high popped first)
-        self.roots.append(code(int(t)))
+        self.roots.append(cast(int, code(int(t))))
         if len(codes) >= self.recent:
             self._age()
 
