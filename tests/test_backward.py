@@ -19,6 +19,7 @@ from symsynth.automata import compile_ltlf
 from symsynth.automata.backward import Backward, backward_dfa
 from symsynth.automata.bdd import cofactor, exits
 from symsynth.automata.normal import nnf
+from symsynth.automata.numbered import Listing
 from symsynth.automata.progression import Progression, TooLarge
 from symsynth.logic import ast, atoms, holds, parse_ltlf, to_string
 from symsynth.logic.ast import depth
@@ -128,24 +129,29 @@ def test_the_obligations_on_the_least_nested_operands_come_first():
 
 @settings(max_examples=60, deadline=None)
 @given(formulas(max_depth=4))
-def test_the_walk_meets_the_successors_as_exits_does_and_lists_nodes_children_first(formula):
-    """`exits` with `inner` numbers the states (the order it gives the
+def test_the_listing_meets_the_successors_as_exits_does_and_lists_nodes_children_first(formula):
+    """`Listing.walk` numbers the states (the order it gives the
     successors in) and lists the nodes the moves are made from: the same
-    successors in the same order as without it, and every listed node
-    after its children (a successor, or a node listed before it)."""
+    successors in the same order as `exits`, every listed node once and
+    after its children (a state, or a node listed before it), and the
+    same listing whether its codes move to the sorted arrays after every
+    walk or stay in the dict."""
     progression = Progression(keys(formula))
     automaton = Backward(progression, nnf(formula))
     bdd, top = progression.bdd, len(progression.atom_keys)
     order = [automaton.initial()]
-    walked: set = set()
+    listings = [Listing(bdd, top, order[0], recent) for recent in (1, 1 << 20)]
     seen: set = set()
-    inner: list = []
+    tops = []
     for state in itertools.islice(order, 40):  # the first 40 states met: the list grows as it is walked
-        t = automaton.successors(state)
-        met = list(exits(bdd, t, top, walked, inner))
-        assert met == list(exits(bdd, t, top, seen)), to_string(formula)
-        order += [node for node in met if node not in order]
-    done = set(order)
-    for level, node, low, high in inner:
-        assert low in done and high in done and node not in done and node.level == level < top
-        done.add(node)
+        tops.append(automaton.successors(state))  # (alive: the listings hold their nodes' ids)
+        met = [node for node in exits(bdd, tops[-1], top, seen) if node not in order]
+        for listing in listings:
+            assert list(listing.walk(tops[-1])) == met, to_string(formula)
+        order += met
+    aged, kept = listings
+    assert aged.old is not None and kept.old is None
+    assert (aged.order, aged.var, aged.low, aged.high, aged.roots) == (kept.order, kept.var, kept.low, kept.high, kept.roots)
+    assert len(set(zip(kept.var, kept.low, kept.high))) == len(kept.var)  # (a reduced BDD: one node, one triple)
+    for k, (level, low, high) in enumerate(zip(kept.var, kept.low, kept.high)):
+        assert level < top and all(0 <= code < len(order) or 0 <= -1 - code < k for code in (low, high))

@@ -63,11 +63,9 @@ between letters and states.
 
 from __future__ import annotations
 
-from array import array
-
-from symsynth.automata.bdd import Function, and_exists, branches, children_first, exits, swap
+from symsynth.automata.bdd import Function, and_exists, branches, children_first, swap
 from symsynth.automata.growth import grew
-from symsynth.automata.numbered import Numbered
+from symsynth.automata.numbered import Listing
 from symsynth.automata.progression import GuardedDFA, Progression, TooLarge
 from symsynth.logic import ast
 
@@ -198,7 +196,7 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
     The successors of a state are numbered as a depth-first walk (high
     branch first) of T meets them; nodes at atom levels met for an earlier
     state are not walked again (every successor below them has its number).
-    The walk lists those nodes children first (`exits` given `inner`), and
+    The walk lists those nodes children first (numbered.py's `Listing`), and
     the DFA is given by them as one diagram whose leaves are the successors'
     numbers (numbered.py), from which the moves (T with each successor's
     node replaced by the cube of its number, one `ite` per node at atom
@@ -212,39 +210,17 @@ def backward_dfa(progression: Progression, formula: ast.Formula, max_states: int
     num_atoms = len(progression.atom_keys)
     if any(bdd.level_of_var(key) != i for i, key in enumerate(progression.atom_keys)):  # (the diagram reads atoms by level)
         raise AssertionError("internal error: the atoms are not the top levels of the manager, in their order")
-    start = automaton.initial()
-    index = {start: 0}
-    order = [start]
-    tops: list[Function] = []  # T of each state
-    walked: set[Function] = set()
-    inner: list[tuple[int, Function, Function, Function]] = []
+    listing = Listing(bdd, num_atoms, automaton.initial())
+    order = listing.order
+    tops: list[Function] = []  # T of each state (alive while the listing holds their nodes' ids)
     for state in order:  # `order` grows while we walk it: BFS
         grew(len(order))
         top = automaton.successors(state)
         tops.append(top)
-        for node in exits(bdd, top, num_atoms, walked, inner):  # the successors, each node walked once in all
-            if node not in index:
-                if max_states is not None and len(order) >= max_states:
-                    raise TooLarge(f"more than {max_states} states")
-                index[node] = len(order)
-                order.append(node)
-    del walked
-    numbered = _numbered(progression.atom_keys, index, inner, tops)
-    del inner
+        for _ in listing.walk(top):  # the successors, numbered, each node walked once in all
+            if max_states is not None and len(order) > max_states:
+                raise TooLarge(f"more than {max_states} states")
+    numbered = listing.numbered(progression.atom_keys)
+    del tops, listing
     return GuardedDFA(bdd, 0, [automaton.accepts(s) for s in order], numbered=numbered)
-
-
-def _numbered(atoms: list[str], index: dict[Function, int],
-              inner: list[tuple[int, Function, Function, Function]], tops: list[Function]) -> Numbered:
-    """The moves of every state as one diagram (numbered.py): the
-    successors numbered by `index`, the nodes of `inner` (children first;
-    their levels are the atoms' positions, the atoms being highest) after
-    them, each state's moves at its T."""
-    ids = dict(index)
-    ids.update(zip([node for _, node, _, _ in inner], range(len(ids), len(ids) + len(inner))))
-    # (machine integers: a third of lists' memory)
-    var = array("i", [level for level, _, _, _ in inner])
-    low = array("q", [ids[lo] for _, _, lo, _ in inner])
-    high = array("q", [ids[hi] for _, _, _, hi in inner])
-    return Numbered(atoms, var, low, high, [ids[t] for t in tops])
 

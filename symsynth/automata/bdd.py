@@ -238,36 +238,24 @@ def split_letters(bdd: BDD, u: Function, top: int,
     return below[u]
 
 
-def exits(bdd: BDD, u: Function, top: int, seen: set[Function] | None = None,
-          inner: list[tuple[int, Function, Function, Function]] | None = None) -> Iterator[Function]:
+def exits(bdd: BDD, u: Function, top: int, seen: set[Function] | None = None) -> Iterator[Function]:
     """The nodes where the paths of `u` leave the atom levels (the levels
     above `top`: the successors `split_letters` gives, without their
     guards), each once, in the order a depth-first walk (high branch first)
     meets them.  `seen`: nodes walked already (by earlier calls sharing
-    it), neither walked nor given again.  `inner`, when given, gets each
-    node walked above `top` as `(its level, node, low, high)` once its
-    children are walked or given: children first over all calls sharing
-    `seen` and `inner` (on the stack such a tuple is a node whose subtree
-    is done)."""
+    it), neither walked nor given again."""
     true, false = bdd.true, bdd.false
     seen = set() if seen is None else seen
-    listed = [] if inner is None else inner
-    stack: list[Any] = [u]
+    stack = [u]
     while stack:
         node = stack.pop()
-        if type(node) is tuple:
-            listed.append(node)
-            continue
         if node in seen:
             continue
         seen.add(node)
         if node == true or node == false or node.level >= top:
             yield node
         else:
-            low, high = branches(bdd, node)
-            if inner is not None:
-                stack.append((node.level, node, low, high))
-            stack += (low, high)  # (high popped first)
+            stack += branches(bdd, node)  # (high popped first)
 
 
 def children_first(bdd: BDD, root: Function, done: Any) -> Iterable[tuple[Function, Function, Function]]:

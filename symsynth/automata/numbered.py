@@ -21,12 +21,13 @@ BDDs: a reduced, ordered BDD with complemented edges is canonical.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from array import array
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, cast
 
 from symsynth.automata import moves as moves_
-from symsynth.automata.bdd import BDD, Function
+from symsynth.automata.bdd import BDD, Function, branches
 
 if TYPE_CHECKING:
     import numpy as np
@@ -89,6 +90,108 @@ class Numbered:
             edges[:n] = 1 - (numbers >> j & 1)  # true (edge 0) where bit j is set, else false (1)
             functions[name] = _made(bdd, *_reduced(names, edges, levels, children, roots))
         return functions
+
+
+class Listing:
+    """The diagram of `Numbered` as a walk meets it: the states (the nodes
+    where paths leave the atom levels, levels below `top`) numbered in the
+    order a depth-first walk (high branch first) of each state's successor
+    BDD T meets them, T's nodes at atom levels listed children first, each
+    node walked once over all the walks.
+
+    Nodes are held by their integer ids (`int(u)`: CUDD's pointer and
+    complement bit), each mapped to its code: a state's number, or `-1 - k`
+    for listed node k; the listed nodes in machine integer arrays.  The
+    latest codes are in a dict (about 100 bytes an entry); past `recent`
+    of them, after a walk, they move to sorted arrays (12 bytes an entry;
+    a lookup there is a binary search, slower).  An id stands for its node
+    only while the node lives: the caller keeps every T given to `walk`
+    (its nodes) and the states (`order`) until the diagram is made."""
+
+    def __init__(self, bdd: BDD, top: int, start: Function, recent: int = 1 << 23) -> None:
+        self.bdd, self.top, self.recent = bdd, top, recent
+        self.order = [start]  # the states, by number
+        self.codes = {int(start): 0}
+        self.old: tuple[np.ndarray, np.ndarray] | None = None  # (sorted ids, their codes)
+        self.var, self.low, self.high = array("i"), array("q"), array("q")
+        self.roots = array("q")  # each walked T's code
+
+    def walk(self, t: Function) -> Iterator[Function]:
+        """T's states not met before, numbered (appended to `order`) and
+        given as they are met; T's nodes at atom levels not met before
+        listed, each once its children have codes.  (Walk to the end.)"""
+        bdd, codes, top, order = self.bdd, self.codes, self.top, self.order
+        var, low, high = self.var, self.low, self.high
+        true, false = bdd.true, bdd.false
+        code = self._code
+        stack: list[Any] = [t]
+        while stack:
+            node = stack.pop()
+            if type(node) is tuple:  # (its subtree is done)
+                key, level, lo, hi = node
+                codes[key] = -1 - len(var)
+                var.append(level)
+                low.append(cast(int, code(lo)))  # (children have codes by now)
+                high.append(cast(int, code(hi)))
+                continue
+            key = int(node)
+            if code(key) is not None:
+                continue
+            if node == true or node == false or node.level >= top:
+                codes[key] = len(order)
+                order.append(node)
+                yield node
+            else:
+                lo, hi = branches(bdd, node)
+                stack.append((key, node.level, int(lo), int(hi)))
+                stack += (lo, hi)  # (high popped first)
+        self.roots.append(cast(int, code(int(t))))
+        if len(codes) >= self.recent:
+            self._age()
+
+    def _code(self, key: int) -> int | None:
+        """The code of id `key`, None for an id not met."""
+        found = self.codes.get(key)
+        if found is not None or self.old is None:
+            return found
+        import numpy as np
+
+        keys, values = self.old
+        i = int(np.searchsorted(keys, key))
+        return int(values[i]) if i < len(keys) and keys[i] == key else None
+
+    def _age(self) -> None:
+        """The dict's codes moved into the sorted arrays."""
+        import numpy as np
+
+        codes = self.codes
+        keys = np.fromiter(codes.keys(), np.int64, len(codes))
+        values = np.fromiter(codes.values(), np.int32, len(codes))
+        codes.clear()
+        by_key = np.argsort(keys)
+        keys, values = keys[by_key], values[by_key]
+        if self.old is not None:
+            where = np.searchsorted(self.old[0], keys)
+            keys, values = np.insert(self.old[0], where, keys), np.insert(self.old[1], where, values)
+        self.old = keys, values
+
+    def numbered(self, atoms: Sequence[str]) -> Numbered:
+        """The diagram (atoms top first: a listed node's level is its
+        atom's position), each walked T a root: listed node k gets id
+        `num_states + k`.  The listing ends here (its ids are dropped)."""
+        n = len(self.order)
+        self.codes.clear()
+        self.old = None
+        for codes in (self.low, self.high, self.roots):
+            if len(codes) >= ARRAYS_FROM:
+                import numpy as np
+
+                ids = np.frombuffer(codes, dtype=np.int64)  # (a view: changed in place)
+                inner = ids < 0
+                ids[inner] = n - 1 - ids[inner]
+            else:
+                codes[:] = array("q", [c if c >= 0 else n - 1 - c for c in codes])
+        return Numbered(atoms, self.var, self.low, self.high, self.roots)
 
 
 def _reduced(names: Sequence[str], edges: np.ndarray, levels: list[tuple[str, np.ndarray]],

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import signal
 import sys
 import threading
@@ -115,6 +116,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"symsynth {args.command}: out of memory: this problem needs more memory than the process "
               "may take (its address-space limit or the machine's memory); nothing more was written",
               file=sys.stderr)
+        if argv is None:  # the program itself: it ends here, its finalizers not run (a CUDD operation
+            # stopped by the lack of memory can leave references behind, which dd reports as an
+            # error, with a traceback, when the manager is freed)
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(1)
         return 1
     except BrokenPipeError:  # e.g. `symsynth dfa --json ... | head`
         sys.stdout = None
