@@ -74,9 +74,12 @@ def test_an_anytime_answer_tightened_by_the_hybrid_holds_the_value(monkeypatch, 
     """The search's proof from above withheld (it returns its value less `drop`
     as a lower end only), and with `drop` = 0 σ's bound too: every answer
     holds the explicit solver's value, the ones the hybrid made exact are it,
-    and the hybrid's strategy pays at most its upper end against every human."""
+    and the hybrid's strategy pays at most its upper end against every human.
+    The search's last question is not asked again after the hybrid's (that
+    is `test_andor_resumed`'s)."""
     andor.prepare()  # (its warm-up game is solved by the search as it is)
     search = andor._search
+    monkeypatch.setattr(andor, "_resumed", lambda solution, *args: solution)
 
     def from_below(memo, start, deadline, rounds_until=None):
         lower, upper, rounds = search(memo, start, None)

@@ -4,8 +4,8 @@ positions of the compiled solver (`solvers.packed`).
 
 From the initial position it asks one question, "is val(p) <= b?", depth
 first (`packed.search._ask`): at a robot turn (an OR node) some action of
-cost c must have val(after) <= b - c, tried in order of c + lo(after); at a
-human turn (an AND node) the pass and every move must have val <= b, the
+cost c must have val(after) <= b - c, tried in order of c + lo(after), with
+h >= 1 the one proven at h = 0 (σ's) first; at a human turn (an AND node) the pass and every move must have val <= b, the
 reply that refuted the last question first, then by lo, largest first.
 Each position (state, DFA state, h: the human's moves left) is a node of a
 hash table of packed keys with four proven numbers, for its robot and its
@@ -68,14 +68,13 @@ import dataclasses
 import math
 import threading
 import time
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Mapping
 
 import numpy as np
 
-from symsynth.game.abstraction import (State, after_robot_action, in_costmap_units, initial_state,
-                                       legal_human_moves)
-from symsynth.game.solution import (OutOfReach, Position, Solution, Step, bracket_verdict, check_parameters,
-                                    task_formula, won_at_start)
+from symsynth.game.abstraction import in_costmap_units, initial_state
+from symsynth.game.solution import (OutOfReach, Solution, bracket_verdict, check_parameters, task_formula,
+                                    won_at_start)
 from symsynth.game.symmetry import Symmetry
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
@@ -84,6 +83,7 @@ from symsynth.solvers.packed.kernels import INF, _find, _table
 from symsynth.solvers.packed.lower import BoundTables
 from symsynth.solvers.packed.trap import _trap
 from symsynth.solvers.packed.tables import Tables, check_width
+from symsynth.solvers.andor_proof import Proof, ProvenStrategy, worst_reply  # noqa: F401  (andor.worst_reply: hybrid)
 from symsynth.solvers.hybrid import hybrid_answer
 from symsynth.solvers.replan_budget import replanned_answer
 
@@ -109,6 +109,11 @@ MAX_ROUNDS = 1024
 ROUNDS_SHARE = 0.65
 SEARCH_SHARE = 0.65
 REPLAN_SHARE = 0.35
+#: The share of what σ's question leaves of the limit that the hybrid's gets; the search's
+#: last question, asked again on the memo σ's and the hybrid's questions filled, the rest
+#: (7 x 10 x k = 3: the proof of 740 from above took 34 s after σ's "<= 748?" against 81 s
+#: without, load 4.5; bench/above_proof.py)
+HYBRID_SHARE = 0.25
 
 
 class Memo:
@@ -143,7 +148,8 @@ class Memo:
         #: a time past which every question stops where its chunk ends, raising `CutOff`
         #: (set by a caller whose questions take no deadline of their own: `solvers.replan`)
         self.cutoff: float | None = None
-        self.st = np.zeros(9, np.int64)
+        self.st = np.zeros(10, np.int64)
+        self.st[sk.ST_HINT] = 1
         self.st[sk.ST_BITS] = self.bits
         self.st[sk.ST_DEPTH] = 256
         self.scratch = [np.empty(t.n, np.int64), np.empty(t.n, np.int64),
@@ -340,31 +346,68 @@ def search_tables(tables: Tables, formula: ast.Formula, budget: float | None, se
     lower, upper, rounds = _search(memo, start, deadline,
                                    None if time_limit is None else begun + time_limit * ROUNDS_SHARE)
     seconds["search"] = time.perf_counter() - clock
-    clock = time.perf_counter()
-    proof = Proof(memo)
-    strategy: Mapping = ProvenStrategy(proof) if upper is not None else {}
-    principal = () if upper is None else proof.play(start)
-    exact = lower is None
-    realizable = bracket_verdict(lower, upper, resolution, budget)
-    counter = principal if realizable is False and exact else None
-    seconds["plays"] = time.perf_counter() - clock
-    stats: dict[str, int | float | None] = {"rounds": rounds, **_sizes(memo)}
-    if not exact:
-        stats["lower_units"] = lower
-    solution = Solution(None if upper is None else in_costmap_units(upper, resolution), upper, resolution, budget,
-                        realizable, k, 2 * memo.count, seconds, strategy, principal, counter,
-                        scene.object_names, stats, lower_units=None if exact else lower)
-    solution = solution if symmetry is None else symmetry.realize(solution)
+    solution = _answer(memo, start, lower, upper, budget, seconds, {"rounds": rounds})
     if time_limit is None or solution.exact or k == 0 or lower is None:
         return solution
     end = begun + time_limit * (SEARCH_SHARE + REPLAN_SHARE)
     solution, bound = replanned_answer(solution, scene, formula, k, budget, end, memo if symmetry is None else None)
     if not solution.exact:
-        solution = hybrid_answer(solution, memo, start, formula, end, bound)
+        now = time.perf_counter()
+        solution = hybrid_answer(solution, memo, start, formula, now + (end - now) * HYBRID_SHARE, bound)
+    if not solution.exact:
+        solution = _resumed(solution, memo, start, end)
     if isinstance(solution.strategy, ProvenStrategy):  # σ's searches on the memo may have moved its actions at h = 0
-        solution = dataclasses.replace(solution, principal_play=proof.play(start),
+        solution = dataclasses.replace(solution, principal_play=Proof(memo).play(start),
                                        stats=dict(solution.stats) | _sizes(memo))
     return solution
+
+
+def _answer(memo: Memo, start: int, lower: int | None, upper: int | None, budget: float | None,
+            seconds: dict[str, float], stats: dict[str, int | float | None]) -> Solution:
+    """What the memo proves at `start`: E_p = upper (None: infinite) when lower
+    is None, else lower <= E_p <= upper (None: no strategy proven); the proof's
+    strategy and play, realized over the symmetry's classes."""
+    t = memo.t
+    clock = time.perf_counter()
+    proof = Proof(memo)
+    strategy: Mapping = ProvenStrategy(proof) if upper is not None else {}
+    principal = () if upper is None else proof.play(start)
+    exact = lower is None
+    realizable = bracket_verdict(lower, upper, t.resolution, budget)
+    counter = principal if realizable is False and exact else None
+    seconds["plays"] = seconds.get("plays", 0.0) + time.perf_counter() - clock
+    stats = stats | _sizes(memo)
+    if not exact:
+        stats["lower_units"] = lower
+    solution = Solution(None if upper is None else in_costmap_units(upper, t.resolution), upper, t.resolution, budget,
+                        realizable, memo.k, 2 * memo.count, seconds, strategy, principal, counter,
+                        t.scene.object_names, stats, lower_units=None if exact else lower)
+    return solution if t.symmetry is None else t.symmetry.realize(solution)
+
+
+def _resumed(solution: Solution, memo: Memo, start: int, end: float) -> Solution:
+    """`solution` (an anytime answer) with the search's last question, "val <=
+    lower?", asked again until `end` on the memo as σ's and τ_1's questions
+    left it (the h = 0 values they proved answer replies and give the h >= 1
+    turns their first action): exact at the lower end on a yes, the lower end
+    raised on a no (exact when it meets the upper end)."""
+    lower = solution.lower_units
+    assert lower is not None
+    clock = time.perf_counter()
+    ok = memo.ask(start, lower, False, end) if clock < end else None
+    stats = dict(solution.stats) | {"resumed_seconds": round(time.perf_counter() - clock, 2)}
+    if ok is None:
+        return dataclasses.replace(solution, stats=stats)
+    stats.pop("lower_units", None)
+    if ok:
+        return _answer(memo, start, None, lower, solution.budget, solution.seconds, stats | {"upper_by": "search"})
+    raised = max(memo.lo_h(start), lower + 1)
+    exact = solution.units is not None and raised >= solution.units
+    if not exact:
+        stats["lower_units"] = raised
+    return dataclasses.replace(solution, lower_units=None if exact else raised, stats=stats,
+                               realizable=bracket_verdict(None if exact else raised, solution.units,
+                                                          solution.resolution, solution.budget))
 
 
 def _sizes(memo: Memo) -> dict[str, int | float]:
@@ -427,99 +470,6 @@ def _search(memo: Memo, start: int, deadline: float | None,
     if hi <= lo:
         return None, hi, rounds
     return lo, (None if hi >= INF else hi), rounds
-
-
-class Proof:
-    """The memo's proven entries read back: positions, the chosen actions, plays."""
-
-    def __init__(self, memo: Memo):
-        self.memo, self.t = memo, memo.t
-
-    def index(self, position: Position) -> int | None:
-        v, q, h = position
-        qi = self.t.dfa_index.get(q)
-        if qi is None or not 0 <= h <= self.memo.k:
-            return None
-        return self.memo.find(self.memo.key2(self.t.pack(v), qi, h))
-
-    def position(self, i: int) -> Position:
-        t, memo = self.t, self.memo
-        key2 = int(memo.rec[i, sk.KEY])
-        key = key2 >> memo.hb
-        return (t.unpack(key >> t.qbits), t.dfa_states[key & ((1 << t.qbits) - 1)], key2 & ((1 << memo.hb) - 1))
-
-    def hi_r(self, i: int) -> int:
-        return int(self.memo.rec[i, sk.HI_R])
-
-    def chosen(self, i: int) -> tuple[str, int, int]:
-        """(action, units, node after or -1) of the robot's proven action at node i."""
-        memo, t = self.memo, self.t
-        e = int(memo.rec[i, sk.R_OFF]) + int(sk._small(memo.rec, np.int64(i), np.int64(32))) - 1
-        move = int(memo.rm_move[e])
-        return t.action(t.code(move)), t.units(move), int(memo.rm_tgt[e])
-
-    def play(self, start: int) -> tuple[Step, ...]:
-        """The proven strategy against the replies of largest proven hi (the
-        pass first on ties), to the win."""
-        t, r = self.t, self.t.resolution
-        play: list[Step] = []
-        i = start
-        while True:
-            v, q, h = self.position(i)
-            step, i = worst_reply(self.memo, v, t.dfa_index[q], h, i, self.hi_r)
-            if step is not None:
-                play.append(step)
-                if i < 0:
-                    return tuple(play)
-                v = self.position(i)[0]
-            action, units, i = self.chosen(i)
-            after = after_robot_action(t.scene, v, action)
-            play.append(Step("robot", action, in_costmap_units(units, r), after))
-            if i < 0:
-                return tuple(play)
-
-
-def worst_reply(memo: Memo, v: State, q: int, h: int, i: int, value: Callable[[int], int]) -> tuple[Step | None, int]:
-    """The human's reply at node i (state v, DFA state index q, h moves left)
-    of the largest `value` of its node (0 for a reply that wins; the pass,
-    valued at i's own, first on ties): (its step, None for the pass; its
-    node, -1 when the reply wins).  Every reply must have been generated."""
-    t = memo.t
-    best: tuple[int, Step | None, int] = (value(i), None, i)
-    for mv in (legal_human_moves(t.scene, v) if h > 0 else ()):
-        w = t.canon(t.pack(mv.after))
-        q2 = t.step(q, w)
-        j = -1 if t.accepting[q2] else memo.find(memo.key2(w, q2, h - 1))
-        if j is None:
-            raise RuntimeError("internal error: a human reply of the proof was never generated")
-        worth = 0 if j < 0 else value(j)
-        if worth > best[0]:
-            best = (worth, Step("human", mv.action, 0.0, mv.after), j)
-    return best[1], best[2]
-
-
-class ProvenStrategy(Mapping):
-    """The robot's proven action at every position with an entry: every play
-    of it from there costs at most the entry's hi (module doc)."""
-
-    def __init__(self, proof: Proof):
-        self._proof = proof
-
-    def __getitem__(self, position: Position) -> str:
-        i = self._proof.index(position)
-        if i is None or self._proof.hi_r(i) >= INF:
-            raise KeyError(position)
-        return self._proof.chosen(i)[0]
-
-    def _proven(self) -> np.ndarray:
-        memo = self._proof.memo
-        return np.flatnonzero(memo.rec[:memo.count, sk.HI_R] < INF)
-
-    def __iter__(self) -> Iterator[Position]:
-        return iter([self._proof.position(int(i)) for i in self._proven()])
-
-    def __len__(self) -> int:
-        return len(self._proven())
 
 
 _warm = threading.RLock()  # prepare solves a game, which calls prepare

@@ -10,7 +10,7 @@ is an object's place, the end-effector and the grip, so it becomes arrays
 indexed by object, place and group; scenes with contacts (slides) get no
 bound here (`enabled` False, the bound 0).
 
-**The assignment bound A(v)** (`search._assignment`), on when every group
+**The assignment bound A(v)** (`assign._assignment`), on when every group
 (a location l with atoms `at(X, l)`) has one candidate and no object is the
 candidate of two: then each object c has at most one goal l(c), and M is
 the set of objects not at their goal.  Against the human who passes, take
