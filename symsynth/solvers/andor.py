@@ -84,7 +84,7 @@ from symsynth.solvers.packed.kernels import INF, _find, _table
 from symsynth.solvers.packed.lower import BoundTables
 from symsynth.solvers.packed.trap import _trap
 from symsynth.solvers.packed.tables import Tables, check_width
-from symsynth.solvers.andor_proof import Proof, ProvenStrategy, worst_reply  # noqa: F401  (andor.worst_reply: hybrid)
+from symsynth.solvers.andor_proof import Proof, ProvenStrategy
 from symsynth.solvers.hybrid import hybrid_answer
 from symsynth.solvers.replan_budget import replanned_answer
 

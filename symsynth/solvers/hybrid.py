@@ -86,6 +86,7 @@ from collections.abc import Iterator, Mapping
 from symsynth.game.abstraction import after_robot_action, in_costmap_units
 from symsynth.game.solution import OutOfReach, Position, Solution, Step, bracket_verdict
 from symsynth.logic import ast
+from symsynth.solvers.andor_proof import worst_reply
 from symsynth.solvers.packed import search as sk
 from symsynth.solvers.replan import NoHumanValue
 from symsynth.solvers.replan_budget import BudgetedBound, Deadline
@@ -103,10 +104,7 @@ class Hybrid:
     lower bounds raised by the search's rounds), σ's questions to `bound`."""
 
     def __init__(self, memo, bound: BudgetedBound, j: int, start: int):
-        from symsynth.solvers import andor
-
         self.memo, self.bound, self.j, self.start = memo, bound, j, start
-        self._andor = andor
         self.hi_r: dict[int, tuple[int, int]] = {}  # node -> (hi, the move's index in rm_*)
         self.hi_h: dict[int, int] = {}
         self.leaf: dict[int, int] = {}  # node at h = j -> least budget σ was certified within
@@ -268,7 +266,7 @@ class Hybrid:
         while True:
             x, q = memo.position(int(memo.rec[i, sk.KEY]))
             v, h = t.unpack(x), self._h(i)
-            step, after = self._andor.worst_reply(memo, v, q, h, i, self._kept)
+            step, after = worst_reply(memo, v, q, h, i, self._kept)
             if step is not None:
                 steps.append(step)
                 if after < 0:

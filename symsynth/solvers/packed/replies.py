@@ -37,7 +37,7 @@ from symsynth.solvers.packed.kernels import (INF, KIND_DROP, KIND_GRAB, KIND_SLI
 from symsynth.solvers.packed.search import HI_R, KEY, R_OFF, ST_BITS, _ask, _lo_h, _node, _room, _small
 
 # numba's disk cache checks only this file's source (tests/test_numba_cache.py)
-COMPILED_WITH = {"kernels.py": "e4a5b3789bf06122", "search.py": "cbcfdf0f34e430a5"}
+COMPILED_WITH = {"kernels.py": "e4a5b3789bf06122", "search.py": "8826aee9e9f8d25b"}
 
 
 @njit(cache=True)

@@ -27,7 +27,6 @@ file).
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 from symsynth.solvers.packed.assign import _assignment

@@ -9,7 +9,7 @@ from symsynth.solvers.packed.search import H_OFF, INF, KEY, LO_H, LO_R, R_OFF, _
 
 # numba's disk cache checks only this file's source: search.py's SHA-256 (first 16 hex
 # digits) stands here so that a change there recompiles `_trap` (tests/test_numba_cache.py).
-COMPILED_WITH = {"search.py": "cbcfdf0f34e430a5"}
+COMPILED_WITH = {"search.py": "8826aee9e9f8d25b"}
 
 
 @njit(cache=True)
