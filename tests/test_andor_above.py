@@ -125,3 +125,34 @@ def test_a_raised_lower_end_meeting_the_upper_end_is_exact(monkeypatch):
     assert not found.exact and found.lower_units == value and found.stats["lower_units"] == value
     found = andor._resumed(dataclasses.replace(anytime, units=value), memo, start, 1e18)
     assert found.exact and found.units == value and "lower_units" not in found.stats
+
+
+def test_a_raised_lower_end_above_the_budget_keeps_the_play_as_counter_play(monkeypatch):
+    """Exact and lost within the budget: the play that makes the robot pay
+    E_p is the counter play, as every other exact answer says it."""
+    scene, k, value = next(_games())
+    memo, start = _searched(scene, k)
+    monkeypatch.setattr(andor, "_search", lambda *args: (value, None, 1))
+    anytime = andor._answer(memo, start, value - 2, None, None, {}, {})
+    resolution = anytime.resolution
+    play = ("a play that pays the upper end",)
+    budget = (value - 1) * resolution  # in costmap units: below E_p
+    given = dataclasses.replace(anytime, units=value, principal_play=play, budget=budget)
+    found = andor._resumed(given, memo, start, 1e18)
+    assert found.exact and found.realizable is False and found.counter_play == play
+    fits = andor._resumed(dataclasses.replace(given, budget=value * resolution), memo, start, 1e18)
+    assert fits.exact and fits.realizable is True and fits.counter_play is None
+
+
+def test_a_resumed_round_that_cannot_go_on_keeps_the_answer_in_hand(monkeypatch):
+    """A 0-unit robot move met, or memory run out, in the resumed rounds: the
+    certified interval σ or τ_1 gave is the answer, not an error."""
+    scene, k, value = next(_games())
+    memo, start = _searched(scene, k)
+    anytime = dataclasses.replace(andor._answer(memo, start, value - 2, None, None, {}, {}), units=value + 3)
+    for error in (andor.ZeroCost, MemoryError):
+        def stopped(*args, error=error):
+            raise error()
+        monkeypatch.setattr(andor, "_search", stopped)
+        found = andor._resumed(anytime, memo, start, 1e18)
+        assert (found.lower_units, found.units) == (value - 2, value + 3) and found.stats["resumed"].startswith("stopped")

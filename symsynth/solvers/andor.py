@@ -162,7 +162,9 @@ class Memo:
         below, which it slowed (8 x 12 x k = 3: 810 against 814 in 25 s); on
         in the no-human searches of `solvers.replan` (σ's "<= 748?" at 7 x 10 x
         k = 3: 16.5 s against 20.2 s, 45 % fewer search steps;
-        bench/results/h0-assignment-bound.md)."""
+        bench/results/h0-assignment-bound.md), which turn it on for good on a
+        shared memo: the rounds resumed after σ's question (`_resumed`) run
+        with it."""
         self.B = self.bound.args(tight=True)
 
     @property
@@ -389,7 +391,11 @@ def _resumed(solution: Solution, memo: Memo, start: int, end: float) -> Solution
     first action): exact when a round answers yes, else the lower end raised
     to the last round's (exact when it meets the upper end)."""
     clock = time.perf_counter()
-    lower, upper, _ = _search(memo, start, end, end) if clock < end else (solution.lower_units, None, 0)
+    try:
+        lower, upper, _ = _search(memo, start, end, end) if clock < end else (solution.lower_units, None, 0)
+    except (ZeroCost, MemoryError) as why:  # the answer in hand stays certified
+        return dataclasses.replace(solution, stats=dict(solution.stats) | {
+            "resumed": "stopped: " + ("a robot move of 0 units" if isinstance(why, ZeroCost) else "out of memory")})
     stats = dict(solution.stats) | {"resumed_seconds": round(time.perf_counter() - clock, 2)}
     stats.pop("lower_units", None)
     if lower is None:
@@ -399,9 +405,10 @@ def _resumed(solution: Solution, memo: Memo, start: int, end: float) -> Solution
     exact = solution.units is not None and raised >= solution.units
     if not exact:
         stats["lower_units"] = raised
+    realizable = bracket_verdict(None if exact else raised, solution.units, solution.resolution, solution.budget)
+    counter = solution.principal_play if exact and realizable is False else solution.counter_play
     return dataclasses.replace(solution, lower_units=None if exact else raised, stats=stats,
-                               realizable=bracket_verdict(None if exact else raised, solution.units,
-                                                          solution.resolution, solution.budget))
+                               realizable=realizable, counter_play=counter)
 
 
 def _sizes(memo: Memo) -> dict[str, int | float]:
