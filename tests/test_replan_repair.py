@@ -134,3 +134,14 @@ def test_sigma_prime_followed_through_every_human_pays_at_most_its_bound():
         checked += 1
         repairs += walk.repairs
     assert checked >= 8 and repairs >= 20, (checked, repairs)
+
+
+def test_sigma_prime_does_not_hand_out_sigma_as_its_strategy():
+    """A yes of σ''s question does not bound what σ pays (B' < B on some
+    scenes), so σ's strategy must not come back as the strategy for it."""
+    _, _, _, _, _, prime = next(_bounds(range(80)))
+    try:
+        prime.strategy
+    except NotImplementedError:
+        return
+    raise AssertionError("σ''s bound handed out a strategy")

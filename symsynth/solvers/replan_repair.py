@@ -77,6 +77,13 @@ class RepairingBound(BudgetedBound):
     """"Does σ' pay at most T from the start?" (module doc); `within` and
     `least` as `BudgetedBound`'s, for σ' (σ itself at h <= 1)."""
 
+    @property
+    def strategy(self):
+        """Refused: a yes here certifies σ', which keeps a route as memory, and
+        σ itself may pay more (B' < B on some scenes), so σ's strategy must not
+        be returned for σ''s bound; the tests play σ' themselves."""
+        raise NotImplementedError("σ' is not a positional strategy: its bound is not σ's")
+
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         self._abs1: dict[tuple[int, int], tuple[float, float]] = {}  # a turn at h = 1: (largest no, least yes) of V_0
