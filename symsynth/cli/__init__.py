@@ -119,8 +119,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         if argv is None:  # the program itself: it ends here, its finalizers not run (a CUDD operation
             # stopped by the lack of memory can leave references behind, which dd reports as an
             # error, with a traceback, when the manager is freed)
-            sys.stdout.flush()
-            sys.stderr.flush()
+            for stream in (sys.stdout, sys.stderr):
+                try:
+                    stream.flush()
+                except (BrokenPipeError, ValueError):  # (its reader is gone: nothing to keep)
+                    pass
             os._exit(1)
         return 1
     except BrokenPipeError:  # e.g. `symsynth dfa --json ... | head`
