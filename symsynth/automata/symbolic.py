@@ -22,10 +22,12 @@ from bisect import bisect_left
 from collections import Counter
 from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from contextlib import AbstractContextManager, nullcontext
+from functools import partial
 
 from symsynth.automata.bdd import (BDD, Function, and_exists, children_first, cofactor, exists, fixed_order,
                                    format_cubes, is_constant, isop, lexmin, restrict, shared_size)
 from symsynth.automata.explicit import ExplicitDFA
+from symsynth.automata.numbered import Numbered
 from symsynth.automata.progression import GuardedDFA
 from symsynth.automata.single import bit_functions, by_state
 
@@ -58,19 +60,42 @@ class SymbolicDFA:
     more components over disjoint atoms); `_reach` and `minimize` then
     suspend dynamic reordering, which costs more than it finds there (see
     `minimize`).
+
+    `delta` may be given as a function that makes the transition functions:
+    they are then made when first read (`delta_made` says whether they are).
+    `diagram`: the moves of every state as one numbered diagram over the
+    atoms (numbered.py), when the construction gave one: the DFA itself, in
+    MONA's form, which a summary can describe without the bits' functions
+    (urright16: 5 million states, its bits' functions too large to make).
     """
 
     def __init__(self, bdd: BDD, atoms: Sequence[str], bits: Sequence[str],
-                 delta: Mapping[str, Function], initial: Mapping[str, bool],
-                 accepting: Function, reachable: Function | None = None, *, local: bool = False):
+                 delta: Mapping[str, Function] | Callable[[], Mapping[str, Function]],
+                 initial: Mapping[str, bool], accepting: Function, reachable: Function | None = None, *,
+                 local: bool = False, diagram: Numbered | None = None):
         self.bdd = bdd
         self.local = local
         self.atoms = tuple(atoms)
         self.bits = tuple(bits)
-        self.delta = dict(delta)
+        self._delta = delta if callable(delta) else dict(delta)
+        self.diagram = diagram
         self.initial_assignment = dict(initial)
         self.accepting = accepting
         self.reachable = self._reach() if reachable is None else reachable  # given: the caller knows
+
+    @property
+    def delta(self) -> dict[str, Function]:
+        """bit -> its transition function (made here on first use when
+        `delta` was given as a function)."""
+        if callable(self._delta):
+            self._delta = dict(self._delta())  # (the maker goes, and what it held)
+        return self._delta
+
+    @property
+    def delta_made(self) -> bool:
+        """Whether the transition functions exist (they always do unless
+        given as a function and not read since)."""
+        return not callable(self._delta)
 
     def copy_to(self, bdd: BDD) -> SymbolicDFA:
         """The same DFA in the manager `bdd`: the variables of this one's
@@ -84,7 +109,7 @@ class SymbolicDFA:
             return self.bdd.copy(u, bdd)
         return SymbolicDFA(bdd, self.atoms, self.bits, {b: copy(d) for b, d in self.delta.items()},
                            self.initial_assignment, copy(self.accepting), copy(self.reachable),
-                           local=self.local)
+                           local=self.local, diagram=self.diagram)
 
     # -- running -------------------------------------------------------------
     @property
@@ -457,6 +482,7 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
     bits: list[str] = []
     accepts: list[Function] = []
     reachable = None
+    made_later = None  # (a single numbered component's bits: made on first use)
     for c, comp in enumerate(components):
         width = (comp.num_states - 1).bit_length()
         names = [f"{prefix}{c}_{j}" for j in range(width)]
@@ -477,9 +503,12 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
             # bit j set, merged over the states by a decision tree on the bits
             # (a bit all successors agree on needs no disjunction: most bits
             # of most states, the successors of a state being few and near)
-            delta.update(bit_functions(bdd, comp, names))
             accepts.append(by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
             reachable = by_state(bdd, names, [bdd.true] * comp.num_states)  # every state of an explicit DFA
+            if comp.numbered is not None and comp.bdd is bdd:  # made on first use (the class docstring)
+                made_later = partial(bit_functions, bdd, comp, names)
+            else:
+                delta.update(bit_functions(bdd, comp, names))
             continue
         # several components: the manager reorders while they are built, and
         # disjunctions of state codes fare better there than the tree above
@@ -507,6 +536,9 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
         accepting = bdd.true
         for comp_acc in accepts:
             accepting &= comp_acc
+    if made_later is not None:
+        return SymbolicDFA(bdd, atoms, bits, made_later, initial, accepting, reachable=reachable,
+                           diagram=components[0].numbered)
     return SymbolicDFA(bdd, atoms, bits, delta, initial, accepting, reachable=reachable, local=local)
 
 

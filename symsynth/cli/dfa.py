@@ -33,14 +33,17 @@ synthesis datasets, Lydia and SYNTCOMP's TLSF, and as `symsynth synth` reads
 it; X[!] is strong next and WX (N) weak next whatever --next says.  An atom
 named like operators glued to an atom (Fa, Xb, GFa) is refused with a hint.
 
-By default a summary is printed (states, BDD nodes, seconds).  --json prints
+By default a summary is printed (states, BDD nodes, seconds; where the
+backward construction built the DFA, the nodes of its diagram over the
+atoms with the states at the leaves, and the state bits' transition
+functions are not made).  --json prints
 the explicit DFA: {"atoms", "initial", "accepting", "transitions": [{"from",
 "to", "guard"}]} with guards over the atoms; --dot FILE writes Graphviz.
 
 Many formulas in one process: -f FILE FILE ... (a formula per file) or
 --lines FILE (a formula per line) print one JSON line per formula:
-{"source", "line" (with --lines), "atoms", "states", "bdd_nodes",
-"seconds"} and, with --json, "dfa"; a formula that is refused gives
+{"source", "line" (with --lines), "atoms", "states", "bdd_nodes" (or
+"diagram_nodes", as in the summary), "seconds"} and, with --json, "dfa"; a formula that is refused gives
 {"source", "line", "error"} and the others go on (exit status 2 at the end).
 
 Formula files must be regular files (not pipes or devices) of at most
@@ -108,7 +111,11 @@ def run(args: argparse.Namespace) -> int:
     print(f"formula    {source if args.file else text.strip()}")
     print(f"atoms      {len(dfa.atoms)}: {', '.join(dfa.atoms) or '-'}")
     print(f"states     {dfa.num_states} (minimal, complete)")
-    print(f"bdd nodes  {dfa.num_nodes} (transition functions, acceptance, reachable set)")
+    if dfa.delta_made or dfa.diagram is None:
+        print(f"bdd nodes  {dfa.num_nodes} (transition functions, acceptance, reachable set)")
+    else:
+        print(f"diagram    {len(dfa.diagram.var)} nodes over the atoms, the states at its leaves (each state's "
+              f"moves: the DFA; the state bits' transition functions are not made)")
     print(f"state bits {len(dfa.bits)}")
     print(f"seconds    {seconds:.4f}")
     if args.dot:
@@ -132,15 +139,25 @@ def _batch(args: argparse.Namespace) -> int:
                 dfa = formulas.compile_formula(formulas.parse(text, source, args.next), source,
                                                args.max_states, args.construction)
                 seconds = time.perf_counter() - start
-                result.update(atoms=list(dfa.atoms), states=dfa.num_states, bdd_nodes=dfa.num_nodes,
+                explicit = _explicit(dfa, args.max_transitions or None) if args.json else None
+                result.update(atoms=list(dfa.atoms), states=dfa.num_states, **_size(dfa),
                               seconds=round(seconds, 6))
-                if args.json:
-                    result["dfa"] = _explicit(dfa, args.max_transitions or None).to_json()
+                if explicit is not None:
+                    result["dfa"] = explicit.to_json()
             except SymsynthError as error:
                 failed = True
                 result["error"] = str(error)
             print(json.dumps(result), flush=True)
     return 2 if failed else 0
+
+
+def _size(dfa: SymbolicDFA) -> dict[str, int]:
+    """A batch line's size: "bdd_nodes" (the transition functions, the
+    acceptance and the reachable set), or "diagram_nodes" (the numbered
+    diagram's nodes over the atoms) when the functions were not made."""
+    if dfa.delta_made or dfa.diagram is None:
+        return {"bdd_nodes": dfa.num_nodes}
+    return {"diagram_nodes": len(dfa.diagram.var)}
 
 
 def _formulas(args: argparse.Namespace):
