@@ -49,6 +49,46 @@ def test_summary_of_the_response_family(capsys):
     assert re.search(r"states\D*\b9\b", out, re.I)   # 2^3 + 1
 
 
+def test_a_backward_summary_describes_the_diagram_and_makes_no_bits(capsys, monkeypatch, tmp_path):
+    """The backward construction's DFA is its numbered diagram; the summary
+    and a batch line give its nodes over the atoms and make no transition
+    bits (they would fail here).  a U b, counted by hand (atoms a above b):
+    the pending state reads a, then b on each side (b: the accepting sink;
+    else pending under a, the rejecting sink without): 3 nodes; the sinks'
+    moves are their leaves."""
+    import symsynth.automata.symbolic as symbolic
+
+    def refused(*args):
+        raise AssertionError("the transition bits were made")
+
+    monkeypatch.setattr(symbolic, "bit_functions", refused)
+    code, out, err = run(capsys, "dfa", "--construction", "backward", "a U b")
+    assert code == 0 and err == ""
+    assert re.search(r"^states +3 ", out, re.M) and re.search(r"^diagram +3 nodes over the atoms", out, re.M)
+    assert "bdd nodes" not in out and re.search(r"^state bits +2$", out, re.M)
+    spec = tmp_path / "formulas.txt"
+    spec.write_text("a U b\n")
+    code, out, _ = run(capsys, "dfa", "--construction", "backward", "--lines", str(spec))
+    line = json.loads(out)
+    assert code == 0 and line["states"] == 3 and line["diagram_nodes"] == 3 and "bdd_nodes" not in line
+
+
+def test_a_backward_dfa_listed_reports_its_bdd_nodes_as_before(capsys, tmp_path):
+    """--json needs the transition bits: a batch line then gives the BDD's
+    nodes as before (those of the functions, made on first use), not the
+    diagram's."""
+    formula = "a U (b R c)"
+    spec = tmp_path / "formulas.txt"
+    spec.write_text(formula + "\n")
+    code, out, _ = run(capsys, "dfa", "--construction", "backward", "--json", "--lines", str(spec))
+    line = json.loads(out)
+    dfa = compile_ltlf(formula, next_semantics="weak", construction="backward")
+    assert not dfa.delta_made
+    assert code == 0 and "diagram_nodes" not in line and line["bdd_nodes"] == dfa.num_nodes
+    assert dfa.delta_made
+    check_json_language(line["dfa"], parse_ltlf(formula))
+
+
 def test_json_is_parsed_and_simulated(capsys):
     code, out, err = run(capsys, "dfa", "--json", "G(a -> F b) & F(c & last)")
     assert code == 0 and err == ""
@@ -237,16 +277,18 @@ def test_names_that_only_start_like_an_operator_are_atoms(capsys, formula, atoms
 
 def test_running_out_of_memory_is_one_message_and_exit_1(tmp_path):
     """A formula whose automaton outgrows the process's address-space limit
-    (URright's chain of 13 atoms, a 2.2 M-node DFA, under 250 MB) ends with
-    one line on stderr and exit status 1, not a traceback."""
+    (URright's chain of 14 atoms, whose construction alone peaks at 0.45 GB,
+    under 250 MB) ends with one line on stderr and exit status 1, not a
+    traceback.  (The chain of 13 fits now: its summary makes no transition
+    bits, 2.2 M nodes.)"""
     import resource
     import subprocess
     import sys
 
-    chain = "p13"
-    for i in range(12, 0, -1):
+    chain = "p14"
+    for i in range(13, 0, -1):
         chain = f"p{i} {'U' if i % 2 else 'R'} ({chain})"
-    spec = tmp_path / "urright13.ltlf"
+    spec = tmp_path / "urright14.ltlf"
     spec.write_text(chain + "\n")
 
     def limited():
