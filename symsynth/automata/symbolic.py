@@ -85,8 +85,13 @@ class SymbolicDFA:
 
     @property
     def delta(self) -> dict[str, Function]:
-        """bit -> its transition function (made here on first use when
-        `delta` was given as a function)."""
+        """bit -> its transition function (made on first use when `delta`
+        was given as a function)."""
+        return self.make_delta()
+
+    def make_delta(self) -> dict[str, Function]:
+        """`delta`, made now if it was not yet (a caller that times its
+        steps counts them where it wants)."""
         if callable(self._delta):
             self._delta = dict(self._delta())  # (the maker goes, and what it held)
         return self._delta
