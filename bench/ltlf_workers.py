@@ -36,7 +36,9 @@ def _worker(conn, tool):  # pragma: no cover - runs in the child
             semantics = "weak" if tool == "sym-weak" else "strong"
 
             def run(text):
-                return compile_ltlf(text, next_semantics=semantics)
+                dfa = compile_ltlf(text, next_semantics=semantics)
+                dfa.make_delta()  # (a backward DFA's transition bits: timed, as before they were made on use)
+                return dfa
         else:
             from ltlf2dfa.parser.ltlf import LTLfParser
 

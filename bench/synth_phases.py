@@ -77,6 +77,7 @@ def phases(data: Path, path: str, compose_up_to: int, work: Path) -> dict:
         row[name] = now - clock
         clock = now
     dfa = compile_ltlf(formula)
+    dfa.make_delta()  # (a backward DFA's transition bits: in "dfa", as before they were made on use)
     lap("dfa")
     game = solve_realizability(dfa, partition)
     lap("game")
