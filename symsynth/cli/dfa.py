@@ -117,7 +117,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"bdd nodes  {dfa.num_nodes} (transition functions, acceptance, reachable set)")
     else:
         print(f"diagram    {len(dfa.diagram.var)} nodes over the atoms, the states at its leaves (each state's "
-              f"moves: the DFA; the state bits' transition functions are not made)")
+              f"moves; the state bits' functions not made)")
     print(f"state bits {len(dfa.bits)}")
     print(f"seconds    {seconds:.4f}")
     if args.dot:
