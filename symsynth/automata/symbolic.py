@@ -504,13 +504,14 @@ def _product(bdd: BDD, atoms: Sequence[str], components: Sequence[GuardedDFA], r
         bits.extend(names)
         initial.update({n: bool(comp.initial >> j & 1) for j, n in enumerate(names)})
         if len(components) == 1:
+            accepts.append(by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
+            reachable = by_state(bdd, names, [bdd.true] * comp.num_states)  # every state of an explicit DFA
             # next value of bit j in state s: the letters into successors with
             # bit j set, merged over the states by a decision tree on the bits
             # (a bit all successors agree on needs no disjunction: most bits
-            # of most states, the successors of a state being few and near)
-            accepts.append(by_state(bdd, names, [bdd.true if acc else bdd.false for acc in comp.accepting]))
-            reachable = by_state(bdd, names, [bdd.true] * comp.num_states)  # every state of an explicit DFA
-            if comp.numbered is not None and comp.bdd is bdd:  # made on first use (the class docstring)
+            # of most states, the successors of a state being few and near);
+            # from a numbered diagram, made on first use (the class docstring)
+            if comp.numbered is not None and comp.bdd is bdd:
                 made_later = partial(bit_functions, bdd, comp, names)
             else:
                 delta.update(bit_functions(bdd, comp, names))

@@ -43,8 +43,9 @@ the explicit DFA: {"atoms", "initial", "accepting", "transitions": [{"from",
 Many formulas in one process: -f FILE FILE ... (a formula per file) or
 --lines FILE (a formula per line) print one JSON line per formula:
 {"source", "line" (with --lines), "atoms", "states", "bdd_nodes" (or
-"diagram_nodes", as in the summary), "seconds"} and, with --json, "dfa"; a formula that is refused gives
-{"source", "line", "error"} and the others go on (exit status 2 at the end).
+"diagram_nodes", as in the summary), "seconds"} and, with --json, "dfa";
+a formula that is refused gives {"source", "line", "error"} and the
+others go on (exit status 2 at the end).
 
 Formula files must be regular files (not pipes or devices) of at most
 --max-bytes; an automaton built for a formula past --max-states states is
@@ -113,10 +114,11 @@ def run(args: argparse.Namespace) -> int:
     print(f"formula    {source if args.file else text.strip()}")
     print(f"atoms      {len(dfa.atoms)}: {', '.join(dfa.atoms) or '-'}")
     print(f"states     {dfa.num_states} (minimal, complete)")
-    if dfa.delta_made or dfa.diagram is None:
-        print(f"bdd nodes  {dfa.num_nodes} (transition functions, acceptance, reachable set)")
+    size = _size(dfa)
+    if "bdd_nodes" in size:
+        print(f"bdd nodes  {size['bdd_nodes']} (transition functions, acceptance, reachable set)")
     else:
-        print(f"diagram    {len(dfa.diagram.var)} nodes over the atoms, the states at its leaves (each state's "
+        print(f"diagram    {size['diagram_nodes']} nodes over the atoms, the states at its leaves (each state's "
               f"moves; the state bits' functions not made)")
     print(f"state bits {len(dfa.bits)}")
     print(f"seconds    {seconds:.4f}")
@@ -156,9 +158,10 @@ def _batch(args: argparse.Namespace) -> int:
 
 
 def _size(dfa: SymbolicDFA) -> dict[str, int]:
-    """A batch line's size: "bdd_nodes" (the transition functions, the
+    """The DFA's size: "bdd_nodes" (the transition functions, the
     acceptance and the reachable set), or "diagram_nodes" (the numbered
-    diagram's nodes over the atoms) when the functions were not made."""
+    diagram's nodes over the atoms) when the functions were not made
+    (the summary does not make them)."""
     if dfa.delta_made or dfa.diagram is None:
         return {"bdd_nodes": dfa.num_nodes}
     return {"diagram_nodes": len(dfa.diagram.var)}
