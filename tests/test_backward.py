@@ -155,3 +155,29 @@ def test_the_listing_meets_the_successors_as_exits_does_and_lists_nodes_children
     assert len(set(zip(kept.var, kept.low, kept.high))) == len(kept.var)  # (a reduced BDD: one node, one triple)
     for k, (level, low, high) in enumerate(zip(kept.var, kept.low, kept.high)):
         assert level < top and all(0 <= code < len(order) or 0 <= -1 - code < k for code in (low, high))
+
+
+def test_the_bits_are_made_on_first_use_with_the_cyclic_collector_paused(monkeypatch):
+    """The transition bits of a backward DFA are made when first read, not
+    by the compilation, and, as in the compilation, with Python's cyclic
+    collector paused (its full walks cost urright14's bits 30 %), restored
+    after."""
+    import gc
+
+    import symsynth.automata.symbolic as symbolic
+
+    collecting: list[bool] = []
+    original = symbolic.bit_functions
+
+    def watched(*args):
+        collecting.append(gc.isenabled())
+        return original(*args)
+
+    monkeypatch.setattr(symbolic, "bit_functions", watched)
+    formula = parse_ltlf("a U (b R c)")
+    dfa = compile_ltlf(formula, construction="backward")
+    assert collecting == [] and not dfa.delta_made and dfa.diagram is not None
+    assert gc.isenabled()
+    for trace in ([{"a"}, {"b", "c"}], [{"c"}], [{"a"}, {"a"}]):
+        assert dfa.accepts(trace) == holds(formula, trace), trace
+    assert collecting == [False] and dfa.delta_made and gc.isenabled()

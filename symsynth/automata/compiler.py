@@ -7,14 +7,11 @@ DFA (symbolic.py's product, minimized when it has several parts).
 
 from __future__ import annotations
 
-import gc
-from collections.abc import Iterator
-from contextlib import contextmanager
 from typing import Any, Literal, get_args
 
 from symsynth.automata import choice
 from symsynth.automata.backward import backward_dfa
-from symsynth.automata.bdd import BACKEND, BDD, Function, new_manager
+from symsynth.automata.bdd import BACKEND, BDD, Function, new_manager, without_cyclic_gc
 from symsynth.automata.compose import Composer
 from symsynth.automata.normal import nnf, split_conjuncts
 from symsynth.automata.products import OPS, fold, started
@@ -68,25 +65,9 @@ def compile_ltlf(formula: str | ast.Formula, *, next_semantics: NextSemantics = 
         raise ValueError(f"construction must be one of {', '.join(get_args(Construction))}, not {construction!r}")
     if construction == "auto" and (limits is not None or not compositional):
         construction = "compositional"
-    with _without_cyclic_gc():
+    with without_cyclic_gc():
         return _compile(formula, next_semantics, source, bdd, prefix,
                         construction if compositional else False, limits)
-
-
-@contextmanager
-def _without_cyclic_gc() -> Iterator[None]:
-    """Python's cyclic garbage collector paused, restored after.  A
-    compilation makes no reference cycles (tests/test_compose.py checks
-    that none is left), but its allocations trigger full collections,
-    each a walk over every object of the process (lark's, numpy's, ...:
-    16-21 ms here): a third of nim_03_01's 0.05 s when one falls inside."""
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.enable()
 
 
 def _compile(formula: str | ast.Formula, next_semantics: NextSemantics, source: str, bdd: BDD | None,

@@ -25,7 +25,8 @@ from contextlib import AbstractContextManager, nullcontext
 from functools import partial
 
 from symsynth.automata.bdd import (BDD, Function, and_exists, children_first, cofactor, exists, fixed_order,
-                                   format_cubes, is_constant, isop, lexmin, restrict, shared_size)
+                                   format_cubes, is_constant, isop, lexmin, restrict, shared_size,
+                                   without_cyclic_gc)
 from symsynth.automata.explicit import ExplicitDFA
 from symsynth.automata.numbered import Numbered
 from symsynth.automata.progression import GuardedDFA
@@ -93,7 +94,8 @@ class SymbolicDFA:
         """`delta`, made now if it was not yet (a caller that times its
         steps counts them where it wants)."""
         if callable(self._delta):
-            self._delta = dict(self._delta())  # (the maker goes, and what it held)
+            with without_cyclic_gc():  # (as the compilation that gave the maker)
+                self._delta = dict(self._delta())  # (the maker goes, and what it held)
         return self._delta
 
     @property
