@@ -26,6 +26,8 @@ from symsynth.solvers.explicit import solve_explicit
 from symsynth.solvers.packed import search as sk
 from symsynth.solvers.packed.lower import BoundTables
 from symsynth.solvers.packed.tables import Tables
+from symsynth.solvers.replan import NoHumanValue
+from symsynth.solvers.replan_budget import BudgetedBound
 from symsynth.testing.gamegen import random_scene
 from support.games import worst_case_of
 
@@ -114,6 +116,25 @@ def test_from_below_the_rounds_go_on_to_the_value_and_stop_at_the_end():
         memo, start = _searched(scene, k)
         anytime = andor._answer(memo, start, value - 1, None, None, {}, {})
         assert andor._resumed(anytime, memo, start, 0.0).lower_units == value - 1  # (the end has passed)
+
+
+def test_resumed_on_the_memo_that_sigmas_questions_filled():
+    """The solve's own order: σ's question over the search's memo first (its
+    no-human searches prove h = 0 nodes and choose their actions there), then
+    the rounds from below on that memo: E_p, with a strategy that pays it."""
+    grew = 0
+    for scene, k, value in _games():
+        memo, start = _searched(scene, k)
+        before = memo.count
+        formula = task_formula(scene, None)
+        bound = BudgetedBound(scene, formula, k, 1.0, NoHumanValue(scene, formula, 1.0, memo))
+        assert bound.within(bound.least(value, 4 * value + 100))
+        grew += memo.count > before
+        anytime = andor._answer(memo, start, value - 1, None, None, {}, {})
+        found = andor._resumed(anytime, memo, start, 1e18)
+        assert found.exact and found.units == value, (scene.name, k)
+        assert worst_case_of(scene, found, parse_ltlf(scene.task)) == value
+    assert grew >= 5
 
 
 def test_a_raised_lower_end_meeting_the_upper_end_is_exact(monkeypatch):
