@@ -1,13 +1,16 @@
 """The rise bounds of symsynth/solvers/rise.py against exact rises: on small pattern scenes,
 every state w with a spare place available and every legal human move m at it, V_0 of both
 scenes (S and S_Z) computed exactly for every state by a backward Dijkstra over the robot's
-moves (`game.abstraction`)."""
+moves (`game.abstraction`); the relocation plans of C5^Z's proof played in the game; the
+spare places, S_Z and the setting's refusals."""
 
 from __future__ import annotations
 
 import heapq
 import itertools
 from collections import defaultdict
+
+import dataclasses
 
 import pytest
 
@@ -61,14 +64,18 @@ def values(scene, goal, all_states):
     return done
 
 
-def measured(scene):
-    """(bounds, per class the largest rise found and its bound, violations)."""
+def solved(scene):
+    """(bounds, every state, V_0, V_0^Z)."""
     formula = task_formula(scene, None)
     rises = rise_bounds(scene, formula)
     goal = goals(scene, formula)
     every = list(states(scene))
-    V = values(scene, goal, every)
-    VZ = values(without_drops_at(scene, rises.spares), goal, every)
+    return rises, every, values(scene, goal, every), values(without_drops_at(scene, rises.spares), goal, every)
+
+
+def measured(scene):
+    """(bounds, per class the largest rise found, violations)."""
+    rises, every, V, VZ = solved(scene)
     worst, wrong = {}, []
     for w in every:
         if w not in V or V[w] == 0 or not available_spares(rises, w):
@@ -91,3 +98,83 @@ def test_every_rise_is_within_its_class_bound(n, m, seed):
     rises, worst, wrong = measured(pattern_scene(n, m, 3, seed))
     assert wrong == []
     assert set(worst) <= {name for name, _ in rises.classes}
+
+
+def _play(scene, v, actions):
+    """(the state after `actions` from v, what they cost), each checked against the game."""
+    cost = 0
+    for name in actions:
+        v, c = next((after, c) for a, after, c in robot_moves(scene, v) if a == name)
+        cost += c
+    return v, cost
+
+
+RELOCATED = ("Else->L, hand at Else", "Else->L, aimed at o", "Else->L, holding at L")
+
+
+@pytest.mark.parametrize("n, m, seed", [(3, 5, 0), (4, 6, 0), (4, 6, 1)])
+def test_the_relocation_plans_fit_their_bounds(n, m, seed):
+    """E1, E4, H1: the proof's plan (put the held object down, relocate o to z, pick up again)
+    played in the game, plus V_0 after it, is within V_0^Z(w) + the class bound."""
+    scene = pattern_scene(n, m, 3, seed)
+    rises, every, V, VZ = solved(scene)
+    g, names, closest = scene.grasps[0], scene.object_names, {}
+    for w in every:
+        if w not in V or V[w] == 0:
+            continue
+        for z, m_ in itertools.product(available_spares(rises, w), legal_human_moves(scene, w)):
+            name = move_class(scene, rises.spares, w, m_)
+            if name not in RELOCATED:
+                continue
+            o, t, hold = m_.obj, m_.location, name.endswith("holding at L")
+            oh = names[w.at.index(HAND)] if hold else None
+            steps = [f"drop({oh},{w.ee})"] if hold else []
+            steps += [f"transit({o},{g})", f"grab({o})", f"transfer({z})", f"drop({o},{z})"]
+            steps += [f"transit({oh},{w.grip})", f"grab({oh})"] if hold else []
+            u, cost = _play(scene, m_.after, steps)
+            slack = VZ[w] + rises.of(name) - cost - V.get(u, float("inf"))
+            closest[name] = min(closest.get(name, slack), slack)
+    assert set(closest) == set(RELOCATED) and min(closest.values()) >= 0, closest
+
+
+def test_spare_places_of_the_pattern_family():
+    for (n, m, seed), spares in [((3, 5, 0), ("l1",)), ((4, 6, 0), ("l6",)), ((8, 12, 0), ("l9", "l12"))]:
+        scene = pattern_scene(n, m, 3, seed)
+        assert spare_places(scene, task_formula(scene, None)) == spares
+    scene = pattern_scene(3, 5, 3, 0)
+    for task in ["F(at(red, l2) & at(green, l3))",  # o3 named by no atom
+                 "F(at(red, l2) & at(green, l3) & at(blue, l3))",  # two goals on one place
+                 "F(at(red, l2) & at(green, l3) & at(blue, l4) & free(l5))",
+                 "G(at(red, l2) & at(green, l3) & at(blue, l4))",
+                 "F(at(block, l2))"]:  # a tag of every object
+        assert spare_places(scene, task_formula(scene, task)) == (), task
+    assert rise_bounds(scene, task_formula(scene, "F(at(block, l2))")) is None
+    sort = pattern_scene(4, 6, 3, 0, colours=2)  # two objects of each colour
+    assert spare_places(sort, task_formula(sort, None)) == ()
+
+
+def test_a_rule_naming_an_else_sample_refuses_the_setting():
+    scene = pattern_scene(3, 5, 3, 0)
+    cm = scene.costmap
+    key = next(k for k in cm.motions if k[0] == "empty")
+    named = (dataclasses.replace(cm.motions[key][0], free=frozenset({"e1"})),) + cm.motions[key]
+    changed = dataclasses.replace(scene, costmap=dataclasses.replace(cm, motions={**cm.motions, key: named}))
+    assert spare_places(changed, task_formula(scene, None)) == ()
+
+
+def test_without_drops_at_removes_the_carrying_motions_onto_the_places_only():
+    scene = pattern_scene(3, 5, 3, 0)
+    before, after = scene.costmap.motions, without_drops_at(scene, ("l1",)).costmap.motions
+    gone = set(before) - set(after)
+    assert gone and all(mode != "empty" and goal == "l1/top" for mode, _, goal in gone)
+    assert all(after[k] == before[k] for k in after)
+    assert {k for k in before if k[0] != "empty" and k[2] == "l1/top"} == gone
+
+
+def test_the_bounds_are_in_units_of_the_resolution():
+    scene = pattern_scene(8, 12, 3, 0)
+    formula = task_formula(scene, None)
+    whole, halves = rise_bounds(scene, formula), rise_bounds(scene, formula, 0.5)
+    assert (whole.spares, whole.other, whole.c5) == (("l9", "l12"), 153, 166)
+    assert (halves.other, halves.c5, halves.total) == (306, 332, 332)  # integer costs: twice the units
+    assert whole.total == max(whole.other, whole.c5) == max(v for _, v in whole.classes)

@@ -1,7 +1,81 @@
-"""C5^Z: a bound on V_0(m w) - V_0^Z(w) for the human moves m of class C5 (an object o taken
-from Else onto a location t) at states w where a spare place z is available.
+"""C5^Z: a bound on V_0(w') - V_0^Z(w) for the human moves of class C5, an object o taken from
+Else onto a location t (w' the state after the move), at states w where a spare place z is
+available (`solvers.rise`: no object at z, no held object aligned with z).  V_0 is the
+no-human value of the scene S, V_0^Z that of S_Z (no carrying motion ends at a place of Z).
+The style and the facts (M), (W), (H) are those of D+'s proof (bench/results/game-notes.md,
+"The proof"); U, Lo and path as in `solvers.rise_costs`; G, D the grab and drop costs; X/a
+the anchors of place X with grasp a, E/a those of Else; A every present anchor (the starts
+of an empty hand at Else).  Costs are in the packed search's units, where the same argument
+holds (that game has the same moves with every cost rounded up).
 
-PROOF (to be written out below the code once the cases are final; see `c5_cases`)."""
+**Z stays available (K).**  Along a plan of S_Z from a state where z is available, z stays
+so: no transfer ends at z (S_Z has no carrying motion there), so the hand is never aligned
+with z unless it grabbed there, and nothing stands at z to be grabbed; a drop lands where
+the hand is aligned.
+
+**Fetching o from z instead of Else (F).**  Let u be a state with o at Else, z available, π
+an optimal S_Z plan from u (when there is none the bound holds trivially), and u^z the state
+u with o at z instead.
+- (F1) u not aimed at o: V_0(u^z) <= V_0^Z(u) + fetch, where fetch is the largest over the
+  start sets S of the transits towards o that π can make (A only when u's hand is empty at
+  Else: `fetch_any`; else the anchors of another object at y in (L - z) ∪ Else) and the
+  grasps a, of U(S, z/a) - min_a' Lo(S, E/a') + after_grab(a), and after_grab(a) is the
+  largest over l in L - Z of U(o/a: z/a -> l/a) - Lo(o/a: E/a -> l/a).
+  Proof.  By (W) and the task, π grabs o, so it transits to o first.  Before its first
+  transit to o, every action of π is legal in the u^z-world and costs the same: the two
+  worlds differ only at z and at Else, which no rule names; π never transfers to z nor drops
+  there (K); ee is the same and not aimed at o.  A *visit* of π to o is a maximal run of
+  transits to o (grasps a_1..a_k) from starts S; it ends with a grab or with a transit to
+  another object's anchors T.
+  - Ends with a transit to T: we leave the visit out (one transit S -> T, or none when T is
+    where we are aimed) or make it to o at z; that costs at most min(U(S, T), U(S, z/a_1) +
+    U(z/a_1, z/a_k) + U(z/a_k, T)), π paid at least Lo(S, E/a_1) + Lo(E/a_k, T).  The
+    largest difference (`skip`) is checked to be <= 0 (else no bound: `c5_bound` gives inf),
+    so visits without a grab cost us nothing more, and the worlds are related as before.
+  - Ends with a grab: we transit S -> z/a_k, grab, and make π's next action, a transfer to
+    some l (holding at Else only transfers; l not in Z), from z/a_k: l is free in both
+    worlds, and after it the two states are equal.  The difference is the term above.
+- (F2) u aimed at (o, a0) (o at Else), our world aimed at (o, g) at z:
+  V_0(ours) <= V_0^Z(u) + Ψ(g), Ψ(g) the larger of: π's first visit ends with a grab:
+  U(z/g, z/a) + after_grab(a); it ends with a transit to T: U(z/g, T) - Lo(E/a, T) + fetch
+  (then F1 from a state aimed at another object).
+- (Θ) u not aimed at o with hand empty and starts S, our world u^z but aimed at (o, g) at z.
+  By π's first action: a transit to another object's anchors T: we go there from z/g,
+  U(z/g, T) - Lo(S, T) + fetch (`away`); a transit to o: the visit ends with a grab
+  (U(z/g, z/a) + after_grab(a) - min_a' Lo(S, E/a')) or with a transit to T (U(z/g, T) -
+  min_a' Lo(S, E/a') - min_a Lo(E/a, T) + fetch) (`to_o`); a grab of the object aimed at:
+  we first go back to S, U(z/g, S) + fetch (`back`, which fits every first action).
+
+**The cases.**  The human puts o (at Else in w) on t (free in w, not aligned with a held
+object).  The relocation (t not in Z): from the hand's starts S to o at t with a grasp g
+the robot chooses, grab, carry to z, drop: reloc(S, g) = U(S, t/g) + G + U(o/g: t/g -> z/g) + D
+(z is free and not where the hand is), leaving the hand aimed at (o, g) at z.  Each case
+below is an inequality between the states u (o at Else) and u' (the same with o at t), so a
+case can end in another: where π's first action is a choice, the bound is the largest over
+π's choices of the least over the plans that fit it.
+- t in Z (the relocation is nothing; z := t, available in w since the move was legal): u'
+  = u^t, so F1 gives `fetch_any`; when w was aimed at o (the move sets ee to Else), transit
+  to (o, g) at t and F2: min_g U(A, t/g) + Ψ(g).
+- E1 hand empty at Else: reloc(A, g) + the least of fetch_any (by (M), our state costs at
+  most u^z, whose hand is at Else, and F1) and the largest of Θ's away and to_o (π's first
+  action from Else is a transit).
+- E4 aimed at o (the move sets ee to Else): reloc(A, g) + Ψ(g).
+- E2 aimed at another object o' at y (y in (L - z - t) ∪ Else, anchors S): after reloc(S, g),
+  per π's first action: a transit (to o or not): the least of `back` and Θ's term; a grab
+  of o': the least of `back` and following it (grab too; then o' is held where it stood,
+  case H1 with e = y or H2, from π's state after its grab).
+- H1 holding o_h at e in L (e is neither z nor t): drop at e, reloc(e/g_h, g), transit back
+  to (o_h, g_h) at e, grab: that is u^z, then F1: D + reloc + U(z/g, e/g_h) + G + fetch.
+- H2 holding o_h at Else: by (H) π carries o_h to its first drop l_d (not in Z), paying at
+  least max_e path(e/g_h, l_d/g_h) and D.
+  - l_d != t: carry o_h there directly and drop (l_d is free in our world too); that is π's
+    state after its drop, with o at t, aimed at o_h at l_d: U(E/g_h, l_d/g_h) - paid + E2.
+  - l_d = t (swap): carry o_h to a free f in L - t - z, drop, relocate o from t to z,
+    transit back to o_h, grab, carry it to t: five motions at their U, two grabs and two
+    drops, minus paid, + fetch (π's state after its drop with o at z).  At most n - 2 other
+    objects stand on L - t - z, so the robot has at least the (n - 1)-th cheapest f.
+C5^Z is the largest case over the objects (one or two of each set with the same carrying
+rules), grasps, spare places z and places named; a grasp the robot chooses is a least."""
 
 from __future__ import annotations
 

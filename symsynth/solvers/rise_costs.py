@@ -75,15 +75,12 @@ class Costs:
         return anchors(self.scene, ELSE, g)
 
     def kinds(self) -> list[str]:
-        """One object per set of objects whose carrying modes have the same rules (two of a
-        set when it is the only one: the cases need two objects), so that the cases need not
-        repeat the same numbers for every object."""
+        """One object per set of objects whose carrying modes have the same rules, two of a set
+        with more than one (the cases pair the moved object with another, which may be of the
+        same set), so that the cases need not repeat the same numbers for every object."""
         seen: dict = {}
         for o in self.scene.object_names:
             sig = tuple((s, t, tuple(sorted((tuple(sorted(x.free)), x.cost) for x in r)), mode.split("/")[1])
                         for (mode, s, t), r in sorted(self.cm.motions.items()) if mode.split("/")[0] == o)
             seen.setdefault(sig, []).append(o)
-        kept = [os[0] for os in seen.values()]
-        if len(kept) == 1 and len(seen[next(iter(seen))]) > 1:
-            kept.append(seen[next(iter(seen))][1])
-        return kept
+        return [o for members in seen.values() for o in members[:2]]
