@@ -4,7 +4,8 @@ repair bound D+ from the costmap"), where each case's plan and its proof are wri
 The cases are computed by symsynth/solvers/rise_repair.py (the solver's rise bound); this
 script prints them, with the conditional C5 beside them.
 
-    python bench/replan_repair.py N M [SEED ...]     D+ and its cases on pattern_scene(N, M, 3, SEED)
+    python bench/replan_repair.py N M [SEED ...]     D+ and its cases on pattern_scene(N, M, 3, SEED),
+                                                     then the spare places' bounds (solvers.rise)
 
 Per motion pair (mode, s, t): U = the least cost of a rule with no condition (F empty: holds
 in every state; inf when there is none), L = the least cost of any rule (no state pays
@@ -32,12 +33,15 @@ from __future__ import annotations
 
 import itertools
 import sys
+import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from gamefamily import pattern_scene  # noqa: E402
+from symsynth.game.solution import task_formula  # noqa: E402
 from symsynth.scene.model import ELSE, EMPTY  # noqa: E402
+from symsynth.solvers.rise import rise_bounds, spare_places  # noqa: E402
 from symsynth.solvers.rise_costs import Costs  # noqa: E402
 from symsynth.solvers.rise_repair import SOUND, cases  # noqa: E402
 from symsynth.solvers.rise_repair import swap_bound as swap_worst  # noqa: E402,F401 (replan_repair_check)
@@ -88,12 +92,31 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     n, m = int(argv[0]), int(argv[1])
     for seed in [int(s) for s in argv[2:]] or [0]:
-        bound, found = d_plus(pattern_scene(n, m, 3, seed))
+        scene = pattern_scene(n, m, 3, seed)
+        clock = time.perf_counter()
+        bound, found = d_plus(scene)
+        seconds = time.perf_counter() - clock
         print(f"{n} x {m} seed {seed}: D+ = {bound}")
         for name in sorted(found):
             value, where = found[name]
             print(f"  {name:18} {value:6}  {where}")
+        _spares(scene, seconds)
     return 0
+
+
+def _spares(scene, seconds) -> None:
+    """The bound C5^Z of symsynth/solvers/rise_c5.py, when the scene has spare places."""
+    clock = time.perf_counter()
+    formula = task_formula(scene, None)
+    spares = spare_places(scene, formula)
+    rises = rise_bounds(scene, formula)
+    seconds += time.perf_counter() - clock
+    if rises is None:
+        print(f"  no spare place (spare_places: {spares}); {seconds:.2f} s")
+        return
+    print(f"  spare places {', '.join(spares)}: C5^Z = {rises.c5}, R = {rises.total}; {seconds:.2f} s")
+    for name, value in rises.classes:
+        print(f"    {name:36} {value:4}")
 
 
 if __name__ == "__main__":

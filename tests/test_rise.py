@@ -18,8 +18,10 @@ from bench.gamefamily import pattern_scene
 from symsynth.game.abstraction import State, legal_human_moves, robot_moves
 from symsynth.game.solution import task_formula
 from symsynth.scene.model import ELSE, HAND
-from symsynth.solvers.rise import (C5_CLASSES, Rises, available_spares, goals, move_class, rise_bounds,
-                                   spare_places, without_drops_at)
+from symsynth.solvers.rise import (C5_CLASSES, available_spares, goals, move_class, rise_bounds, spare_places,
+                                   without_drops_at)
+from symsynth.solvers.rise_c5 import c5_cases
+from symsynth.solvers.rise_costs import Costs
 
 
 def states(scene):
@@ -178,3 +180,54 @@ def test_the_bounds_are_in_units_of_the_resolution():
     assert (whole.spares, whole.other, whole.c5) == (("l9", "l12"), 153, 166)
     assert (halves.other, halves.c5, halves.total) == (306, 332, 332)  # integer costs: twice the units
     assert whole.total == max(whole.other, whole.c5) == max(v for _, v in whole.classes)
+
+
+def _carried(scene, u):
+    """The least cost of every place the held object can be carried to from u (transfers
+    only), by Dijkstra."""
+    done, heap, count = {}, [(0, 0, u)], 1
+    while heap:
+        d, _, v = heapq.heappop(heap)
+        if v.ee in done:
+            continue
+        done[v.ee] = d
+        for a, after, c in robot_moves(scene, v):
+            if a.startswith("transfer(") and after.ee not in done:
+                heapq.heappush(heap, (d + c, count, after))
+                count += 1
+    return done
+
+
+@pytest.mark.parametrize("n, m, seed", [(3, 5, 0), (4, 6, 0)])
+def test_the_swap_plan_fits_its_bound(n, m, seed):
+    """H2 swap: holding o_h at Else where an optimal plan of S_Z drops it first at t, and o
+    put from Else on t: park o_h at the best free f, relocate o to z, carry o_h on to t and
+    drop, played in the game, plus V_0 after it, is within V_0^Z(w) + the swap's bound."""
+    scene = pattern_scene(n, m, 3, seed)
+    rises, every, V, VZ = solved(scene)
+    SZ, names = without_drops_at(scene, rises.spares), scene.object_names
+    bound = c5_cases(Costs(scene), rises.spares)["H2 swap"][0]
+    g, closest, met = scene.grasps[0], float("inf"), 0
+    for u in every:
+        if HAND not in u.at or u.ee != ELSE or u not in VZ or V[u] == 0:
+            continue
+        oh, carried = names[u.at.index(HAND)], _carried(SZ, u)
+        for z, mv in itertools.product(available_spares(rises, u), legal_human_moves(scene, u)):
+            t = mv.location
+            if move_class(scene, rises.spares, u, mv) != "Else->L, holding at Else" or t not in carried:
+                continue
+            u1, drop = _play(SZ, State(u.at, u.grip, t), [f"drop({oh},{t})"])
+            if VZ[u] != carried[t] + drop + VZ.get(u1, float("inf")):
+                continue  # no optimal plan of S_Z drops first at t
+            met += 1
+            plans = []
+            for f in scene.locations:
+                if f in (t, z) or f in mv.after.at:
+                    continue
+                y, cost = _play(scene, mv.after, [f"transfer({f})", f"drop({oh},{f})", f"transit({mv.obj},{g})",
+                                                  f"grab({mv.obj})", f"transfer({z})", f"drop({mv.obj},{z})",
+                                                  f"transit({oh},{u.grip})", f"grab({oh})", f"transfer({t})",
+                                                  f"drop({oh},{t})"])
+                plans.append(cost + V.get(y, float("inf")) - VZ[u])
+            closest = min(closest, bound - min(plans))
+    assert met > 0 and closest >= 0, (met, closest)
