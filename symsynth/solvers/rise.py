@@ -15,6 +15,8 @@ strategy σ_Z that keeps spare places free (issue 32).
   A least-cost plan of S_Z from a state where z is available keeps z available (it never
   carries anything onto z, and nothing stands at z to be grabbed), so at every human turn of
   σ_Z's plan from such a state the bound applies again.
+  S_Z may have no plan where S has one (V_0^Z infinite): when the places left besides Z leave
+  no room to shuffle (3 x 5 seed 3: two spare places, three objects on the other three).
 
 Setting (both proofs need it): the task is F(φ), φ a conjunction of at(X, l) atoms, each tag X
 naming one object, every object named once, the goals l distinct locations; the scene has no
