@@ -44,7 +44,8 @@ class Rises:
     spares: tuple[str, ...]  # Z
     other: int  # D+: every human move but C5
     c5: int  # C5^Z: an object from Else onto a location, relative to V_0^Z(w)
-    #: (class of `move_class`, its bound): what `other` and `c5` are the largest of
+    #: (class of `move_class`, its bound): what `other` and `c5` are the largest of; a class
+    #: of C5_CLASSES bounds V_0(m w) - V_0^Z(w), any other V_0(m w) - V_0(w)
     classes: tuple[tuple[str, int], ...] = ()
 
     @property
