@@ -135,7 +135,7 @@ def test_the_relocation_plans_fit_their_bounds(n, m, seed):
             name = move_class(scene, rises.spares, w, m_)
             if name not in RELOCATED:
                 continue
-            o, t, hold = m_.obj, m_.location, name.endswith("holding at L")
+            o, hold = m_.obj, name.endswith("holding at L")
             oh = names[w.at.index(HAND)] if hold else None
             steps = [f"drop({oh},{w.ee})"] if hold else []
             steps += [f"transit({o},{g})", f"grab({o})", f"transfer({z})", f"drop({o},{z})"]
