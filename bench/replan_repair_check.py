@@ -14,6 +14,10 @@ case by case (bench/results/game-notes.md, "A repair bound D+ from the costmap")
         V_0 as for `sample`
     python bench/replan_repair_check.py swap N M [SEED]
         the C4d-swap positions of `swaps`, built to be bad, and their rises
+    python bench/replan_repair_check.py spare N M SEED COUNT
+        symsynth/solvers/rise.py's bounds: COUNT random states with a spare place available,
+        every human move from each; per class of `rise.move_class` the largest rise (over
+        V_0^Z before for C5's classes, over V_0 before for the others) against its bound
     python bench/replan_repair_check.py oracle N M [SEED]
         the k = 0 AND-OR values against the explicit solver's on every move `exact` sees
 """
@@ -31,7 +35,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from gamefamily import pattern_scene  # noqa: E402
 from replan_bound import rises  # noqa: E402
 from replan_repair import SOUND, d_plus  # noqa: E402
-from symsynth.game.abstraction import State, human_moves, initial_state, robot_moves  # noqa: E402
+from symsynth.game.abstraction import (State, human_moves, initial_state, legal_human_moves,  # noqa: E402
+                                       robot_moves)
 from symsynth.scene.model import ELSE, HAND  # noqa: E402
 
 # which of replan_repair's cases cover a move, by where o was, where it went and the hand
@@ -202,6 +207,35 @@ def swaps(scene):
         yield oracle(w) - oracle(v), bound, o, oh, x, t
 
 
+def spare_rises(scene, seed: int, count: int) -> bool:
+    """Print, per class of `rise.move_class`, the largest rise at `count` random states with a
+    spare place available against the class's bound; whether every rise is within it."""
+    from symsynth.game.solution import task_formula
+    from symsynth.solvers.rise import C5_CLASSES, available_spares, move_class, rise_bounds, without_drops_at
+
+    rises = rise_bounds(scene, task_formula(scene, None))
+    rng, oracle, spared = random.Random(seed), Oracle(scene), Oracle(without_drops_at(scene, rises.spares))
+    worst: dict = {}
+    drawn = 0
+    while drawn < count:
+        v = random_state(scene, rng)
+        base = oracle(v)
+        if base == 0 or not available_spares(rises, v):
+            continue
+        drawn += 1
+        base_z = spared(v)
+        for move in legal_human_moves(scene, v):
+            name = move_class(scene, rises.spares, v, move)
+            if name is not None:
+                rise = oracle(move.after) - (base_z if name in C5_CLASSES else base)
+                worst[name] = max(worst.get(name, rise), rise)
+    print(f"spare places {rises.spares}: D+ {rises.other}, C5^Z {rises.c5}")
+    for name, bound in rises.classes:
+        rise = worst.get(name)
+        print(f"  {name:36} rise {rise!s:5} bound {bound:4}{'  ABOVE' if rise is not None and rise > bound else ''}")
+    return all(rise <= rises.of(name) for name, rise in worst.items())
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     mode, n, m = argv[0], int(argv[1]), int(argv[2])
@@ -222,6 +256,8 @@ def main(argv=None) -> int:
             print("rise {} (swap bound there {}): {} on its goal {}, holding {} whose goal is {}".format(
                 row[0], row[1], row[2], row[4], row[3], row[5]))
         ok = all(rise <= d_plus(scene)[0] for rise, *_ in found)
+    elif mode == "spare":
+        ok = spare_rises(scene, seed, int(argv[4]))
     elif mode == "sample":
         moves = sampled(scene, seed, int(argv[4]))
         print(f"{n} x {m} seed {seed}: {len(moves)} moves at {len({mv[0] for mv in moves})} positions")
