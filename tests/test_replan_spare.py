@@ -7,11 +7,9 @@ never below E_p."""
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import math
 import sys
-from collections import namedtuple
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +21,7 @@ from symsynth.scene.model import ELSE
 from symsynth.solvers import andor, replan_budget
 from symsynth.solvers.replan import NoHumanValue
 from symsynth.solvers.replan_spare import SpareBound, same_packing
+from symsynth.solvers.rise import Rises, available_spares, without_drops_at
 from support.games import explicit_and_paid, well_formed_states
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "bench"))
@@ -34,15 +33,6 @@ SPARES = {(3, 5): ("l1",), (4, 6): ("l6",)}
 #: (524 at k = 3) is not σ (514), so that a mix-up of the two games shows (R's
 #: definition, which the brute force follows, needs no spare place)
 CASES = [(3, 5, ("l1",)), (3, 5, ("l2",)), (4, 6, ("l6",))]
-Rises = namedtuple("Rises", "spares other c5 total")
-
-
-def without_drops_at(scene, places):
-    """The scene with every carrying motion that ends at a place of `places` removed."""
-    cm = scene.costmap
-    ends = {f"{z}/{g}" for z in places for g in scene.grasps}
-    motions = {key: r for key, r in cm.motions.items() if key[0] == "empty" or key[2] not in ends}
-    return dataclasses.replace(scene, costmap=dataclasses.replace(cm, motions=motions))
 
 
 def _oracles(scene, spares):
@@ -62,14 +52,15 @@ def _states(scene):
 @functools.cache
 def brute_rises(n, m, spares):
     """R exactly: per class, the largest V_0(m w) - V_0^Z(w) over every
-    well-formed state w (C5: with a spare place free) and human move m that
-    does not win (the human's k does not change V_0, so k = 1's scene)."""
+    well-formed state w (C5: with a place of Z available, `solvers.rise`)
+    and human move m that does not win (the human's k does not change V_0,
+    so k = 1's scene)."""
     andor.prepare()
     scene = pattern_scene(n, m, 1, 0)
     _, full, spare = _oracles(scene, spares)
     other = c5 = 0.0
     for v in _states(scene):
-        free = any(z not in v.at for z in spares)
+        free = bool(available_spares(Rises(spares, 0, 0), v))
         for q in np.flatnonzero(~full.t.accepting.astype(bool)).tolist():
             base = spare.value(v, q)
             for move in legal_human_moves(scene, v):
@@ -81,7 +72,7 @@ def brute_rises(n, m, spares):
                     c5 = max(c5, rise) if free else c5
                 else:
                     other = max(other, rise)
-    return Rises(spares, int(other), int(c5), int(max(other, c5)))
+    return Rises(spares, int(other), int(c5))
 
 
 def _bound(n, m, k, spares=None, **shortcuts):
@@ -189,12 +180,16 @@ def test_with_no_move_left_the_bound_is_the_scenes_value():
         assert bound.kept_within(x, q, 0) == v0 and not bound.within_from(x, q, 1, int(v0z) - 1)
 
 
-def test_a_spare_place_is_free_exactly_when_no_object_stands_there():
-    scene, _, bound = _bound(4, 6, 1)
-    states = list(_states(scene))
-    found = bound._spare_free(np.array([bound.t.pack(v) for v in states], np.int64))
-    assert found.tolist() == [any(z not in v.at for z in SPARES[4, 6]) for v in states]
-    assert 0 < found.sum() < len(states)
+def test_a_spare_place_is_available_where_no_object_stands_or_is_held_over_it():
+    """`_spare_available` on packed states says what `solvers.rise.available_spares`
+    says on states, for one spare place and for two."""
+    for spares in (SPARES[4, 6], ("l3", "l6")):
+        scene, _, bound = _bound(4, 6, 1, spares)
+        states = list(_states(scene))
+        found = bound._spare_available(np.array([bound.t.pack(v) for v in states], np.int64))
+        assert found.tolist() == [bool(available_spares(bound.rises, v)) for v in states]
+        held = [v for v, ok in zip(states, found) if not ok and all(z not in v.at for z in spares)]
+        assert 0 < found.sum() < len(states) and (len(held) > 0) == (len(spares) == 1)
 
 
 def test_the_two_games_pack_states_alike_and_a_third_does_not():
@@ -221,9 +216,6 @@ def test_certified_upper_asks_the_loose_target_first_for_sigma_z(monkeypatch):
 
     monkeypatch.setattr(replan_budget.BudgetedBound, "within", noted)
     rises = brute_rises(4, 6, SPARES[4, 6])
-    stand_in = type(sys)("symsynth.solvers.rise")
-    stand_in.without_drops_at = without_drops_at
-    monkeypatch.setitem(sys.modules, "symsynth.solvers.rise", stand_in)
     upper = replan_budget.certified_upper(scene, formula, 2, 420, None, rises=rises)[0]
     assert asked[0] == ("SpareBound", 462) and all(t < 462 for _, t in asked[1:]), asked
     asked.clear()
@@ -231,3 +223,17 @@ def test_certified_upper_asks_the_loose_target_first_for_sigma_z(monkeypatch):
     asked.clear()
     assert replan_budget.certified_upper(scene, formula, 2, 420, None)[0] == 447
     assert asked[0] == ("BudgetedBound", 420)
+
+
+@pytest.mark.parametrize("n, m", [(3, 5), (4, 6)])
+def test_an_anytime_answer_takes_its_upper_end_from_sigma_z(monkeypatch, n, m):
+    """`solve_andor` cut short (every question in chunks of 10 steps, a clock
+    that ticks once a look): the upper end is σ_Z's, the stats say so, and
+    σ_Z pays exactly that against every human behaviour, >= E_p."""
+    from support.games import cut_answer
+
+    scene = pattern_scene(n, m, 2, 0)
+    found = cut_answer(monkeypatch, scene, 2, 10, 3, REPLAN_SHARE=1e12)
+    assert found.stats["upper_by"] == "replanning" and found.stats["replanning_strategy"].startswith("σ_Z")
+    e_p, paid = explicit_and_paid(scene, task_formula(scene, None), 2, found.strategy)
+    assert paid == found.units >= e_p and found.lower_units <= e_p

@@ -67,10 +67,10 @@ from symsynth.scene.model import Scene
 from symsynth.solvers.packed import replies as rk
 from symsynth.solvers.packed import search as sk
 from symsynth.solvers.replan import ORACLE_CHUNK, ZERO_COST, NoHumanValue, ReplanningStrategy
+from symsynth.solvers.rise import Rises, rise_bounds
 
 if TYPE_CHECKING:
     from symsynth.solvers.andor import Memo
-    from symsynth.solvers.rise import Rises
 
 INF = math.inf
 #: Search steps between two looks at the clock within one call of `packed.replies._settle`
@@ -539,16 +539,20 @@ def replanned_answer(solution: Solution, scene: Scene, formula: ast.Formula, k: 
     principal play is the strategy against a human who makes it pay that much
     when the bisection showed it is what σ pays, else σ's plan with the human
     passing.  `memo`: the search's, whose proven bounds at h = 0 the strategy's
-    no-human questions start from."""
+    no-human questions start from.  The strategy is σ_Z (`solvers.replan_spare`)
+    when `solvers.rise.rise_bounds` bounds its rises, else σ; the stats say which."""
     lower, r = solution.lower_units, solution.resolution
     assert lower is not None  # the caller answers exact solutions itself
     clock = time.perf_counter()
+    rises = rise_bounds(scene, formula, r)
     try:
         found = certified_upper(scene, formula, k, lower, None if solution.units is None else int(solution.units),
-                                resolution=r, deadline=deadline, memo=memo)
+                                resolution=r, deadline=deadline, memo=memo, rises=rises)
     except OutOfReach:  # a zero-cost move
         found = None
-    stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2)}
+    stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2),
+                                    "replanning_strategy": "σ" if rises is None else
+                                    f"σ_Z (spare places {', '.join(rises.spares)}; rise bound {rises.total})"}
     if found is None:
         return dataclasses.replace(solution, stats=stats), None
     upper, bound = found

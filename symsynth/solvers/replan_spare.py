@@ -24,18 +24,19 @@ V_0^Z at σ_Z's turns and σ_Z's actions as codes: a repair or σ_Z's plan
 followed is a plan of the scene, so the certificates bound V_0).
 
 The rise bound R (`solvers.rise.rise_bounds`): at a state w with a place of
-Z free, every human move m has V_0(m w) <= V_0^Z(w) + R.c5 when it puts an
+Z available (no object there, no held object aligned with it), every human move m has V_0(m w) <= V_0^Z(w) + R.c5 when it puts an
 object from Else onto a location (class C5), and V_0(m w) <= V_0^Z(w) +
 R.other for every other move (D+, wherever w is).  Two shortcuts read it:
 
 - a reply at h = 1 whose class bound is within its budget needs no
   certificate (`_by_class`); the turn's yes is kept for the class's rise
   (not the true one, which is smaller: still a bound, so sound);
-- a child at h = 1 (a move at h = 2) with a place of Z free is certified
+- a child at h = 1 (a move at h = 2) with a place of Z available (free, and
+  not under the held object) is certified
   without its V_0^Z, plan or replies when upper + R.total <= its budget,
   upper the bound on V_0^Z(child) that answered it at h = 2
   (`_exact_children`): σ_Z's plan from the child never puts anything on
-  Z, so Z stays free at every turn of it, and B_1^Z(child) <= V_0^Z(child)
+  Z, so Z stays available at every turn of it, and B_1^Z(child) <= V_0^Z(child)
   + R.total.
 
 Both only prove yeses that hold, so `within` stays exact for σ_Z.  σ_Z needs
@@ -46,16 +47,16 @@ more children through the second shortcut, so `certified_upper` asks near
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from symsynth.game.solution import Position
 from symsynth.logic import ast
 from symsynth.scene.model import Scene
-from symsynth.solvers.replan import NoHumanValue
+from symsynth.solvers.replan import NoHumanValue, ReplanningStrategy
 from symsynth.solvers.replan_budget import BudgetedBound
+from symsynth.solvers.rise import Rises, without_drops_at
 
 if TYPE_CHECKING:
     from symsynth.solvers.andor import Memo
@@ -76,18 +77,16 @@ def same_packing(a: Tables, b: Tables) -> bool:
 class SpareBound(BudgetedBound):
     """"Does σ_Z pay at most T from the start?" (module doc), for k >= 1.
     `rises`: R (`solvers.rise.Rises`: the places Z, the bounds `other`, `c5`,
-    `total` in units); `full`: an oracle on the scene (its memo may be a
+    `total` in units of `resolution`); `full`: an oracle on the scene (its memo may be a
     search's); `spare`: one on S_Z (made when None).  `shortcut` and
     `by_class` turn the two shortcuts off (tests compare)."""
 
-    def __init__(self, scene: Scene, formula: ast.Formula, k: int, rises: Any, resolution: float = 1.0,
+    def __init__(self, scene: Scene, formula: ast.Formula, k: int, rises: Rises, resolution: float = 1.0,
                  full: NoHumanValue | None = None, spare: NoHumanValue | None = None, *,
                  shortcut: bool = True, by_class: bool = True):
         if k < 1:
             raise ValueError("σ_Z differs from σ only with a human move left: k >= 1")
         if spare is None:
-            from symsynth.solvers.rise import without_drops_at
-
             spare = NoHumanValue(without_drops_at(scene, rises.spares), formula, resolution)
         self.full = full or NoHumanValue(scene, formula, resolution)
         if not same_packing(self.full.t, spare.t):
@@ -126,16 +125,21 @@ class SpareBound(BudgetedBound):
         """Each object's place in packed states xs (one row a state)."""
         return (xs[:, None] >> self._shifts[None, :]) & ((1 << self.t.pb) - 1)
 
-    def _spare_free(self, xs: np.ndarray) -> np.ndarray:
-        """Whether some place of Z is free in each packed state of xs."""
+    def _spare_available(self, xs: np.ndarray) -> np.ndarray:
+        """Whether some place of Z is available in each packed state of xs: no
+        object there, and no held object aligned with it (`solvers.rise`)."""
+        t = self.t
         at = self._places(xs)
-        occupied = np.bitwise_or.reduce(np.where(at < self.t.m, np.left_shift(1, at), 0), axis=1)
-        return (occupied & self._zmask) != self._zmask
+        taken = np.bitwise_or.reduce(np.where(at < t.m, np.left_shift(1, at), 0), axis=1)
+        ee = (xs >> (t.n * t.pb)) & ((1 << t.eb) - 1)
+        holding = (xs >> (t.n * t.pb + t.eb)) & ((1 << t.gb) - 1) != 0
+        taken |= np.where(holding & (ee >= 1) & (ee <= t.m), np.left_shift(1, np.maximum(ee - 1, 0)), 0)
+        return (taken & self._zmask) != self._zmask
 
     def _by_class(self, keys: np.ndarray, turn: np.ndarray, plan: tuple[np.ndarray, ...],
                   s: float) -> np.ndarray | None:
         """Per reply at h = 1, V_0^Z at its turn plus its class's R when that is
-        within s of it (C5: with a place of Z free at the turn), else -1."""
+        within s of it (C5: with a place of Z available at the turn), else -1."""
         r = self.rises
         if not self.class_bounds or s < min(r.other, r.c5):
             return None
@@ -143,7 +147,7 @@ class SpareBound(BudgetedBound):
         shift = self.memo.hb + self.t.qbits
         before, after = self._places(xs[turn]), self._places(np.maximum(keys, 0) >> shift)
         c5 = ((before == self.t.m) & (after < self.t.m)).any(axis=1)
-        fits = np.where(c5, (s >= r.c5) & self._spare_free(xs[turn]), s >= r.other) & (keys >= 0)
+        fits = np.where(c5, (s >= r.c5) & self._spare_available(xs[turn]), s >= r.other) & (keys >= 0)
         if not fits.any():
             return None
         self.by_class += int(fits.sum())
@@ -152,33 +156,23 @@ class SpareBound(BudgetedBound):
 
     def _exact_children(self, keys: np.ndarray, turn: np.ndarray, left: np.ndarray, h: int, s: float,
                         upper: np.ndarray) -> list[tuple[float, int, int, int]]:
-        """At h = 2, the children a place of Z free and upper + R.total within
+        """At h = 2, the children a place of Z available and upper + R.total within
         their budget certify are left out (module doc); the others' rises."""
         if h == 2:
             easy = (keys >= 0) & (upper + self.rises.total <= left[turn] + s) & self.shortcut
-            easy[easy] = self._spare_free(keys[easy] >> (self.memo.hb + self.t.qbits))
+            easy[easy] = self._spare_available(keys[easy] >> (self.memo.hb + self.t.qbits))
             self.children += (int(easy.sum()), int((keys >= 0).sum() - easy.sum()))
             keys, turn = keys[~easy], turn[~easy]
         return self._rises(keys, turn, left, h - 1)
 
 
-class SpareStrategy(Mapping):
+class SpareStrategy(ReplanningStrategy):
     """σ_Z as a strategy (Position -> action), computed when asked: S_Z's plan
-    with a human move left, the scene's with none."""
+    with a human move left, the scene's (σ's) with none."""
 
     def __init__(self, spare: NoHumanValue, full: NoHumanValue):
-        self._spare, self._full = spare, full
+        super().__init__(spare)
+        self._full = ReplanningStrategy(full)
 
     def __getitem__(self, position: Position) -> str:
-        v, q, h = position
-        oracle = self._full if h == 0 else self._spare
-        qi = oracle.t.dfa_index.get(q)
-        if qi is None:
-            raise KeyError(position)
-        return oracle.action(v, qi)
-
-    def __iter__(self) -> Iterator[Position]:
-        raise TypeError("σ_Z is computed position by position: it has no table to list")
-
-    def __len__(self) -> int:
-        raise TypeError("σ_Z is computed position by position: it has no table to count")
+        return self._full[position] if position[2] == 0 else super().__getitem__(position)
