@@ -6,7 +6,8 @@
                                                            may repair (solvers/replan_repair.py)
     python bench/replan_budget.py spare N M K T [T ...]    the same for σ_Z, the spare-places
                                                            strategy (solvers/replan_spare.py), with
-                                                           solvers/rise.py's bound R
+                                                           solvers/rise.py's bound R; --no-children,
+                                                           --no-class: without that shortcut
     python bench/replan_budget.py least N M K LO HI        B_k(start) exactly, given LO <= B_k <= HI
     python bench/replan_budget.py interval N M K S         solve_andor(time_limit=S): the certified
                                                            interval, the upper end from σ when the
@@ -49,7 +50,7 @@ def _counts(bound: BudgetedBound) -> dict:
             "by memo, repair, plan followed, search": bound.counts.tolist(), "peak_mb": _peak_mb()}
 
 
-def within(n: int, m: int, k: int, targets: list[int], mode: str = "within") -> None:
+def within(n: int, m: int, k: int, targets: list[int], mode: str = "within", off: tuple[str, ...] = ()) -> None:
     scene = pattern_scene(n, m, k, 0)
     formula = task_formula(scene, None)
     clock = time.perf_counter()
@@ -57,7 +58,8 @@ def within(n: int, m: int, k: int, targets: list[int], mode: str = "within") -> 
         rises = rise_bounds(scene, formula)
         if rises is None:
             raise SystemExit("no spare places (or no rise bound) in this scene")
-        bound: BudgetedBound = SpareBound(scene, formula, k, rises)
+        bound: BudgetedBound = SpareBound(scene, formula, k, rises, shortcut="--no-children" not in off,
+                                          by_class="--no-class" not in off)
         told = {"Z": rises.spares, "R other, c5": [rises.other, rises.c5]}
     else:
         bound, told = (RepairingBound if mode == "repairing" else BudgetedBound)(scene, formula, k), {}
@@ -96,7 +98,8 @@ def main(argv=None) -> int:
     prepare()
     mode, n, m, k, rest = argv[0], int(argv[1]), int(argv[2]), int(argv[3]), argv[4:]
     if mode in ("within", "repairing", "spare"):
-        within(n, m, k, [int(a) for a in rest], mode)
+        within(n, m, k, [int(a) for a in rest if not a.startswith("--")], mode,
+               tuple(a for a in rest if a.startswith("--")))
     elif mode == "least":
         least(n, m, k, int(rest[0]), int(rest[1]))
     else:
