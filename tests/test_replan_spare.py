@@ -226,10 +226,12 @@ def test_certified_upper_asks_the_loose_target_first_for_sigma_z(monkeypatch):
 
 
 @pytest.mark.parametrize("n, m", [(3, 5), (4, 6)])
-def test_an_anytime_answer_takes_its_upper_end_from_sigma_z(monkeypatch, n, m):
+def test_an_anytime_answer_takes_its_upper_end_from_sigma_z(monkeypatch, capsys, n, m):
     """`solve_andor` cut short (every question in chunks of 10 steps, a clock
-    that ticks once a look): the upper end is σ_Z's, the stats say so, and
-    σ_Z pays exactly that against every human behaviour, >= E_p."""
+    that ticks once a look): the upper end is σ_Z's, the stats and `solve`'s
+    report say so, and σ_Z pays exactly that against every human behaviour,
+    >= E_p."""
+    from symsynth.cli.solve import _report_value
     from support.games import cut_answer
 
     scene = pattern_scene(n, m, 2, 0)
@@ -237,3 +239,18 @@ def test_an_anytime_answer_takes_its_upper_end_from_sigma_z(monkeypatch, n, m):
     assert found.stats["upper_by"] == "replanning" and found.stats["replanning_strategy"].startswith("σ_Z")
     e_p, paid = explicit_and_paid(scene, task_formula(scene, None), 2, found.strategy)
     assert paid == found.units >= e_p and found.lower_units <= e_p
+    _report_value(scene, found)
+    assert "upper end guaranteed by the replanning strategy σ_Z (spare places" in capsys.readouterr().out
+
+
+def test_the_hybrid_after_sigma_z_names_it_and_pays_what_it_says(monkeypatch):
+    """At 3 x 5 x k = 3 cut short, the hybrid τ_1 over σ_Z's bound gives the
+    upper end (512, below σ_Z's 514): its label names σ_Z, and it pays at most
+    that against every human behaviour."""
+    from support.games import cut_answer
+
+    scene = pattern_scene(3, 5, 3, 0)
+    found = cut_answer(monkeypatch, scene, 3, 10, 3, REPLAN_SHARE=1e12)
+    assert found.stats["upper_by"] == "hybrid (optimal above h = 1, σ_Z below)", found.stats
+    e_p, paid = explicit_and_paid(scene, task_formula(scene, None), 3, found.strategy)
+    assert e_p <= paid <= found.units < found.stats["replanning_bound"]

@@ -92,6 +92,9 @@ class BudgetedBound:
     """"Does σ pay at most T from the start?" for any T, the answers of
     earlier questions kept (module doc)."""
 
+    #: The strategy's name in an answer's stats
+    name = "σ"
+
     def __init__(self, scene: Scene, formula: ast.Formula, k: int, resolution: float = 1.0,
                  oracle: NoHumanValue | None = None):
         from symsynth.solvers import andor
@@ -552,7 +555,7 @@ def replanned_answer(solution: Solution, scene: Scene, formula: ast.Formula, k: 
         found = None
     stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2),
                                     "replanning_strategy": "σ" if rises is None else
-                                    f"σ_Z (spare places {', '.join(rises.spares)}; rise bound {rises.total})"}
+                                    f"σ_Z (spare places {', '.join(rises.spares)}; rise bound R = {rises.total})"}
     if found is None:
         return dataclasses.replace(solution, stats=stats), None
     upper, bound = found

@@ -77,6 +77,8 @@ class RepairingBound(BudgetedBound):
     """"Does σ' pay at most T from the start?" (module doc); `within` and
     `least` as `BudgetedBound`'s, for σ' (σ itself at h <= 1)."""
 
+    name = "σ'"
+
     @property
     def strategy(self):
         """Refused: a yes here certifies σ', which keeps a route as memory, and

@@ -81,6 +81,8 @@ class SpareBound(BudgetedBound):
     search's); `spare`: one on S_Z (made when None).  `shortcut` and
     `by_class` turn the two shortcuts off (tests compare)."""
 
+    name = "σ_Z"
+
     def __init__(self, scene: Scene, formula: ast.Formula, k: int, rises: Rises, resolution: float = 1.0,
                  full: NoHumanValue | None = None, spare: NoHumanValue | None = None, *,
                  shortcut: bool = True, by_class: bool = True):
