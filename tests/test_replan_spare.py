@@ -254,3 +254,35 @@ def test_the_hybrid_after_sigma_z_names_it_and_pays_what_it_says(monkeypatch):
     assert found.stats["upper_by"] == "hybrid (optimal above h = 1, σ_Z below)", found.stats
     e_p, paid = explicit_and_paid(scene, task_formula(scene, None), 3, found.strategy)
     assert e_p <= paid <= found.units < found.stats["replanning_bound"]
+
+
+def test_without_a_spare_place_available_no_c5_reply_or_child_is_certified_by_r():
+    """R's C5 bound and the children's shortcut need a place of Z available
+    (solvers.rise): at a turn where l6 is taken (by an object, or by the held
+    object aligned with it), a C5 reply gets no class bound however large the
+    slack, the other replies do; a child where it is taken stays exact, one
+    where it is available is certified."""
+    scene, _, bound = _bound(4, 6, 1)
+    t, hb = bound.t, bound.memo.hb
+    q = int(np.flatnonzero(~t.accepting.astype(bool))[0])
+    seen = {True: 0, False: 0}
+    for v in _states(scene):
+        if ELSE not in v.at or any(a == b != ELSE for a, b in zip(v.at, ("l1", "l4", "l5", "l2"))):
+            continue
+        moves = [mv for mv in legal_human_moves(scene, v) if not bound.full.accepting(bound.full.step(q, mv.after))]
+        keys = np.array([((t.pack(mv.after) << t.qbits) | q) << hb for mv in moves], np.int64)
+        turn = np.zeros(len(keys), np.int64)
+        plan = (np.array([t.pack(v)]), np.array([q]), np.array([bound.value(t.pack(v), q)]))
+        known = bound._by_class(keys, turn, plan, 10.0 ** 6)
+        available = bool(available_spares(bound.rises, v))
+        c5 = np.array([_is_c5(v, mv) for mv in moves])
+        assert ((known >= 0) == (~c5 | available)).all(), v
+        left = np.array([10.0 ** 6])
+        exact = {(x, q2) for _, x, q2, _ in bound._exact_children(keys, turn, left, 2, 0.0, 0 * keys)}
+        for mv, key in zip(moves, keys.tolist()):
+            free = bool(available_spares(bound.rises, mv.after))
+            assert (bound.memo.position(key) in exact) != free, (v, mv.action)
+            seen[free] += 1
+        if min(seen.values()) > 50:
+            break
+    assert min(seen.values()) > 50, seen
