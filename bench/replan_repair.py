@@ -14,7 +14,7 @@ drop, minus L's (or shortest paths over L's) for what p's own plan pays and no l
 Every case is a maximum over the objects (one per set of objects with the same carrying
 rules), grasps and places it names; C4d's swap with each motion at its U and the (n - 1)-th
 cheapest parking place (the other objects may take the cheaper ones; the exact-occupancy
-maximum over sets of n - 2 places gave the same 153 at 8 x 12 in 17 s).  Scenes with
+maximum over sets of n - 2 places gave the same 146 at 6 x 8 and 153 at 8 x 12).  Scenes with
 contacts (slides), and costmaps where an Else sample is a condition of a rule, are refused (the postponing cases assume an object at Else blocks nothing).
 
 Case names (x = where the moved object o was, t = where the human put it):

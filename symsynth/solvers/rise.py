@@ -15,6 +15,8 @@ strategy σ_Z that keeps spare places free (issue 32).
   A least-cost plan of S_Z from a state where z is available keeps z available (it never
   carries anything onto z, and nothing stands at z to be grabbed), so at every human turn of
   σ_Z's plan from such a state the bound applies again.
+  S_Z may have no plan where S has one (V_0^Z infinite): when the places left besides Z leave
+  no room to shuffle (3 x 5 seed 3: two spare places, three objects on the other three).
 
 Setting (both proofs need it): the task is F(φ), φ a conjunction of at(X, l) atoms, each tag X
 naming one object, every object named once, the goals l distinct locations; the scene has no
@@ -42,7 +44,8 @@ class Rises:
     spares: tuple[str, ...]  # Z
     other: int  # D+: every human move but C5
     c5: int  # C5^Z: an object from Else onto a location, relative to V_0^Z(w)
-    #: (class of `move_class`, its bound): what `other` and `c5` are the largest of
+    #: (class of `move_class`, its bound): what `other` and `c5` are the largest of; a class
+    #: of C5_CLASSES bounds V_0(m w) - V_0^Z(w), any other V_0(m w) - V_0(w)
     classes: tuple[tuple[str, int], ...] = ()
 
     @property

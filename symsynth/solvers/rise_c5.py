@@ -72,8 +72,10 @@ case can end in another: where π's first action is a choice, the bound is the l
     state after its drop, with o at t, aimed at o_h at l_d: U(E/g_h, l_d/g_h) - paid + E2.
   - l_d = t (swap): carry o_h to a free f in L - t - z, drop, relocate o from t to z,
     transit back to o_h, grab, carry it to t: five motions at their U, two grabs and two
-    drops, minus paid, + fetch (π's state after its drop with o at z).  At most n - 2 other
-    objects stand on L - t - z, so the robot has at least the (n - 1)-th cheapest f.
+    drops, minus paid, + fetch (π's state after its drop with o at z).  When k <= n - 2 other
+    objects stand on L - t - z, the robot has at least the (k + 1)-th cheapest f; when all n - 2
+    do, no object but o is at Else, then or later (no robot action puts one there), so π's
+    transits to o start at a location's anchors: fetch over those starts only (`fetch_on_L`).
 C5^Z is the largest case over the objects (one or two of each set with the same carrying
 rules), grasps, spare places z and places named; a grasp the robot chooses is a least."""
 
@@ -99,6 +101,8 @@ class _Fetch:
         self.skip = self._skip()
         self.fetch_any = max(self._fetch_from(S) for S in self.starts)  # Φ
         self.fetch = max(self._fetch_from(S) for S in self.targets)  # Φ': the hand not at Else
+        on_L = [tb.at(y, a) for y in others for a in sc.preimages]
+        self.fetch_on_L = max((self._fetch_from(S) for S in on_L), default=-INF)  # no other object at Else
 
     def _fetch_from(self, S) -> float:
         tb = self.tb
@@ -249,7 +253,7 @@ def _aimed(rp: _Repair, S, follow: float) -> float:
 
 def _swap(rp: _Repair, oh, gh) -> tuple[float, tuple]:
     """Holding oh at Else, the plan's drop at t: park oh at f, carry o from t to z, carry oh
-    from f to t; the others may take the n - 2 cheapest places f."""
+    from f to t; k others on L may take the k cheapest places f (module doc)."""
     tb, o, z, t = rp.tb, rp.o, rp.z, rp.t
     G, D = tb.grab, tb.drop
     mh, Eh, Th = f"{oh}/{gh}", tb.Else(gh), tb.at(t, gh)
@@ -262,11 +266,15 @@ def _swap(rp: _Repair, oh, gh) -> tuple[float, tuple]:
         plans.append((tb.U(mh, Eh, F) + D + rp.best(F, lambda g: tb.U(EMPTY, tb.at(z, g), F)) + G
                       + tb.U(mh, F, Th), f))
     plans.sort()
-    taken = max(0, len(tb.scene.objects) - 2)
+    others = len(tb.scene.objects) - 2
     where = (o, z, t, oh)
-    if len(plans) <= taken:
+    if len(plans) <= others:
         return INF, where
-    return less(plans[taken][0], paid) + rp.fz.fetch, where + ("park at", plans[taken][1])
+    # k others on L leave the robot the (k + 1)-th cheapest f; all n - 2 of them on L leave no
+    # object at Else but o, so the plan's later transits to o start at a location (fetch_on_L)
+    worst = max((less(plans[k][0], paid) + (rp.fz.fetch_on_L if k == others else rp.fz.fetch), k)
+                for k in range(others + 1))
+    return worst[0], where + ("park at", plans[worst[1]][1])
 
 
 def c5_bound(tb: Costs, spares) -> tuple[float, dict]:

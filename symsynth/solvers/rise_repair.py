@@ -22,7 +22,7 @@ cheapest place f (other objects can take the n - 2 cheaper ones).  That is at le
 game notes' exact-occupancy maximum gives (each motion's cost for a given occupancy is at most
 its U, and among the places the others leave free the robot's best costs at most the
 (n - 1)-th cheapest), and equal to it in the pattern family (153 at 8 x 12), at a fraction of
-its time (it tried every set of n - 2 places: 17 s at 8 x 12)."""
+its time (it tried every set of n - 2 places: the whole script 3.1 s at 8 x 12, now 0.7 s)."""
 
 from __future__ import annotations
 
