@@ -286,3 +286,24 @@ def test_without_a_spare_place_available_no_c5_reply_or_child_is_certified_by_r(
         if min(seen.values()) > 50:
             break
     assert min(seen.values()) > 50, seen
+
+
+def test_where_sigma_z_has_no_bound_sigma_is_asked_instead(monkeypatch):
+    """3 x 5 seed 3, spare places l4 and l5: S_Z has no plan after some human
+    moves (three places to drop on for three objects), so σ_Z's bound is
+    infinite; the anytime answer's replanning bound is then σ's B_2, said so
+    (the hybrid over σ may improve on it), and the strategy pays at most the
+    upper end."""
+    from support.games import cut_answer
+
+    scene = pattern_scene(3, 5, 2, 3)
+    formula = task_formula(scene, None)
+    rises = replan_budget.rise_bounds(scene, formula)
+    assert rises is not None and rises.spares == ("l4", "l5")
+    assert replan_budget.certified_upper(scene, formula, 2, 100, None, rises=rises) is None
+    found = cut_answer(monkeypatch, scene, 2, 10, 3, REPLAN_SHARE=1e12)
+    assert found.stats["replanning_strategy"] == "σ", found.stats
+    assert found.stats["replanning_bound"] == replan_budget.BudgetedBound(scene, formula, 2).least(0, 5000)
+    assert found.stats["upper_by"] in ("replanning", "hybrid (optimal above h = 1, σ below)")
+    e_p, paid = explicit_and_paid(scene, formula, 2, found.strategy)
+    assert e_p <= paid <= found.units

@@ -543,16 +543,21 @@ def replanned_answer(solution: Solution, scene: Scene, formula: ast.Formula, k: 
     when the bisection showed it is what σ pays, else σ's plan with the human
     passing.  `memo`: the search's, whose proven bounds at h = 0 the strategy's
     no-human questions start from.  The strategy is σ_Z (`solvers.replan_spare`)
-    when `solvers.rise.rise_bounds` bounds its rises, else σ; the stats say which."""
+    when `solvers.rise.rise_bounds` bounds its rises, else, or when σ_Z's bound
+    is infinite (S_Z may have no plan where the scene has one), σ; the stats
+    say which."""
     lower, r = solution.lower_units, solution.resolution
     assert lower is not None  # the caller answers exact solutions itself
     clock = time.perf_counter()
-    rises = rise_bounds(scene, formula, r)
-    try:
-        found = certified_upper(scene, formula, k, lower, None if solution.units is None else int(solution.units),
-                                resolution=r, deadline=deadline, memo=memo, rises=rises)
-    except OutOfReach:  # a zero-cost move
-        found = None
+    spare = rise_bounds(scene, formula, r)
+    for rises in (None,) if spare is None else (spare, None):
+        try:
+            found = certified_upper(scene, formula, k, lower, None if solution.units is None else int(solution.units),
+                                    resolution=r, deadline=deadline, memo=memo, rises=rises)
+        except OutOfReach:  # a zero-cost move
+            found = None
+        if found is not None:
+            break
     stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2),
                                     "replanning_strategy": "σ" if rises is None else
                                     f"σ_Z (spare places {', '.join(rises.spares)}; rise bound R = {rises.total})"}
