@@ -307,3 +307,26 @@ def test_where_sigma_z_has_no_bound_sigma_is_asked_instead(monkeypatch):
     assert found.stats["upper_by"] in ("replanning", "hybrid (optimal above h = 1, σ below)")
     e_p, paid = explicit_and_paid(scene, formula, 2, found.strategy)
     assert e_p <= paid <= found.units
+
+
+def test_with_rise_py_s_bound_the_question_says_what_sigma_z_pays():
+    """With R from `solvers.rise.rise_bounds` (the proof, not the brute force)
+    on 3 x 5 seeds 0-9 at k = 3: where σ_Z's bound is finite, least = what σ_Z
+    pays against every human behaviour >= E_p; infinite only with two spare
+    places (S_Z then has three places for three objects)."""
+    finite = 0
+    for seed in range(10):
+        scene = pattern_scene(3, 5, 3, seed)
+        formula = task_formula(scene, None)
+        rises = replan_budget.rise_bounds(scene, formula)
+        if rises is None:
+            continue
+        bound = SpareBound(scene, formula, 3, rises)
+        upper = bound.least(0, 5000)
+        if upper == math.inf:
+            assert len(rises.spares) == 2, seed
+            continue
+        finite += 1
+        e_p, paid = explicit_and_paid(scene, formula, 3, bound.strategy)
+        assert paid == upper >= e_p, (seed, paid, upper, e_p)
+    assert finite >= 5, finite
