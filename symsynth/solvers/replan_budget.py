@@ -47,6 +47,11 @@ B_k(start) <= T, whence E_p <= T (σ is a strategy, `solvers.replan`), and
 memo's proven ones, as in `solvers.replan` (the same oracle may serve both):
 a node with an exact upper end keeps its chosen action, so the plans a
 question read stay σ's plans.
+
+`solvers.replan_spare` asks the same question for σ_Z, the strategy that
+keeps spare places free: it changes where the values, plans and replies'
+memo come from (`value_at`, `_oracle_at`, `_memo_at`) and adds two
+shortcuts by a proven rise bound (`_by_class`, `_exact_children`).
 """
 
 from __future__ import annotations
