@@ -192,6 +192,11 @@ def _report_problem(scene: Scene, task: str, solver: str, solution: Solution) ->
 
 
 def _upper_strategy(solution: Solution) -> str:
+    if solution.stats.get("upper_by") == "replanning" and solution.stats.get("replanning_strategy", "σ") != "σ":
+        return (f"replanning strategy {solution.stats['replanning_strategy']} (while the human has a move left, "
+                "the least-cost plan that puts nothing down on the spare places; after the last move, the "
+                "least-cost plan; what it pays at most, proven by asking 'does it pay at most T?' with a proven "
+                "bound on what one move raises the plan's cost: solvers/replan_spare.py)")
     if solution.stats.get("upper_by") == "replanning":
         return ("replanning strategy (after each human move, the least-cost plan with no human move "
                 "left; what it pays at most, proven by asking 'does it pay at most T?': solvers/replan_budget.py)")

@@ -355,7 +355,7 @@ def hybrid_answer(solution: Solution, memo, start: int, formula: ast.Formula, de
                                strategy=hybrid.strategy, principal_play=principal,
                                counter_play=principal if exact and realizable is False else None,
                                stats=stats | {"hybrid_bound": yes,
-                                              "upper_by": f"hybrid (optimal above h = {hybrid.j}, σ below)"},
+                                              "upper_by": f"hybrid (optimal above h = {hybrid.j}, {bound.name} below)"},
                                lower_units=None if exact else lower)
 
 

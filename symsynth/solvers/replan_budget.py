@@ -47,6 +47,11 @@ B_k(start) <= T, whence E_p <= T (σ is a strategy, `solvers.replan`), and
 memo's proven ones, as in `solvers.replan` (the same oracle may serve both):
 a node with an exact upper end keeps its chosen action, so the plans a
 question read stay σ's plans.
+
+`solvers.replan_spare` asks the same question for σ_Z, the strategy that
+keeps spare places free: it changes where the values, plans and replies'
+memo come from (`value_at`, `_oracle_at`, `_memo_at`) and adds two
+shortcuts by a proven rise bound (`_by_class`, `_exact_children`).
 """
 
 from __future__ import annotations
@@ -67,6 +72,7 @@ from symsynth.scene.model import Scene
 from symsynth.solvers.packed import replies as rk
 from symsynth.solvers.packed import search as sk
 from symsynth.solvers.replan import ORACLE_CHUNK, ZERO_COST, NoHumanValue, ReplanningStrategy
+from symsynth.solvers.rise import Rises, rise_bounds
 
 if TYPE_CHECKING:
     from symsynth.solvers.andor import Memo
@@ -90,6 +96,9 @@ class Deadline(Exception):
 class BudgetedBound:
     """"Does σ pay at most T from the start?" for any T, the answers of
     earlier questions kept (module doc)."""
+
+    #: The strategy's name in an answer's stats
+    name = "σ"
 
     def __init__(self, scene: Scene, formula: ast.Formula, k: int, resolution: float = 1.0,
                  oracle: NoHumanValue | None = None):
@@ -120,13 +129,41 @@ class BudgetedBound:
         where a chunk of their steps ends past it (`Memo.cutoff`); `Deadline`
         then (a no-human search that gives up its rounds goes on by doubling its
         budget, `NoHumanValue.settle`)."""
-        self.deadline, self.memo.cutoff = deadline, deadline
+        memos = self._memos()
+        self.deadline = deadline
+        for memo in memos:
+            memo.cutoff = deadline
         try:
             yield
         except self._andor.CutOff:
             raise Deadline from None
         finally:
-            self.deadline, self.memo.cutoff = None, None
+            self.deadline = None
+            for memo in memos:
+                memo.cutoff = None
+
+    # -- what a subclass of another strategy changes (`solvers.replan_spare`) ------------------
+    def _memos(self) -> list[Memo]:
+        """Every no-human memo the questions search."""
+        return [self.memo]
+
+    def value_at(self, x: int, q: int, h: int) -> float:
+        """What the strategy's bound starts from at (x, q) with h moves left: V_0 for σ."""
+        return self.value(x, q)
+
+    def _memo_at(self, h: int) -> Memo:
+        """The memo whose V_0 the replies at a turn with h moves left are asked on."""
+        return self.memo
+
+    def _oracle_at(self, h: int) -> NoHumanValue:
+        """The oracle whose plan the strategy follows with h moves left."""
+        return self.oracle
+
+    def _by_class(self, keys: np.ndarray, turn: np.ndarray, plan: tuple[np.ndarray, ...],
+                  s: float) -> np.ndarray | None:
+        """At h = 1: per reply, a bound on V_0 after it within its budget known
+        without a certificate (-1: none); None when no reply has one."""
+        return None
 
     @property
     def strategy(self) -> ReplanningStrategy:
@@ -136,10 +173,10 @@ class BudgetedBound:
     def answered(self, target: int) -> bool | None:
         """What `within(target)` said or would say from what is known, None when unknown."""
         x, q = self.start
-        if self.t.accepting[q] or self.value(x, q) >= INF:
+        if self.t.accepting[q] or self.value_at(x, q, self.k) >= INF:
             return target >= 0 if self.t.accepting[q] else False
         no, yes = self._known.get((x, q, self.k, True), (-1.0, INF))
-        s = target - self.value(x, q)
+        s = target - self.value_at(x, q, self.k)
         return True if s >= yes else False if s < 0 or s <= no else None
 
     def worst_play(self, upper: int) -> tuple[Step, ...]:
@@ -150,12 +187,13 @@ class BudgetedBound:
         t, r = self.t, self.t.resolution
         x, q = self.start
         h, human_first = self.k, True
-        s = upper - 1 - self.value(x, q)
+        s = upper - 1 - self.value_at(x, q, h)
         steps: list[Step] = []
         while not t.accepting[q]:
             found = self._exceeding(x, q, h, s, human_first) if h > 0 and s >= 0 else None
             v = t.unpack(x)
-            plan = [Step("robot", a, in_costmap_units(u, r), after) for a, u, after, _ in self.oracle.plan(v, q)]
+            plan = [Step("robot", a, in_costmap_units(u, r), after)
+                    for a, u, after, _ in self._oracle_at(h).plan(v, q)]
             if found is None:
                 return tuple(steps + plan)
             j, w, q2, rise = found
@@ -176,8 +214,8 @@ class BudgetedBound:
         xs, qs, left, _ = plan
         count = self._replies(xs, qs)
         keys, turn = self._keys[:count].copy(), self._turn[:count].copy()
-        r, _ = self._settle(keys, left[turn] + s, turn, plan)
-        moves = self._rises(keys[:r + 1], turn, left)
+        r, _ = self._settle(keys, left[turn] + s, turn, plan, self._memo_at(h))
+        moves = self._rises(keys[:r + 1], turn, left, h - 1)
         if r < count:  # that move's V_0 is above its budget
             rise, w, q2, j = moves[-1]
             return j, w, q2, rise
@@ -198,8 +236,8 @@ class BudgetedBound:
 
     @property
     def v0(self) -> float:
-        """V_0 at the start (units)."""
-        return self.value(*self.start)
+        """What the bound starts from at the start (units): V_0 for σ."""
+        return self.value_at(*self.start, self.k)
 
     def within(self, target: int, deadline: float | None = None) -> bool:
         """Whether B_k(start) <= target (units, finite: a budget for the
@@ -215,7 +253,7 @@ class BudgetedBound:
         `human_first`): B_h there <= target."""
         if self.t.accepting[q]:
             return target >= 0
-        v0 = self.value(x, q)
+        v0 = self.value_at(x, q, h)
         return v0 <= target and self._fits(x, q, h, target - v0, human_first)
 
     def kept_within(self, x: int, q: int, h: int, human_first: bool = False) -> float:
@@ -224,7 +262,7 @@ class BudgetedBound:
         its certificates showed, which may be below the target asked."""
         if self.t.accepting[q]:
             return 0
-        v0 = self.value(x, q)
+        v0 = self.value_at(x, q, h)
         return v0 if h == 0 else v0 + self._known.get((x, q, h, human_first), (-1.0, INF))[1]
 
     def least(self, lower: int, upper: int, deadline: float | None = None) -> float:
@@ -270,9 +308,9 @@ class BudgetedBound:
             else:
                 kept = max(kept, yes_j)
         # every move's V_0 within its budget first (R_{h-1} >= 0): all of it at h = 1, a quick no above
-        rise = self._settle_turns(plan, np.array(todo, np.int64), s, h)
+        rise, upper = self._settle_turns(plan, np.array(todo, np.int64), s, h)
         if rise is not None and h > 1:
-            rise = s if self._deeper(xs[todo], qs[todo], left[todo], h, s) else None
+            rise = s if self._deeper(xs[todo], qs[todo], left[todo], h, s, upper) else None
         # at h = 1 a yes holds for the largest rise its certificates showed (R_1 <= that), not only for s
         self._known[key] = (s, yes) if rise is None else (no, max(kept, rise))
         return rise is not None
@@ -282,15 +320,26 @@ class BudgetedBound:
         no, yes = self._at_turn.get(turn, (-1.0, INF))
         self._at_turn[turn] = (no, min(yes, s)) if ok else (max(no, s), yes)
 
-    def _settle_turns(self, plan: tuple[np.ndarray, ...], todo: np.ndarray, s: float, h: int) -> float | None:
+    def _settle_turns(self, plan: tuple[np.ndarray, ...], todo: np.ndarray, s: float,
+                      h: int) -> tuple[float | None, np.ndarray]:
         """V_0(m p_j) <= V_0(p_j) + s for every turn j in todo and move m there
         (plan: `_turns`' arrays): at h = 1 that is the answer at each turn,
-        above it a necessary condition.  None when it fails, else the largest
-        rise V_0(m p_j) - V_0(p_j) the certificates showed (at least 0, at most s)."""
+        above it a necessary condition.  (None when it fails, else the largest
+        rise V_0(m p_j) - V_0(p_j) the certificates showed (at least 0, at most
+        s); per move, in `_replies`' order over the turns todo, the bound on
+        its V_0 that answered it.)  At h = 1 a move `_by_class` bounds is
+        answered by that bound, with no certificate."""
         xs, qs, left, codes = plan
         count = self._replies(xs[todo], qs[todo])
         turn = todo[self._turn[:count]]
-        r, upper = self._settle(self._keys[:count], left[turn] + s, turn, plan)
+        keys, known = self._keys[:count], None
+        if h == 1:
+            known = self._by_class(keys, turn, plan, s)
+            if known is not None:
+                keys = np.where(known >= 0, -1, keys)
+        r, upper = self._settle(keys, left[turn] + s, turn, plan, self._memo_at(h))
+        if known is not None:
+            upper = np.where(known >= 0, known, upper)
         failed = int(np.searchsorted(todo, turn[r])) if r < count else len(todo)
         rises = np.zeros(len(xs))  # per turn (R_1 >= 0); only h = 1 reads them
         if h == 1:
@@ -300,15 +349,17 @@ class BudgetedBound:
         if failed < len(todo):
             j = int(todo[failed])
             self._record((int(xs[j]), int(qs[j]), h), s, False)
-            return None
-        return float(rises[todo].max(initial=0.0))
+            return None, upper
+        return float(rises[todo].max(initial=0.0)), upper
 
-    def _deeper(self, xs: np.ndarray, qs: np.ndarray, left: np.ndarray, h: int, s: float) -> bool:
+    def _deeper(self, xs: np.ndarray, qs: np.ndarray, left: np.ndarray, h: int, s: float,
+                upper: np.ndarray) -> bool:
         """At h >= 2: R_{h-1}(m p_j) + V_0(m p_j) - V_0(p_j) <= s for every turn j
-        and move m (whose V_0 are known to be within V_0(p_j) + s), the moves
-        of every turn asked together, largest rise first (a no comes early)."""
+        and move m (whose V_0 are known to be within V_0(p_j) + s, `upper` the
+        bounds that showed it, in `_replies`' order), the moves of every turn
+        asked together, largest rise first (a no comes early)."""
         count = self._replies(xs, qs)
-        children = self._rises(self._keys[:count], self._turn[:count], left)
+        children = self._exact_children(self._keys[:count].copy(), self._turn[:count].copy(), left, h, s, upper)
         children.sort(reverse=True)
         for rise, x2, q2, j in children:
             if not self._fits(x2, q2, h - 1, s - rise, False):
@@ -318,14 +369,21 @@ class BudgetedBound:
             self._record((int(xs[j]), int(qs[j]), h), s, True)
         return True
 
-    def _rises(self, keys: np.ndarray, turn: np.ndarray, left: np.ndarray) -> list[tuple[float, int, int, int]]:
-        """(rise of V_0, x, q after, turn) of each reply (`keys`, a move that wins: < 0,
-        skipped), `left` V_0 at each turn of the plan."""
+    def _exact_children(self, keys: np.ndarray, turn: np.ndarray, left: np.ndarray, h: int, s: float,
+                        upper: np.ndarray) -> list[tuple[float, int, int, int]]:
+        """`_rises` of the moves at h >= 2 that `_deeper` must ask (for σ: all)."""
+        return self._rises(keys, turn, left, h - 1)
+
+    def _rises(self, keys: np.ndarray, turn: np.ndarray, left: np.ndarray,
+               h: int) -> list[tuple[float, int, int, int]]:
+        """(rise, x, q after, turn) of each reply (`keys`, a move that wins: < 0,
+        skipped), h moves left after it, `left` V_0 at each turn of the plan:
+        the rise from there to `value_at` after the move."""
         out = []
         for key, j in zip(keys.tolist(), turn.tolist()):
             if key >= 0:
                 x, q = self.memo.position(key)
-                out.append((self.value(x, q) - float(left[j]), x, q, j))
+                out.append((self.value_at(x, q, h) - float(left[j]), x, q, j))
         return out
 
     def _look(self, every: int = LOOK_EVERY) -> None:
@@ -337,17 +395,21 @@ class BudgetedBound:
     # -- the no-human game's memo ----------------------------------------------------------
     def value(self, x: int, q: int) -> float:
         """V_0(x, q) in units, exact (inf: the robot cannot win alone; 0: q accepts)."""
+        return self._value_on(self.oracle, self._values, x, q)
+
+    def _value_on(self, oracle: NoHumanValue, values: dict[tuple[int, int], float], x: int, q: int) -> float:
+        """`value` by `oracle`, kept in `values`."""
         if self.t.accepting[q]:
             return 0
-        found = self._values.get((x, q))
+        found = values.get((x, q))
         if found is not None:
             return found
         self._look()
-        memo = self.memo
+        memo = oracle.memo
         i = memo.node(memo.key2(x, q, 0))
-        self.oracle.questions += 1
-        value = float(memo.hi_h(i)) if self.oracle.settle(i) else INF
-        self._values[(x, q)] = value
+        oracle.questions += 1
+        value = float(memo.hi_h(i)) if oracle.settle(i) else INF
+        values[(x, q)] = value
         return value
 
     def _turns(self, x: int, q: int, human_first: bool) -> tuple[np.ndarray, ...]:
@@ -384,11 +446,14 @@ class BudgetedBound:
         return int(rk._replies(xs, qs, memo.P, memo.G, memo.S(), self._keys, self._turn))
 
     def _settle(self, keys: np.ndarray, budgets: np.ndarray, turn: np.ndarray,
-                plan: tuple[np.ndarray, ...]) -> tuple[int, np.ndarray]:
-        """(the first move whose V_0 is above its budget (`packed.replies._settle`),
-        len(keys) when none is; per move before it, the bound on V_0 that
-        answered it); move r is at turn turn[r] of the plan (`_turns`' arrays)."""
-        memo, st = self.memo, self.memo.st
+                plan: tuple[np.ndarray, ...], memo: Memo) -> tuple[int, np.ndarray]:
+        """(the first move whose V_0 (on `memo`'s game) is above its budget
+        (`packed.replies._settle`), len(keys) when none is; per move before it,
+        the bound on V_0 that answered it); move r is at turn turn[r] of the
+        plan (`_turns`' arrays)."""
+        st = memo.st
+        if memo.hb != self.memo.hb:  # (a memo with more moves left keeps h in more bits)
+            keys = np.where(keys >= 0, (keys >> self.memo.hb) << memo.hb, keys)
         xs, qs, left, codes = plan
         budgets = np.minimum(budgets, float(1 << 40)).astype(np.int64)
         bases = np.minimum(left, float(1 << 40)).astype(np.int64)
@@ -418,8 +483,8 @@ MAX_RATIO = 4
 
 
 def certified_upper(scene: Scene, formula: ast.Formula, k: int, lower: int, ceiling: int | None, *,
-                    resolution: float = 1.0, deadline: float | None = None,
-                    memo: Memo | None = None) -> tuple[int, BudgetedBound] | None:
+                    resolution: float = 1.0, deadline: float | None = None, memo: Memo | None = None,
+                    rises: Rises | None = None) -> tuple[int, BudgetedBound] | None:
     """The least T found before `deadline` with B_k(start) <= T proven, asked at
     `lower` (E_p >= lower, so a yes there proves E_p = lower) and then 1 %, 2 %,
     4 %, ... above it while below `ceiling` (an upper end known otherwise, None:
@@ -427,19 +492,29 @@ def certified_upper(scene: Scene, formula: ast.Formula, k: int, lower: int, ceil
     `MAX_RATIO` times the lower end; the first yes then bisected towards the
     last no while time is left.  With the bound (whose `strategy` pays at most
     T); None when no T was proven in time.  `memo`: a search's memo to start
-    the no-human questions from (`NoHumanValue`)."""
-    bound = BudgetedBound(scene, formula, k, resolution, NoHumanValue(scene, formula, resolution, memo))
+    the no-human questions from (`NoHumanValue`).  With `rises` (`solvers.rise`'s
+    bound R), for σ_Z (`solvers.replan_spare.SpareBound`), whose question is
+    cheaper for a looser T: asked at `replan_spare.SPARE_FIRST` times the lower
+    end first, then as above (the targets above it only)."""
+    oracle = NoHumanValue(scene, formula, resolution, memo)
+    first = lower
+    if rises is None:
+        bound = BudgetedBound(scene, formula, k, resolution, oracle)
+    else:
+        from symsynth.solvers.replan_spare import SPARE_FIRST, SpareBound
+
+        bound = SpareBound(scene, formula, k, rises, resolution, oracle)
+        first = math.floor(SPARE_FIRST * lower)
     no, yes = lower - 1, None
     try:
         with bound.limited(deadline):
             top = MAX_RATIO * max(lower, int(min(bound.v0, 1 << 40)), 1)
             cap = top if ceiling is None else min(ceiling - 1, top)
-            target, step = lower, max(1, math.ceil(lower * FIRST_STEP))
-            while target <= cap and yes is None:
+            for target in _targets(lower, min(first, cap), cap):
                 if bound.within(target, deadline):
                     yes = target
-                else:
-                    no, target, step = target, min(lower + step, max(cap, target + 1)), 2 * step
+                    break
+                no = target
             while yes is not None and no + 1 < yes:  # (an interrupted bisection keeps the least yes)
                 mid = (no + yes) // 2
                 if bound.within(mid, deadline):
@@ -451,6 +526,19 @@ def certified_upper(scene: Scene, formula: ast.Formula, k: int, lower: int, ceil
     return None if yes is None else (yes, bound)
 
 
+def _targets(lower: int, first: int, cap: int) -> Iterator[int]:
+    """`first`, then lower + 1 %, 2 %, 4 %, ... of lower above it, up to `cap`
+    (`certified_upper`)."""
+    if first > cap:
+        return
+    yield first
+    target, step = lower, max(1, math.ceil(lower * FIRST_STEP))
+    while target < cap:
+        target, step = min(lower + step, cap), 2 * step
+        if target > first:
+            yield target
+
+
 def replanned_answer(solution: Solution, scene: Scene, formula: ast.Formula, k: int, budget: float | None,
                      deadline: float, memo: Memo | None = None) -> tuple[Solution, BudgetedBound | None]:
     """An anytime answer whose upper end is the replanning strategy's when that is
@@ -459,16 +547,25 @@ def replanned_answer(solution: Solution, scene: Scene, formula: ast.Formula, k: 
     principal play is the strategy against a human who makes it pay that much
     when the bisection showed it is what σ pays, else σ's plan with the human
     passing.  `memo`: the search's, whose proven bounds at h = 0 the strategy's
-    no-human questions start from."""
+    no-human questions start from.  The strategy is σ_Z (`solvers.replan_spare`)
+    when `solvers.rise.rise_bounds` bounds its rises, else, or when σ_Z's bound
+    is infinite (S_Z may have no plan where the scene has one), σ; the stats
+    say which."""
     lower, r = solution.lower_units, solution.resolution
     assert lower is not None  # the caller answers exact solutions itself
     clock = time.perf_counter()
-    try:
-        found = certified_upper(scene, formula, k, lower, None if solution.units is None else int(solution.units),
-                                resolution=r, deadline=deadline, memo=memo)
-    except OutOfReach:  # a zero-cost move
-        found = None
-    stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2)}
+    spare = rise_bounds(scene, formula, r)
+    for rises in (None,) if spare is None else (spare, None):
+        try:
+            found = certified_upper(scene, formula, k, lower, None if solution.units is None else int(solution.units),
+                                    resolution=r, deadline=deadline, memo=memo, rises=rises)
+        except OutOfReach:  # a zero-cost move
+            found = None
+        if found is not None:
+            break
+    stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2),
+                                    "replanning_strategy": "σ" if rises is None else
+                                    f"σ_Z (spare places {', '.join(rises.spares)}; rise bound R = {rises.total})"}
     if found is None:
         return dataclasses.replace(solution, stats=stats), None
     upper, bound = found

@@ -77,6 +77,8 @@ class RepairingBound(BudgetedBound):
     """"Does σ' pay at most T from the start?" (module doc); `within` and
     `least` as `BudgetedBound`'s, for σ' (σ itself at h <= 1)."""
 
+    name = "σ'"
+
     @property
     def strategy(self):
         """Refused: a yes here certifies σ', which keeps a route as memory, and
@@ -97,7 +99,8 @@ class RepairingBound(BudgetedBound):
         return self.passing_play()
 
     # -- the moves at h >= 2 --------------------------------------------------------------
-    def _deeper(self, xs: np.ndarray, qs: np.ndarray, left: np.ndarray, h: int, s: float) -> bool:
+    def _deeper(self, xs: np.ndarray, qs: np.ndarray, left: np.ndarray, h: int, s: float,
+                upper: np.ndarray | None = None) -> bool:
         """At h >= 2, the moves at σ's turns (xs, qs), V_0 there `left`: each
         within left + s under σ', a repair asked first (module doc)."""
         empty = _empty()
@@ -182,7 +185,7 @@ class RepairingBound(BudgetedBound):
         turns = np.array(todo, np.int64)
         count = self._replies(xs[turns], qs[turns])
         turn = turns[self._turn[:count]]
-        r, upper = self._settle(self._keys[:count].copy(), plan[2][turn] + s, turn, plan)
+        r, upper = self._settle(self._keys[:count].copy(), plan[2][turn] + s, turn, plan, self.memo)
         done = turn[r] if r < count else len(xs)
         largest = np.zeros(len(xs))
         np.maximum.at(largest, turn[:r], upper[:r])
