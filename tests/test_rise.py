@@ -171,6 +171,16 @@ def test_a_rule_naming_an_else_sample_refuses_the_setting():
     assert spare_places(changed, task_formula(scene, None)) == ()
 
 
+def test_a_scene_without_else_samples_refuses_the_setting():
+    """The proofs move objects through Else's anchors; with none there is no bound (and no
+    error: the anytime solve asks for it on every game)."""
+    scene = pattern_scene(3, 5, 3, 0, initial={"o1": "l2", "o2": "l3", "o3": "l4"})
+    assert rise_bounds(scene, task_formula(scene, None)) is not None
+    bare = dataclasses.replace(scene, else_samples=())
+    assert spare_places(bare, task_formula(bare, None)) == ()
+    assert rise_bounds(bare, task_formula(bare, None)) is None
+
+
 def test_without_drops_at_removes_the_carrying_motions_onto_the_places_only():
     scene = pattern_scene(3, 5, 3, 0)
     before, after = scene.costmap.motions, without_drops_at(scene, ("l1",)).costmap.motions

@@ -20,7 +20,8 @@ strategy σ_Z that keeps spare places free (issue 32).
 
 Setting (both proofs need it): the task is F(φ), φ a conjunction of at(X, l) atoms, each tag X
 naming one object, every object named once, the goals l distinct locations; the scene has no
-contacts; no costmap rule names an Else sample (an object at Else blocks nothing).  Then V_0
+contacts and at least one Else sample; no costmap rule names an Else sample (an object at Else
+blocks nothing).  Then V_0
 is a function of the state alone (acceptance depends only on which object stands where)."""
 
 from __future__ import annotations
@@ -120,7 +121,7 @@ def goals(scene: Scene, formula: ast.Formula) -> dict[str, str] | None:
 def spare_places(scene: Scene, formula: ast.Formula) -> tuple[str, ...]:
     """Z: the locations no rule of any mode names in `free` and no goal is; () when the
     setting (module doc) does not hold."""
-    if scene.contacts or scene.costmap is None:
+    if scene.contacts or scene.costmap is None or not scene.else_samples:
         return ()
     task = goals(scene, formula)
     if task is None:
