@@ -7,9 +7,11 @@ never below E_p."""
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -330,3 +332,24 @@ def test_with_rise_py_s_bound_the_question_says_what_sigma_z_pays():
         e_p, paid = explicit_and_paid(scene, formula, 3, bound.strategy)
         assert paid == upper >= e_p, (seed, paid, upper, e_p)
     assert finite >= 5, finite
+
+
+def test_sigma_is_not_asked_once_sigma_z_has_used_the_time(monkeypatch):
+    """σ_Z asked until the deadline and nothing proven: σ is not asked after it
+    (it would find nothing in no time), and the stats say σ_Z was tried, not σ
+    (the solver-side reviewer's finding F1)."""
+    scene = pattern_scene(3, 5, 2, 0)
+    formula = task_formula(scene, None)
+    asked = []
+
+    def nothing(*args, rises=None, **kwargs):
+        asked.append(rises)
+        return None
+
+    monkeypatch.setattr(replan_budget, "certified_upper", nothing)
+    solution = andor.solve_andor(scene, k=2)
+    anytime = dataclasses.replace(solution, lower_units=solution.units - 5)
+    found, bound = replan_budget.replanned_answer(anytime, scene, formula, 2, None, time.perf_counter() - 1.0)
+    assert bound is None and len(asked) == 1 and asked[0] is not None
+    assert found.stats["replanning_strategy"].startswith("σ_Z (spare places l1"), found.stats
+    assert found.stats["replanning_strategy"].endswith("no bound proven")

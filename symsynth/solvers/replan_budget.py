@@ -555,7 +555,12 @@ def replanned_answer(solution: Solution, scene: Scene, formula: ast.Formula, k: 
     assert lower is not None  # the caller answers exact solutions itself
     clock = time.perf_counter()
     spare = rise_bounds(scene, formula, r)
+    asked: list[str] = []
     for rises in (None,) if spare is None else (spare, None):
+        if asked and time.perf_counter() >= deadline:  # σ_Z used the time: σ would find nothing either
+            break
+        asked.append("σ" if rises is None else
+                     f"σ_Z (spare places {', '.join(rises.spares)}; rise bound R = {rises.total})")
         try:
             found = certified_upper(scene, formula, k, lower, None if solution.units is None else int(solution.units),
                                     resolution=r, deadline=deadline, memo=memo, rises=rises)
@@ -564,8 +569,8 @@ def replanned_answer(solution: Solution, scene: Scene, formula: ast.Formula, k: 
         if found is not None:
             break
     stats = dict(solution.stats) | {"replanning_seconds": round(time.perf_counter() - clock, 2),
-                                    "replanning_strategy": "σ" if rises is None else
-                                    f"σ_Z (spare places {', '.join(rises.spares)}; rise bound R = {rises.total})"}
+                                    "replanning_strategy": asked[-1] if found is not None else
+                                    " then ".join(asked) + ": no bound proven"}
     if found is None:
         return dataclasses.replace(solution, stats=stats), None
     upper, bound = found
