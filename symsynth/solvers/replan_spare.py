@@ -147,9 +147,9 @@ class SpareBound(BudgetedBound):
             return None
         xs, _, left = plan[:3]
         shift = self.memo.hb + self.t.qbits
-        before, after = self._places(xs[turn]), self._places(np.maximum(keys, 0) >> shift)
+        before, after = self._places(xs)[turn], self._places(np.maximum(keys, 0) >> shift)
         c5 = ((before == self.t.m) & (after < self.t.m)).any(axis=1)
-        fits = np.where(c5, (s >= r.c5) & self._spare_available(xs[turn]), s >= r.other) & (keys >= 0)
+        fits = np.where(c5, (s >= r.c5) & self._spare_available(xs)[turn], s >= r.other) & (keys >= 0)
         if not fits.any():
             return None
         self.by_class += int(fits.sum())
