@@ -30,9 +30,11 @@ import dataclasses
 import math
 from collections.abc import Iterable
 
+from symsynth.automata.normal import split_conjuncts
 from symsynth.game.abstraction import Move, State, costmap_of
 from symsynth.logic import ast
 from symsynth.scene.model import ELSE, EMPTY, HAND, Scene
+from symsynth.scene.propositions import interpret
 from symsynth.solvers.rise_c5 import c5_bound
 from symsynth.solvers.rise_costs import Costs
 from symsynth.solvers.rise_repair import d_plus
@@ -100,19 +102,15 @@ def goals(scene: Scene, formula: ast.Formula) -> dict[str, str] | None:
     """object -> goal location when the task is the setting's F(φ) (module doc), else None."""
     if not isinstance(formula, ast.Eventually):
         return None
-    parts, found = [formula.arg], {}
-    while parts:
-        part = parts.pop()
-        if isinstance(part, ast.And):
-            parts += [part.left, part.right]
-            continue
-        if not (isinstance(part, ast.Atom) and part.name == "at" and len(part.args) == 2):
+    found: dict[str, str] = {}
+    for part in split_conjuncts(formula.arg):
+        p = interpret(part, scene) if isinstance(part, ast.Atom) else None
+        if p is None or p.kind != "at" or p.location not in scene.locations:
             return None
-        tag, place = part.args
-        named = scene.tagged(tag)
-        if len(named) != 1 or place not in scene.locations or named[0] in found:
+        named = scene.tagged(p.named_tag)
+        if len(named) != 1 or named[0] in found:
             return None
-        found[named[0]] = place
+        found[named[0]] = p.location
     if set(found) != set(scene.object_names) or len(set(found.values())) != len(found):
         return None
     return found
